@@ -1,0 +1,86 @@
+# Finite-element verification workbench for 2D frictionless elastic contact.
+# Two commands matter:  `make run`  (every case + summary report)  and  `make test`.
+# Both create the project venv (.venv) by themselves.
+
+SHELL := /bin/bash
+.DEFAULT_GOAL := help
+
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.stamp-$(shell cat requirements.txt 2>/dev/null | cksum | cut -d' ' -f1)
+NP     ?= 1
+MPIRUN := $(if $(filter-out 1,$(NP)),$(VENV)/bin/mpiexec -n $(NP),)
+
+CASES  := $(basename $(notdir $(wildcard cases/*.toml)))
+
+# Find a Python >= 3.12 that really runs: $PYTHON, then python3.13/python3.12 on PATH
+# (pyenv shims exist but may fail), then pyenv's installed versions.
+define find_python
+for c in "$$PYTHON" python3.13 python3.12 \
+         $$(ls -d $$(pyenv root 2>/dev/null || echo $$HOME/.pyenv)/versions/3.1[2-9]*/bin/python3 2>/dev/null | sort -rV); do \
+  [ -n "$$c" ] || continue; \
+  if "$$c" -c 'import sys; sys.exit(0 if sys.version_info >= (3, 12) else 1)' >/dev/null 2>&1; then \
+    echo "$$c"; exit 0; fi; \
+done; exit 1
+endef
+
+.PHONY: help setup test run ci lint clean convergence stability bench report list $(CASES)
+
+help:
+	@echo "make run          every case at its default resolution + results/report.{md,html}"
+	@echo "make test         the fast test suite (creates .venv)"
+	@echo "make <case>       one case: $(CASES)"
+	@echo "make ci           every case at its coarsest level, fails on a tolerance violation"
+	@echo "make convergence  error against run time study"
+	@echo "make stability    stiff/extreme-case sweep"
+	@echo "make bench        performance benchmark"
+	@echo "make lint | clean | setup     (NP=N runs cases on N MPI processes)"
+
+setup: $(STAMP)
+
+$(STAMP): requirements.txt
+	@py=$$($(find_python)) || { echo "error: need Python >= 3.12 (set PYTHON=/path/to/python3.12; none found on PATH or under pyenv)" >&2; exit 2; }; \
+	 if [ ! -x $(PY) ] || ! $(PY) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 12) else 1)' 2>/dev/null; then \
+	   echo "creating $(VENV) with $$py"; rm -rf $(VENV); "$$py" -m venv $(VENV) || exit 2; fi
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -r requirements.txt
+	$(PY) -c "import dolfinx_solver, dolfinx, gmsh, meshio, scipy; print('dolfinx', dolfinx.__version__, 'gmsh', gmsh.__version__)"
+	@rm -f $(VENV)/.stamp-*; touch $@
+
+test: setup
+	$(PY) -m pytest -q tests
+
+lint: setup
+	$(VENV)/bin/ruff check .
+
+list: setup
+	@$(PY) -m scripts list
+
+$(CASES): %: setup
+	$(MPIRUN) $(PY) -m scripts run $@
+
+report: setup
+	$(PY) -m scripts report
+
+# Each case writes results/<case>/metrics.json; the pattern rule lets `make -j2 run` work.
+results/%/metrics.json: cases/%.toml | setup
+	$(MPIRUN) $(PY) -m scripts run $*
+
+run: setup $(foreach c,$(CASES),results/$(c)/metrics.json)
+	$(PY) -m scripts report
+
+ci: setup
+	$(PY) -m scripts ci
+
+convergence: setup
+	$(PY) -m scripts.convergence
+
+stability: setup
+	$(PY) -m scripts.stability
+
+bench: setup
+	$(PY) -m scripts.bench
+
+clean:
+	rm -rf results .pytest_cache .ruff_cache
+	find . -name __pycache__ -not -path './.venv/*' -prune -exec rm -rf {} +

@@ -1,0 +1,201 @@
+"""UFL weak forms of frictionless contact against a rigid obstacle (penalty and Nitsche).
+
+Notation (units: mm, N, MPa). ``u`` displacement, ``v`` test function, ``a(u, v) = int sigma(u) : eps(v) dx``.
+On the candidate contact boundary Gamma_c (reference configuration, outward body normal ``n_b``):
+
+* gap ``g(u)`` (mm), > 0 open, < 0 penetration; contact direction ``n_c`` (unit, from the body towards the
+  obstacle, ``n_c = -n_o`` with ``n_o`` the obstacle's outward normal); traction on the body ``t = -p n_c``
+  with the contact pressure ``p >= 0`` (compressive).
+* kinematics ``small``: gap at the undeformed position, linear in u: ``g = g(X) + n_o(X) . u`` (obstacle mode)
+  or ``g = phi(X1) - d - (X2 + u2)`` (half-plane mode). ``convective``: the obstacle is evaluated where the
+  material point is, ``x = X + u``: ``g = g(X + u)``, ``n_o = n_o(X + u)``, or ``g = phi(X1 + u1) - d - x2``.
+* traction ``obstacle``: ``n_c = -n_o`` (signed distance along the rigid curve's normal); ``halfplane``:
+  vertical gap and ``n_c = e_y`` (traction normal to the undeformed flat surface; obstacle moved along -e_y).
+
+Penalty: ``p = kappa [-g]_+``, ``kappa = kappa0 E / h`` (h = cell diameter); residual
+``F(u; v) = a(u, v) + int_Gc p (n_c . v) ds``  (= first variation of ``1/2 a(u,u) + int kappa/2 [-g]_+^2``).
+
+Nitsche (Chouly-Hild, frictionless), ``gamma = gamma0 E / h``, ``sigma_n(w) = n_c . sigma(w) n_b``,
+``P_gamma(u) = sigma_n(u) + gamma g(u)``, ``P_theta(v) = theta sigma_n(v) - gamma (n_c . v)``:
+``F(u; v) = a(u, v) - theta/gamma int sigma_n(u) sigma_n(v) ds + 1/gamma int [P_gamma(u)]_- P_theta(v) ds``,
+so ``p = -[P_gamma]_- = [-sigma_n(u) - gamma g]_+``. theta = 1 symmetric, 0 incomplete (= penalty-like
+residual with a consistent pressure), -1 skew-symmetric. With theta = 0 both methods share
+``F = a + int p (n_c . v)``.
+
+For a :class:`fem.obstacles.CurveObstacle` the gap and normal are nodal Functions (``g_k``, ``n_k``) updated from
+the current iterate ``u_k`` every residual evaluation, with ``g(u) = g_k + n_k . (u - u_k)`` (convective) or
+``g(u) = g_0 + n_0 . u`` (small, projection of the undeformed nodes).
+
+The Jacobian is the exact Gateaux derivative (semismooth Newton: the derivative of ``[x]_+`` is the indicator
+of ``x > 0``).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, NamedTuple
+
+import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
+import dolfinx
+import numpy as np
+import ufl
+
+from fem.elasticity import Lame, sigma
+
+__all__ = ["ContactForms", "positive_part", "build_contact_forms", "METHODS", "KINEMATICS", "TRACTIONS"]
+
+METHODS = ("nitsche", "penalty")
+KINEMATICS = ("small", "convective")
+TRACTIONS = ("obstacle", "halfplane")
+
+
+class ContactForms(NamedTuple):
+    """UFL pieces of the contact problem.
+
+    Attributes:
+        F: residual form (N/mm per unit test displacement).
+        J: Jacobian form.
+        gap: UFL gap g(u) (mm).
+        argument: UFL pressure argument q with ``p = [q]_+`` (MPa).
+        pressure: UFL contact pressure p >= 0 (MPa).
+        n_c: UFL unit contact direction (body -> obstacle).
+        sigma_nn: UFL ``-n_c . sigma(u) n_b`` (MPa, > 0 compressive), the stress-based pressure.
+        contact_work: UFL integrand ``-t . w`` is not stored; the contact part of F is ``F_c``.
+        F_c: the contact part of the residual (form in v).
+        update: callable(u_function) refreshing nodal gap data (Curve obstacles) or None.
+    """
+
+    F: Any
+    J: Any
+    gap: Any
+    argument: Any
+    pressure: Any
+    n_c: Any
+    sigma_nn: Any
+    contact_work: Any
+    F_c: Any
+    update: Callable | None
+
+
+def positive_part(x):
+    """``[x]_+`` as a UFL conditional (derivative: indicator of x > 0)."""
+    return ufl.conditional(ufl.gt(x, 0.0), x, 0.0)
+
+
+def _check(name, value, allowed):
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
+
+
+def _curve_gap(*, u, obstacle, d, contact_facets, kinematics):
+    """Nodal gap/normal Functions for a Curve obstacle and their update callback."""
+    V = u.function_space
+    mesh = V.mesh
+    deg = V.ufl_element().embedded_superdegree
+    Q = dolfinx.fem.functionspace(mesh, ("Lagrange", deg))
+    g_k = dolfinx.fem.Function(Q, name="gap_nodal")
+    n_k = dolfinx.fem.Function(V, name="normal_nodal")
+    u_k = dolfinx.fem.Function(V, name="u_linearisation")
+    fdim = mesh.topology.dim - 1
+    dofs = dolfinx.fem.locate_dofs_topological(Q, fdim, contact_facets)
+    X = Q.tabulate_dof_coordinates()[dofs, :2]
+    state = {"d": None}
+
+    def update(u_now):
+        dval = float(d.value)
+        if kinematics == "small":
+            if state["d"] == dval:
+                return
+            pts = X
+        else:
+            u_k.x.array[:] = u_now.x.array
+            pts = X + u_now.x.array.reshape(-1, 2)[dofs]
+        gp = obstacle.signed_distance(pts[:, 0], pts[:, 1], d=dval)
+        g_k.x.array[dofs] = gp.g
+        n_arr = n_k.x.array.reshape(-1, 2)
+        n_arr[dofs, 0] = gp.n1
+        n_arr[dofs, 1] = gp.n2
+        state["d"] = dval
+
+    if kinematics == "small":
+        gap = g_k + ufl.dot(n_k, u)
+    else:
+        gap = g_k + ufl.dot(n_k, u - u_k)
+    return gap, -n_k, update
+
+
+def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str, kinematics: str,
+                        traction: str, kappa0: float, gamma0: float, theta: float, ds_c, contact_facets,
+                        ) -> ContactForms:
+    """Assemble the UFL residual/Jacobian of frictionless contact (see module docstring for the weak form).
+
+    Args:
+        u: displacement Function (vector Lagrange).
+        obstacle: an obstacle from :mod:`fem.obstacles`.
+        d: dolfinx Constant, rigid displacement (mm) of the obstacle along ``obstacle.direction``.
+        lame: plane-strain Lame parameters.
+        E: Young's modulus (MPa) scaling kappa and gamma.
+        method, kinematics, traction: see module docstring.
+        kappa0, gamma0, theta: penalty / Nitsche parameters (dimensionless).
+        ds_c: boundary measure restricted to Gamma_c (with its quadrature degree).
+        contact_facets: local facet indices of Gamma_c (needed for Curve obstacles).
+    """
+    _check("method", method, METHODS)
+    _check("kinematics", kinematics, KINEMATICS)
+    _check("traction", traction, TRACTIONS)
+    if theta not in (-1, 0, 1, -1.0, 0.0, 1.0):
+        raise ValueError(f"theta must be one of (1, 0, -1), got {theta!r}")
+    if method == "penalty" and not kappa0 > 0:
+        raise ValueError(f"kappa0 must be > 0, got {kappa0}")
+    if method == "nitsche" and not gamma0 > 0:
+        raise ValueError(f"gamma0 must be > 0, got {gamma0}")
+    mesh = u.function_space.mesh
+    v = ufl.TestFunction(u.function_space)
+    du = ufl.TrialFunction(u.function_space)
+    X = ufl.SpatialCoordinate(mesh)
+    n_b = ufl.FacetNormal(mesh)
+    h = ufl.CellDiameter(mesh)
+    update = None
+
+    if traction == "halfplane":
+        if abs(obstacle.direction[0]) > 1e-14 or obstacle.direction[1] > 0:
+            raise ValueError(f"traction='halfplane' needs direction (0, -1), got {obstacle.direction}")
+        if not obstacle.analytic:
+            raise ValueError("traction='halfplane' needs an analytic obstacle (graph y = phi(x))")
+        x1 = X[0] if kinematics == "small" else X[0] + u[0]
+        gap = obstacle.halfplane_gap(x1, X[1] + u[1], d=d, xp=ufl)
+        n_c = ufl.as_vector((0.0, 1.0))
+    elif obstacle.analytic:
+        if kinematics == "small":
+            g0 = obstacle.signed_distance(X[0], X[1], d=d, xp=ufl)
+            n_o = ufl.as_vector((g0.n1, g0.n2))
+            gap = g0.g + ufl.dot(n_o, u)
+        else:
+            x = X + u
+            gx = obstacle.signed_distance(x[0], x[1], d=d, xp=ufl)
+            n_o = ufl.as_vector((gx.n1, gx.n2))
+            gap = gx.g
+        n_c = -n_o
+    else:
+        gap, n_c, update = _curve_gap(u=u, obstacle=obstacle, d=d, contact_facets=contact_facets,
+                                      kinematics=kinematics)
+
+    sig_n = lambda w: ufl.dot(n_c, ufl.dot(sigma(w, lame), n_b))  # noqa: E731
+    if method == "penalty":
+        kappa = kappa0 * E / h
+        q = -kappa * gap
+        p = positive_part(q)
+        F_c = p * ufl.dot(n_c, v) * ds_c
+    else:
+        gamma = gamma0 * E / h
+        P_gamma = sig_n(u) + gamma * gap
+        q = -P_gamma
+        p = positive_part(q)
+        F_c = (-theta / gamma * sig_n(u) * sig_n(v) - p / gamma * (theta * sig_n(v) - gamma * ufl.dot(n_c, v))) * ds_c
+    F = ufl.inner(sigma(u, lame), ufl.grad(v)) * ufl.dx + F_c
+    J = ufl.derivative(F, u, du)
+    return ContactForms(F=F, J=J, gap=gap, argument=q, pressure=p, n_c=n_c, sigma_nn=-sig_n(u),
+                        contact_work=None, F_c=F_c, update=update)
+
+
+def _unused():  # pragma: no cover - keeps numpy imported for type checkers
+    return np

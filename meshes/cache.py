@@ -1,0 +1,69 @@
+"""Parameter-hash cache for meshes: a rerun with the same parameters does not remesh.
+
+Files of one mesh: ``<cache_dir>/<name>-<key>.{msh,xdmf,h5,json}``; the key is the first 16 hex digits of
+the SHA-256 of the canonical JSON of all build parameters (plus the builder version).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+from typing import NamedTuple
+
+__all__ = ["MeshFiles", "cache_key", "cache_paths", "atomic_write_json", "DEFAULT_CACHE_DIR"]
+
+DEFAULT_CACHE_DIR = Path("results/mesh_cache")
+
+
+class MeshFiles(NamedTuple):
+    """Result of a mesh build.
+
+    Attributes:
+        msh: path of the gmsh 4.1 ``.msh`` file.
+        xdmf: path of the XDMF file (mesh + ``facet_tags`` + ``cell_tags``), or None when not written.
+        stats: quality statistics (see :func:`meshes.quality.mesh_quality`) plus ``physical_groups``.
+        key: parameter hash.
+        cached: True when the files were reused from the cache.
+    """
+
+    msh: Path
+    xdmf: Path | None
+    stats: dict
+    key: str
+    cached: bool
+
+
+def _canonical(obj):
+    if isinstance(obj, dict):
+        return {str(k): _canonical(v) for k, v in sorted(obj.items())}
+    if isinstance(obj, (list, tuple)):
+        return [_canonical(v) for v in obj]
+    if isinstance(obj, float):
+        return repr(obj)
+    if hasattr(obj, "tolist"):
+        return _canonical(obj.tolist())
+    return obj
+
+
+def cache_key(params: dict) -> str:
+    """SHA-256 (16 hex digits) of the canonical JSON of ``params`` (floats by repr, keys sorted)."""
+    text = json.dumps(_canonical(params), sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def cache_paths(cache_dir, name: str, key: str) -> dict[str, Path]:
+    """Paths of the cached files of one mesh."""
+    base = Path(cache_dir) / f"{name}-{key}"
+    return {ext: base.with_suffix("." + ext) for ext in ("msh", "xdmf", "h5", "json")}
+
+
+def atomic_write_json(path, data: dict) -> Path:
+    """Write JSON to ``path`` atomically (temporary file in the same directory + os.replace)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
+    os.replace(tmp, path)
+    return path
