@@ -12,6 +12,11 @@ NP     ?= 1
 MPIRUN := $(if $(filter-out 1,$(NP)),$(VENV)/bin/mpiexec -n $(NP),)
 
 CASES  := $(basename $(notdir $(wildcard cases/*.toml)))
+METRICS := $(foreach c,$(CASES),results/$(c)/metrics.json)
+SOURCES := $(wildcard analytic/*.py meshes/*.py fem/*.py cases/*.py scripts/*.py)
+# one thread per process: `make -j2` and MPI ranks share the 2 cores instead of oversubscribing them
+export OMP_NUM_THREADS := 1
+export OPENBLAS_NUM_THREADS := 1
 
 # Find a Python >= 3.12 that really runs: $PYTHON, then python3.13/python3.12 on PATH
 # (pyenv shims exist but may fail), then pyenv's installed versions.
@@ -62,12 +67,15 @@ $(CASES): %: setup
 report: setup
 	$(PY) -m scripts report
 
-# Each case writes results/<case>/metrics.json; the pattern rule lets `make -j2 run` work.
-results/%/metrics.json: cases/%.toml | setup
+# Each case writes results/<case>/metrics.json; the pattern rule lets `make -j2 run` work, and a case
+# reruns when its file or any source changes. `run` always ends with the summary report, even when a
+# case failed (the make exit status still says so).
+results/%/metrics.json: cases/%.toml $(SOURCES) | setup
 	$(MPIRUN) $(PY) -m scripts run $*
 
-run: setup $(foreach c,$(CASES),results/$(c)/metrics.json)
-	$(PY) -m scripts report
+run: setup
+	@$(MAKE) --no-print-directory -k $(METRICS); status=$$?; \
+	 $(PY) -m scripts.convective_table && $(PY) -m scripts report; exit $$status
 
 ci: setup
 	$(PY) -m scripts ci

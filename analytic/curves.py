@@ -4,17 +4,17 @@ Conventions (units: mm):
 
 * A curve ``C(t)``, ``t`` in ``[t_min, t_max]``, has the unit tangent ``T = C'/|C'|`` and the unit LEFT normal
   ``N = (-T_y, T_x)`` (tangent rotated by +90 deg).
-* Signed curvature ``kappa = (x' y'' - y' x'') / |C'|^3`` is > 0 when the curve turns left, i.e. towards ``N``;
-  ``radius = 1 / kappa`` (``inf`` on straight parts).
+* Signed curvature ``kappa = (x' y'' - y' x'') / |C'|^3`` is > 0 when the curve turns left, i.e. towards
+  ``N``; ``radius = 1 / kappa`` (``inf`` on straight parts).
 * A body's boundary is oriented so that ``N`` is the body's OUTWARD normal (elastic concave body: top spline
   runs left to right; closed rigid particle: clockwise). Then ``project(x).distance`` is > 0 outside the body
   and < 0 inside it: against the rigid particle it is the signed gap.
 * With that orientation the Hertz radius of the body (convex > 0, concave < 0) is ``-radius(t)``
   (see :func:`analytic.lcp.hertz_radius`).
 
-Projection (:meth:`Curve.project`) is global: the squared distance is sampled on a parameter grid fine enough
-to resolve every local minimum, the few best sampled local minima are refined by a safeguarded Newton method on
-``f(t) = (C(t) - x) . C'(t) = 0`` (bracketed by the neighbouring samples), and the closest one is kept.
+Projection (:meth:`Curve.project`) is global: the squared distance is sampled on a parameter grid fine
+enough to resolve every local minimum, the few best sampled local minima are refined by a safeguarded Newton
+method on ``f(t) = (C(t) - x) . C'(t) = 0`` (bracketed by the neighbouring samples); the closest is kept.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ __all__ = [
     "clamped_uniform_knots",
 ]
 
-_CHUNK = 2048  # points per vectorised projection chunk (memory ~ chunk x samples)
+_CHUNK_ENTRIES = 2_000_000  # points x samples per vectorised projection chunk (memory bound)
 
 
 class Projection(NamedTuple):
@@ -195,8 +195,8 @@ class Curve(abc.ABC):
             n_candidates: number of best sampled local minima refined per point.
 
         Returns:
-            Projection(t, foot, distance, normal); ``distance`` is signed, > 0 on the normal side. When the foot
-            is an end point of an open curve the sign is that of (x - foot).normal.
+            Projection(t, foot, distance, normal); ``distance`` is signed, > 0 on the normal side. When the
+            foot is an end point of an open curve the sign is that of (x - foot).normal.
         """
         x_all = _as_points(points)
         n = len(x_all)
@@ -204,8 +204,9 @@ class Curve(abc.ABC):
         cs = self.point(ts)
         t_out = np.empty(n)
         closed = self.is_closed
-        for start in range(0, n, _CHUNK):
-            x = x_all[start : start + _CHUNK]
+        chunk = max(16, _CHUNK_ENTRIES // len(ts))
+        for start in range(0, n, chunk):
+            x = x_all[start : start + chunk]
             m = len(x)
             d2 = ((x[:, None, :] - cs[None, :, :]) ** 2).sum(axis=2)  # (m, N)
             left = np.concatenate([np.full((m, 1), np.inf), d2[:, :-1]], axis=1)
@@ -230,7 +231,7 @@ class Curve(abc.ABC):
                 take = valid & (dj < best_d)
                 best_t[take], best_d[take] = tj[take], dj[take]
             if t_guess is not None:
-                tg = np.clip(_as_t(t_guess)[start : start + _CHUNK], self.t_min, self.t_max)
+                tg = np.clip(_as_t(t_guess)[start : start + chunk], self.t_min, self.t_max)
                 tj = self._refine(x, np.full(m, self.t_min), np.full(m, self.t_max), tg)
                 # the global bracket may not hold a sign change; only accept a true improvement
                 dj = ((self.point(tj) - x) ** 2).sum(axis=1)
@@ -300,14 +301,16 @@ class BSpline(Curve):
 
     def sample_parameters(self) -> np.ndarray:
         spans = np.unique(self.knots)
-        per_span = 24
-        return np.unique(
-            np.concatenate([np.linspace(a, b, per_span + 1) for a, b in zip(spans[:-1], spans[1:], strict=True)])
-        )
+        # >= 4 samples per knot span (a cubic span has at most 2 distance minima), ~4000 samples in all
+        per_span = int(np.clip(4096 // (len(spans) - 1), 4, 24))
+        grids = [np.linspace(a, b, per_span + 1) for a, b in zip(spans[:-1], spans[1:], strict=True)]
+        return np.unique(np.concatenate(grids))
 
 
 class CircleArc(Curve):
-    """Circular arc C(t) = c + r (cos phi, sin phi), phi = angle_start + t (angle_end - angle_start), t in [0, 1].
+    """Circular arc C(t) = c + r (cos phi, sin phi), phi = angle_start + t (angle_end - angle_start).
+
+    The parameter is t in [0, 1].
 
     Counter-clockwise when angle_end > angle_start (left normal points to the centre, curvature +1/r),
     clockwise otherwise (left normal points outwards, curvature -1/r). A span of 2*pi is a full circle.
@@ -327,7 +330,7 @@ class CircleArc(Curve):
         self.t_min, self.t_max = 0.0, 1.0
 
     def __repr__(self) -> str:
-        return f"CircleArc(center={self.center.tolist()}, radius={self.r}, {self.angle_start}, {self.angle_end})"
+        return f"CircleArc({self.center.tolist()}, {self.r}, {self.angle_start}, {self.angle_end})"
 
     @property
     def span(self) -> float:
@@ -347,14 +350,15 @@ class CircleArc(Curve):
         return s * np.column_stack([np.cos(phi + order * np.pi / 2), np.sin(phi + order * np.pi / 2)])
 
     def translated(self, shift) -> CircleArc:
-        return CircleArc(self.center + np.asarray(shift, dtype=float), self.r, self.angle_start, self.angle_end)
+        c = self.center + np.asarray(shift, dtype=float)
+        return CircleArc(c, self.r, self.angle_start, self.angle_end)
 
     def sample_parameters(self) -> np.ndarray:
         n = max(8, int(np.ceil(abs(self.span) / (np.pi / 32))))
         return np.linspace(0.0, 1.0, n + 1)
 
     def project(self, points, *, t_guess=None, n_candidates: int = 3) -> Projection:  # noqa: ARG002
-        """Closed-form projection: the radial foot when inside the arc's angular range, else the nearer end."""
+        """Closed-form projection: the radial foot inside the arc's angular range, else the nearer end."""
         x = _as_points(points)
         rel = x - self.center
         phi = np.arctan2(rel[:, 1], rel[:, 0])
@@ -421,7 +425,7 @@ class Line(Curve):
 
 
 class Ellipse(Curve):
-    """Ellipse (arc) C(t) = c + R(rot) (a cos phi, b sin phi), phi = angle_start + t (angle_end - angle_start).
+    """Ellipse (arc) C(t) = c + Rot (a cos phi, b sin phi), phi = angle_start + t (angle_end - angle_start).
 
     Counter-clockwise (normal inwards) when angle_end > angle_start. Curvature at phi:
     a b / (a^2 sin^2 phi + b^2 cos^2 phi)^{3/2} (sign as for :class:`CircleArc`).
@@ -479,7 +483,8 @@ class CompositeCurve(Curve):
             a = pieces[k].point([pieces[k].t_max])[0]
             b = pieces[k + 1].point([pieces[k + 1].t_min])[0]
             if np.linalg.norm(a - b) > tol * max(1.0, np.abs(a).max()):
-                raise ValueError(f"pieces must be continuous: gap {np.linalg.norm(a - b):.3e} mm after piece {k}")
+                gap = np.linalg.norm(a - b)
+                raise ValueError(f"pieces must be continuous: gap {gap:.3e} mm after piece {k}")
         self.pieces = pieces
         self.t_min, self.t_max = 0.0, float(len(pieces))
 

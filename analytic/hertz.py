@@ -36,6 +36,9 @@ __all__ = [
     "PAPER_E_STAR",
     "PAPER_RADII",
     "TABLE1",
+    "Eq5Width",
+    "Table1Patch",
+    "table1_patch_sizes",
 ]
 
 
@@ -111,8 +114,14 @@ def hertz_peak_pressure(P: float, a: float) -> float:
 def hertz(P: float, R: float, E_star: float) -> HertzContact:
     """Hertz line contact for load P (N/mm), relative radius R (mm) and composite modulus E* (MPa)."""
     a = hertz_half_width(P, R, E_star)
-    return HertzContact(P=float(P), R=float(R), E_star=float(E_star), half_width=a, full_width=2.0 * a,
-                        p0=hertz_peak_pressure(P, a))
+    return HertzContact(
+        P=float(P),
+        R=float(R),
+        E_star=float(E_star),
+        half_width=a,
+        full_width=2.0 * a,
+        p0=hertz_peak_pressure(P, a),
+    )
 
 
 def hertz_pressure(x: Any, *, a: float, p0: float, center: float = 0.0, xp: Any = np) -> Any:
@@ -217,3 +226,48 @@ PAPER_RADII: tuple[PaperRadii, ...] = (
 )
 """Radii the paper quotes. 1/(1/2.96 - 1/6.81) = 5.236 (printed 5.23, agrees); 1/(1/41 - 1/50) = 227.8
 (printed 233: does NOT follow); 1/(1/23 - 1/44) = 48.19 (printed 50: does NOT follow, a rounding at best)."""
+
+
+class Eq5Width(NamedTuple):
+    """Eq. (5) full patch width for one published radius pair of a Table-1 row (mm)."""
+
+    pair: str
+    R_printed: float
+    R_computed: float
+    width_eq5_R_printed: float
+    width_eq5_R_computed: float
+    width_printed: float
+
+
+class Table1Patch(NamedTuple):
+    """Patch sizes of one Table-1 row: eq. (4) from (P, p0); eq. (5) from (P, R, E*) where R is published.
+
+    Attributes:
+        row: The Table-1 row.
+        width_eq4: Full width 2a = 4 P / (pi p0) (mm).
+        eq5: One entry per published radius pair; empty tuple = "R not published".
+    """
+
+    row: Table1Row
+    width_eq4: float
+    eq5: tuple[Eq5Width, ...]
+
+
+def table1_patch_sizes(*, E_star: float = PAPER_E_STAR) -> tuple[Table1Patch, ...]:
+    """Eq. (4) and eq. (5) full patch widths 2a for every Table-1 row (eq. 5 only where R is published)."""
+    out = []
+    for row in TABLE1:
+        eq5 = tuple(
+            Eq5Width(
+                pair=r.pair,
+                R_printed=r.R_printed,
+                R_computed=r.R_computed,
+                width_eq5_R_printed=patch_width_eq5(row.P, r.R_printed, E_star),
+                width_eq5_R_computed=patch_width_eq5(row.P, r.R_computed, E_star),
+                width_printed=r.width_printed,
+            )
+            for r in PAPER_RADII
+            if r.config == row.config and r.d == row.d
+        )
+        out.append(Table1Patch(row=row, width_eq4=patch_width_eq4(row.P, row.p0), eq5=eq5))
+    return tuple(out)

@@ -118,7 +118,9 @@ def kolosov(nu: float, *, plane: str = "strain") -> float:
     return (3.0 - nu) / (1.0 + nu)
 
 
-def dundurs(E2: float, nu2: float, *, E1: float = math.inf, nu1: float = 0.0, plane: str = "strain") -> Dundurs:
+def dundurs(
+    E2: float, nu2: float, *, E1: float = math.inf, nu1: float = 0.0, plane: str = "strain"
+) -> Dundurs:
     """Dundurs' constants (alpha, beta) for indenter 1 on body 2 (E1 = inf: rigid indenter).
 
     alpha = [Gam (k1 + 1) - (k2 + 1)] / [Gam (k1 + 1) + (k2 + 1)],

@@ -57,7 +57,7 @@ def _positive(value: float, name: str, unit: str) -> float:
     return value
 
 
-def wedge_slope(theta: float, *, convention: str = "exact") -> float:
+def wedge_slope(theta: float, *, convention: str) -> float:
     """Face slope m of a wedge with external angle theta (rad), 0 < theta < pi/2.
 
     Args:

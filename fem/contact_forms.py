@@ -36,7 +36,6 @@ from typing import Any, Callable, NamedTuple
 
 import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
 import dolfinx
-import numpy as np
 import ufl
 
 from fem.elasticity import Lame, sigma
@@ -59,7 +58,6 @@ class ContactForms(NamedTuple):
         pressure: UFL contact pressure p >= 0 (MPa).
         n_c: UFL unit contact direction (body -> obstacle).
         sigma_nn: UFL ``-n_c . sigma(u) n_b`` (MPa, > 0 compressive), the stress-based pressure.
-        contact_work: UFL integrand ``-t . w`` is not stored; the contact part of F is ``F_c``.
         F_c: the contact part of the residual (form in v).
         update: callable(u_function) refreshing nodal gap data (Curve obstacles) or None.
     """
@@ -71,7 +69,6 @@ class ContactForms(NamedTuple):
     pressure: Any
     n_c: Any
     sigma_nn: Any
-    contact_work: Any
     F_c: Any
     update: Callable | None
 
@@ -79,6 +76,15 @@ class ContactForms(NamedTuple):
 def positive_part(x):
     """``[x]_+`` as a UFL conditional (derivative: indicator of x > 0)."""
     return ufl.conditional(ufl.gt(x, 0.0), x, 0.0)
+
+
+def _law(q, X, mask):
+    """``[q]_+``, or the prescribed-active-set law while the predictor mask is on."""
+    if mask is None:
+        return positive_part(q)
+    on, lo, hi = mask
+    inside = ufl.And(ufl.gt(X[0], lo), ufl.lt(X[0], hi))
+    return ufl.conditional(ufl.gt(on, 0.5), ufl.conditional(inside, q, 0.0), positive_part(q))
 
 
 def _check(name, value, allowed):
@@ -125,7 +131,7 @@ def _curve_gap(*, u, obstacle, d, contact_facets, kinematics):
 
 def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str, kinematics: str,
                         traction: str, kappa0: float, gamma0: float, theta: float, ds_c, contact_facets,
-                        ) -> ContactForms:
+                        mask=None) -> ContactForms:
     """Assemble the UFL residual/Jacobian of frictionless contact (see module docstring for the weak form).
 
     Args:
@@ -138,6 +144,9 @@ def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str, ki
         kappa0, gamma0, theta: penalty / Nitsche parameters (dimensionless).
         ds_c: boundary measure restricted to Gamma_c (with its quadrature degree).
         contact_facets: local facet indices of Gamma_c (needed for Curve obstacles).
+        mask: optional Constants ``(on, lo, hi)``: while ``on = 1`` the positive part is replaced by a prescribed
+            active set, ``p = q`` for ``lo < X1 < hi`` and 0 elsewhere (the solver's active-set predictor
+            iteration); ``on = 0`` gives the true contact law.
     """
     _check("method", method, METHODS)
     _check("kinematics", kinematics, KINEMATICS)
@@ -183,19 +192,15 @@ def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str, ki
     if method == "penalty":
         kappa = kappa0 * E / h
         q = -kappa * gap
-        p = positive_part(q)
+        p = _law(q, X, mask)
         F_c = p * ufl.dot(n_c, v) * ds_c
     else:
         gamma = gamma0 * E / h
         P_gamma = sig_n(u) + gamma * gap
         q = -P_gamma
-        p = positive_part(q)
+        p = _law(q, X, mask)
         F_c = (-theta / gamma * sig_n(u) * sig_n(v) - p / gamma * (theta * sig_n(v) - gamma * ufl.dot(n_c, v))) * ds_c
     F = ufl.inner(sigma(u, lame), ufl.grad(v)) * ufl.dx + F_c
     J = ufl.derivative(F, u, du)
     return ContactForms(F=F, J=J, gap=gap, argument=q, pressure=p, n_c=n_c, sigma_nn=-sig_n(u),
-                        contact_work=None, F_c=F_c, update=update)
-
-
-def _unused():  # pragma: no cover - keeps numpy imported for type checkers
-    return np
+                        F_c=F_c, update=update)

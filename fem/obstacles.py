@@ -122,6 +122,10 @@ class CircleObstacle(AnalyticObstacle):
     def __repr__(self) -> str:
         return f"CircleObstacle(center={self.center}, radius={self.radius}, direction={self.direction})"
 
+    def hertz_contact(self) -> tuple[float, float, float]:
+        """(x_c, y_lowest, R): abscissa and height of the lowest point at d = 0, radius (Hertz predictor)."""
+        return self.center[0], self.center[1] - self.radius, self.radius
+
     def _distance0(self, x1, x2, xp) -> Gap:
         ops = math_ops(xp)
         r1, r2 = x1 - self.center[0], x2 - self.center[1]
@@ -163,6 +167,10 @@ class ParabolaObstacle(_GraphObstacle):
 
     def __repr__(self) -> str:
         return f"ParabolaObstacle(radius={self.radius}, vertex={self.vertex}, direction={self.direction})"
+
+    def hertz_contact(self) -> tuple[float, float, float]:
+        """(x_c, y_lowest, R): vertex abscissa and height at d = 0, radius (Hertz predictor)."""
+        return self.vertex[0], self.vertex[1], self.radius
 
     def _phi0(self, x1, xp):
         r1 = x1 - self.vertex[0]

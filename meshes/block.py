@@ -5,7 +5,8 @@ y = 0 centred at x = 0. The top edge is split at x = 0, +-a and +-a(1 + margin) 
 predicted contact edges are mesh nodes.
 
 Size field (see :mod:`meshes.sizing`): h = h_contact on the top edge |x| <= a(1 + margin), growing linearly
-with the distance d from that segment, h = h_contact + (growth - 1) d (target 0.9 h_contact, see SIZE_SAFETY) (element ratio ~ growth), up to h_far.
+with the distance d from that segment, h = h_contact + (growth - 1) d (element ratio ~ growth), up to h_far
+(the contact target is SIZE_SAFETY * h_contact = 0.9 h_contact).
 Optional refinements (each also with the same growth): h_contact * edge_factor at the points (+-a, 0), and
 h_contact * apex_factor at the apex (0, 0) (log-singular wedge pressure).
 

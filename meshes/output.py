@@ -50,8 +50,13 @@ def msh_to_xdmf(msh, xdmf) -> Path:
     from dolfinx.io import gmsh as dgmsh
     from mpi4py import MPI
 
+    from meshes._session import gmsh_model
+
     xdmf = Path(xdmf)
-    data = dgmsh.read_from_msh(str(msh), MPI.COMM_SELF, 0, gdim=2)
+    # same as dgmsh.read_from_msh, but quiet and without finalising a gmsh session we did not open
+    with gmsh_model("xdmf") as gmsh:
+        gmsh.merge(str(msh))
+        data = dgmsh.model_to_mesh(gmsh.model, MPI.COMM_SELF, 0, gdim=2)
     tmp = xdmf.with_name(f".{xdmf.stem}.{os.getpid()}.tmp.xdmf")
     data.mesh.name = "mesh"
     with XDMFFile(MPI.COMM_SELF, str(tmp), "w") as f:

@@ -38,7 +38,8 @@ def mesh_quality(points: np.ndarray, triangles: np.ndarray, contact_edges: np.nd
     Returns:
         dict with ``n_cells``, ``n_nodes``, ``min_angle_deg``, ``max_aspect_ratio`` (circumradius / (2
         inradius), 1 for equilateral), ``h_max`` / ``h_min`` (all edges), and for the contact edges
-        ``n_contact_edges``, ``contact_h_max`` (over the window), ``contact_h_min``, ``n_contact_edges_window``.
+        ``n_contact_edges``, ``contact_h_max`` (over the window), ``contact_h_min``,
+        ``n_contact_edges_window``.
     """
     pts = np.asarray(points, dtype=float)[:, :2]
     tri = np.asarray(triangles, dtype=np.int64)

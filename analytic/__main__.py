@@ -1,0 +1,200 @@
+"""Command line: ``python -m analytic {hertz,wedge,convective,table1,lcp} ... [--json]``.
+
+Units: mm, N/mm, MPa, rad. A bad value prints ONE line on stderr naming the field and its range and
+exits with code 2. Computing lives in the modules; this file only parses and formats.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from collections.abc import Sequence
+from typing import Any, NoReturn
+
+__all__ = ["main"]
+
+
+class _Parser(argparse.ArgumentParser):
+    """ArgumentParser whose errors are one stderr line and exit code 2."""
+
+    def error(self, message: str) -> NoReturn:
+        print(f"{self.prog}: error: {message}", file=sys.stderr)
+        raise SystemExit(2)
+
+
+def _emit(data: dict[str, Any], as_json: bool) -> None:
+    if as_json:
+        print(json.dumps(data, indent=2))
+        return
+    for key, value in data.items():
+        if isinstance(value, float):
+            print(f"{key:32s} {value:.10g}")
+        else:
+            print(f"{key:32s} {value}")
+
+
+def _cmd_hertz(args: argparse.Namespace) -> dict[str, Any]:
+    from analytic import hertz, materials
+
+    E1 = math.inf if args.E2 is None else args.E2
+    nu1 = 0.0 if args.nu2 is None else args.nu2
+    E_star = materials.composite_modulus(args.E, args.nu, E1=E1, nu1=nu1)
+    c = hertz.hertz(args.P, args.R, E_star)
+    return {
+        "P": c.P,
+        "R": c.R,
+        "E_star": c.E_star,
+        "half_width": c.half_width,
+        "full_width": c.full_width,
+        "p0": c.p0,
+        "indenter": "rigid" if math.isinf(E1) else "elastic",
+    }
+
+
+def _cmd_wedge(args: argparse.Namespace) -> dict[str, Any]:
+    from analytic import materials, wedge
+
+    m = wedge.wedge_slope(args.theta, convention=args.convention)
+    E_star = materials.composite_modulus(args.E, args.nu)
+    c = wedge.wedge(args.P, m, E_star)
+    return {
+        "P": c.P,
+        "theta": args.theta,
+        "convention": args.convention,
+        "m": c.m,
+        "E_star": c.E_star,
+        "half_width": c.half_width,
+        "full_width": c.full_width,
+        "beta_rigid_indenter": materials.beta_rigid_indenter(args.nu),
+    }
+
+
+def _cmd_convective(args: argparse.Namespace) -> dict[str, Any]:
+    from analytic import convective, wedge
+
+    if args.profile == "wedge" and args.theta is None:
+        raise ValueError("theta = None out of range: --profile wedge needs 0 < --theta < pi/2")
+    m = wedge.wedge_slope(args.theta, convention=args.convention) if args.profile == "wedge" else None
+    prof = convective.profile_from_args(args.profile, m=m, b0_over_R=args.b0_over_R, n=args.n)
+    sol = convective.solve(prof, beta=args.beta, n_nodes=args.nodes)
+    return {
+        "profile": prof.kind,
+        "label": prof.label,
+        "n": prof.n,
+        "lam": prof.lam,
+        "beta": sol.beta,
+        "b_over_b0_first_order": sol.b_over_b0_first_order,
+        "b_over_b0_first_order_numeric": sol.b_over_b0_first_order_numeric,
+        "b_over_b0_first_iterate": sol.b_over_b0_first_iterate,
+        "b_over_b0_converged": sol.b_over_b0_converged,
+        "iterations": sol.iterations,
+        "n_nodes": sol.n_nodes,
+    }
+
+
+def _cmd_table1(args: argparse.Namespace) -> dict[str, Any]:
+    from analytic import hertz
+
+    rows = []
+    for t in hertz.table1_patch_sizes(E_star=args.E_star):
+        rows.append(
+            {
+                **t.row._asdict(),
+                "width_eq4": t.width_eq4,
+                "eq5": [e._asdict() for e in t.eq5] if t.eq5 else "R not published",
+            }
+        )
+    return {"E_star": args.E_star, "note": "widths are FULL patch widths 2a (mm)", "rows": rows}
+
+
+def _print_table1(data: dict[str, Any]) -> None:
+    print(f"E* = {data['E_star']:.6g} MPa; {data['note']}")
+    head = f"{'config':20s} {'d':>5s} {'P':>7s} {'p0':>7s} {'2a eq4':>8s}"
+    print(f"{head}  eq5 (pair: R printed -> 2a | R computed -> 2a)")
+    for r in data["rows"]:
+        eq5 = r["eq5"]
+        txt = (
+            eq5
+            if isinstance(eq5, str)
+            else "; ".join(
+                f"{e['pair']}: R={e['R_printed']:g} -> {e['width_eq5_R_printed']:.3f} | "
+                f"R={e['R_computed']:.4g} -> {e['width_eq5_R_computed']:.3f} (printed {e['width_printed']:g})"
+                for e in eq5
+            )
+        )
+        print(f"{r['config']:20s} {r['d']:5.2f} {r['P']:7.0f} {r['p0']:7.0f} {r['width_eq4']:8.4f}  {txt}")
+
+
+def _build_parser() -> _Parser:
+    parser = _Parser(prog="python -m analytic", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    p = sub.add_parser("hertz", help="2D Hertz line contact")
+    p.add_argument("--P", type=float, required=True, help="load per unit thickness (N/mm)")
+    p.add_argument("--R", type=float, required=True, help="relative radius (mm)")
+    p.add_argument("--E", type=float, required=True, help="Young's modulus of the deformable body (MPa)")
+    p.add_argument("--nu", type=float, required=True, help="Poisson's ratio of the deformable body")
+    p.add_argument("--E2", type=float, default=None, help="Young's modulus of the indenter (default rigid)")
+    p.add_argument("--nu2", type=float, default=None, help="Poisson's ratio of the indenter")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_hertz)
+
+    p = sub.add_parser("wedge", help="classical rigid wedge on a half-plane")
+    p.add_argument("--P", type=float, required=True, help="load per unit thickness (N/mm)")
+    p.add_argument("--theta", type=float, required=True, help="external wedge angle (rad)")
+    p.add_argument("--E", type=float, required=True)
+    p.add_argument("--nu", type=float, required=True)
+    p.add_argument(
+        "--convention",
+        choices=("paper", "exact"),
+        default="exact",
+        help="slope m = theta (paper) or tan(theta) (exact)",
+    )
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_wedge)
+
+    p = sub.add_parser("convective", help="Ciavarella-Hills convective correction b/b0 at fixed load")
+    p.add_argument("--profile", choices=("wedge", "parabola", "power"), required=True)
+    p.add_argument("--theta", type=float, default=None, help="wedge angle (rad)")
+    p.add_argument("--convention", choices=("paper", "exact"), default="paper")
+    p.add_argument("--b0-over-R", dest="b0_over_R", type=float, default=None, help="classical b0/R")
+    p.add_argument("--n", type=float, default=None, help="power-profile exponent")
+    p.add_argument("--beta", type=float, required=True, help="Dundurs beta (rigid indenter: <= 0)")
+    p.add_argument("--nodes", type=int, default=65536, help="Gauss-Chebyshev nodes")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_convective)
+
+    p = sub.add_parser("table1", help="eq. (4)/(5) patch sizes of Table 1 (close-to-conformal paper)")
+    p.add_argument("--E-star", dest="E_star", type=float, default=235000.0, help="E* (MPa)")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_table1)
+
+    sub.add_parser("lcp", help="local contact problem (delegated to analytic.lcp)", add_help=False)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit code (2 for a bad value)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] == "lcp":
+        from analytic import lcp
+
+        return lcp.cli(argv[1:])
+    parser = _build_parser()
+    args = parser.parse_args(argv)
+    try:
+        data = args.func(args)
+    except ValueError as exc:
+        print(f"python -m analytic {args.command}: error: {str(exc).splitlines()[0]}", file=sys.stderr)
+        return 2
+    if args.command == "table1" and not args.json:
+        _print_table1(data)
+    else:
+        _emit(data, args.json)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,152 @@
+"""Contact post-processing: surface samples at quadrature points, contact edges, patches, loads.
+
+Conventions (units: mm, N/mm, MPa): pressure p >= 0 compressive, from the contact law (penalty
+``kappa [-g]_+``, Nitsche ``[-P_gamma]_+``) at the facet quadrature points of Gamma_c; the pressure argument
+``q`` (``p = [q]_+``) locates the contact edges by zero-crossing interpolation between neighbouring samples.
+All samples are gathered to every rank (MPI-safe) and sorted by the surface coordinate ``s`` (the material
+abscissa X1 on the block top).
+
+Half models: samples live on x >= 0; :func:`find_patches` mirrors patches touching ``s = 0`` (full-body centre,
+half-width, peak) and doubles their load when ``half=True``.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
+import basix
+import dolfinx
+import numpy as np
+import ufl
+
+__all__ = ["SurfaceSamples", "Patch", "sample_surface", "find_patches", "contact_edges", "integration_entities"]
+
+
+class SurfaceSamples(NamedTuple):
+    """Samples at the facet quadrature points of Gamma_c, gathered and sorted by ``s``.
+
+    Attributes:
+        s: (n,) surface coordinate (mm): material abscissa X1.
+        X: (n, 2) material position (mm).
+        x: (n, 2) current position X + u (mm).
+        p: (n,) contact pressure from the contact law (MPa, >= 0).
+        q: (n,) pressure argument, p = [q]_+ (MPa).
+        sigma_nn: (n,) stress-based pressure -n_c . sigma n_b (MPa).
+        gap: (n,) gap g(u) (mm, > 0 open).
+        weight: (n,) quadrature weight times facet length (mm): sum(weight * p) = int p ds on the model.
+    """
+
+    s: np.ndarray
+    X: np.ndarray
+    x: np.ndarray
+    p: np.ndarray
+    q: np.ndarray
+    sigma_nn: np.ndarray
+    gap: np.ndarray
+    weight: np.ndarray
+
+
+class Patch(NamedTuple):
+    """A connected contact region (full-body quantities; mm, MPa, N/mm)."""
+
+    center: float
+    half_width: float
+    p_max: float
+    P: float
+
+
+def integration_entities(mesh, facets) -> np.ndarray:
+    """(n, 2) owned (cell, local facet) pairs of the given exterior facets."""
+    tdim = mesh.topology.dim
+    mesh.topology.create_connectivity(tdim - 1, tdim)
+    mesh.topology.create_connectivity(tdim, tdim - 1)
+    ent = dolfinx.fem.compute_integration_domains(dolfinx.fem.IntegralType.exterior_facet, mesh.topology,
+                                                  np.asarray(facets, dtype=np.int32))
+    return np.asarray(ent, dtype=np.int32).reshape(-1, 2)
+
+
+def sample_surface(*, u, forms, facets, quadrature_degree: int) -> SurfaceSamples:
+    """Evaluate p, q, sigma_nn, gap and positions at the Gauss points of the contact facets (all ranks)."""
+    mesh = u.function_space.mesh
+    ent = integration_entities(mesh, facets)
+    pts, wts = basix.make_quadrature(basix.CellType.interval, quadrature_degree)
+    X = ufl.SpatialCoordinate(mesh)
+    fields = ufl.as_vector([X[0], X[1], u[0], u[1], forms.pressure, forms.argument, forms.sigma_nn, forms.gap])
+    expr = dolfinx.fem.Expression(fields, pts)
+    ends = dolfinx.fem.Expression(X, np.array([[0.0], [1.0]]))
+    if ent.shape[0]:
+        vals = expr.eval(mesh, ent).reshape(ent.shape[0], len(wts), 8)
+        xe = ends.eval(mesh, ent).reshape(ent.shape[0], 2, 2)
+        length = np.linalg.norm(xe[:, 1] - xe[:, 0], axis=1)
+        w = (length[:, None] * wts[None, :]).reshape(-1)
+        vals = vals.reshape(-1, 8)
+    else:
+        vals, w = np.zeros((0, 8)), np.zeros(0)
+    comm = mesh.comm
+    vals = np.concatenate(comm.allgather(vals), axis=0)
+    w = np.concatenate(comm.allgather(w))
+    order = np.lexsort((vals[:, 1], vals[:, 0]))
+    vals, w = vals[order], w[order]
+    Xs = vals[:, 0:2]
+    return SurfaceSamples(s=Xs[:, 0].copy(), X=Xs, x=Xs + vals[:, 2:4], p=vals[:, 4], q=vals[:, 5],
+                          sigma_nn=vals[:, 6], gap=vals[:, 7], weight=w)
+
+
+def _edge(s_in2, s_in1, q_in2, q_in1, s_out, q_out):
+    """Edge between the last active sample (s_in1) and the first inactive one (s_out).
+
+    Square-root edge model: near a smooth incomplete-contact edge ``p ~ sqrt(dist)``, so ``q^2`` is linear; it is
+    extrapolated from the two outermost active samples. Falls back to the linear zero crossing of q when the
+    extrapolation leaves ``[s_in1, s_out]`` or there is one active sample only.
+    """
+    linear = s_in1 + (s_out - s_in1) * q_in1 / (q_in1 - q_out)
+    if s_in2 is None or not q_in2 > q_in1:
+        return linear
+    e = s_in1 + (s_in1 - s_in2) * q_in1**2 / (q_in2**2 - q_in1**2)
+    lo, hi = min(s_in1, s_out), max(s_in1, s_out)
+    return e if lo <= e <= hi else linear
+
+
+def contact_edges(s: np.ndarray, q: np.ndarray) -> list[tuple[float, float, int, int]]:
+    """Active runs (q > 0) with edges at the zero crossing of the pressure argument between samples.
+
+    Edges use the square-root edge model (see :func:`_edge`). Returns a list of (left edge, right edge, first
+    index, last index); an edge at the end of the sample range is the end sample's coordinate.
+    """
+    active = q > 0.0
+    runs = []
+    i, n = 0, len(s)
+    while i < n:
+        if not active[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < n and active[j + 1]:
+            j += 1
+        two = j > i
+        left = s[i] if i == 0 else _edge(s[i + 1] if two else None, s[i], q[i + 1] if two else None, q[i],
+                                         s[i - 1], q[i - 1])
+        right = s[j] if j == n - 1 else _edge(s[j - 1] if two else None, s[j], q[j - 1] if two else None, q[j],
+                                              s[j + 1], q[j + 1])
+        runs.append((float(left), float(right), i, j))
+        i = j + 1
+    return runs
+
+
+def find_patches(samples: SurfaceSamples, *, half: bool = False) -> list[Patch]:
+    """Connected contact regions, full-body quantities (a half model's patch at s = 0 is mirrored).
+
+    For ``half=True`` a patch whose active run starts at the first sample (s ~ 0) is mirrored: centre 0,
+    half-width = its right edge, load doubled; other patches are reported once (their mirror images are
+    implied) with their own load.
+    """
+    patches = []
+    for left, right, i, j in contact_edges(samples.s, samples.q):
+        P = float(np.sum(samples.weight[i:j + 1] * samples.p[i:j + 1]))
+        p_max = float(np.max(samples.p[i:j + 1]))
+        if half and i == 0:
+            patches.append(Patch(center=0.0, half_width=right, p_max=p_max, P=2.0 * P))
+        else:
+            patches.append(Patch(center=0.5 * (left + right), half_width=0.5 * (right - left), p_max=p_max, P=P))
+    return patches

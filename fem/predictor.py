@@ -1,0 +1,68 @@
+"""Hertz predictor for force control: a linear solve with the Hertz pressure as a Neumann load.
+
+For a load level P (N/mm, full body) against a circle/parabola of radius R moved along (0, -1), the body is
+loaded by ``t = -p_H(X1) e_y`` on Gamma_c with ``p_H = p0 sqrt(1 - (X1 - x_c)^2 / a^2)``,
+``a = sqrt(4 P R / (pi E*))``, ``p0 = 2 P / (pi a)`` (:mod:`analytic.hertz`): weak form
+``a(u, v) = -int p_H v_y ds``. The rigid displacement that closes the gap at the first-contact point
+``X_c = (x_c, y_c)`` (a dof of Gamma_c nearest to the obstacle's lowest point) is
+``d = (y_lowest - X_c2) - u_y(X_c)`` (mm). Both are the Newton starting point; the active set then starts
+within about one quadrature point of the converged one.
+"""
+
+from __future__ import annotations
+
+import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
+import dolfinx
+import dolfinx.fem.petsc
+import numpy as np
+import ufl
+from mpi4py import MPI
+
+from analytic.hertz import hertz, hertz_pressure
+from fem.elasticity import sigma
+
+__all__ = ["HertzPredictor"]
+
+
+class HertzPredictor:
+    """Callable ``P -> (d, u_array)`` (see module docstring)."""
+
+    def __init__(self, *, u, obstacle, lame, E_star: float, bcs, ds_c, facets, prefix: str):
+        V = u.function_space
+        mesh = V.mesh
+        self.x_c, self.y_low, self.R = obstacle.hertz_contact()
+        self.E_star = E_star
+        self.a = dolfinx.fem.Constant(mesh, 1.0)
+        self.p0 = dolfinx.fem.Constant(mesh, 0.0)
+        X = ufl.SpatialCoordinate(mesh)
+        v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
+        p_h = hertz_pressure(X[0], a=self.a, p0=self.p0, center=self.x_c, xp=ufl)
+        self.uh = dolfinx.fem.Function(V)
+        self.problem = dolfinx.fem.petsc.LinearProblem(
+            ufl.inner(sigma(du, lame), ufl.grad(v)) * ufl.dx, -p_h * v[1] * ds_c, bcs=bcs, u=self.uh,
+            petsc_options_prefix=prefix,
+            petsc_options={"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"})
+        # First-contact dof: the Gamma_c dof nearest to (x_c, y_low), decided globally.
+        fdim = mesh.topology.dim - 1
+        dofs = dolfinx.fem.locate_dofs_topological(V, fdim, facets)
+        nloc = V.dofmap.index_map.size_local
+        dofs = dofs[dofs < nloc]
+        xyz = V.tabulate_dof_coordinates()[dofs, :2]
+        dist = np.hypot(xyz[:, 0] - self.x_c, xyz[:, 1] - self.y_low) if dofs.size else np.array([np.inf])
+        i = int(np.argmin(dist))
+        best = mesh.comm.allreduce((float(dist[i]), mesh.comm.rank), op=MPI.MINLOC)
+        self.owner = best[1]
+        self.dof = int(dofs[i]) if (dofs.size and mesh.comm.rank == self.owner) else -1
+        self.y_c = mesh.comm.bcast(float(xyz[i, 1]) if mesh.comm.rank == self.owner else None, root=self.owner)
+        self.comm = mesh.comm
+
+    def __call__(self, P: float, *, half: bool = False) -> tuple[float, np.ndarray, tuple[float, float]]:
+        """Return (d, u array, Hertz zone (lo, hi) in X1) for the full-body load P (N/mm)."""
+        h = hertz(P, self.R, self.E_star)
+        self.a.value = h.half_width
+        self.p0.value = h.p0
+        self.problem.solve()
+        uy = float(self.uh.x.array[2 * self.dof + 1]) if self.comm.rank == self.owner else None
+        uy = self.comm.bcast(uy, root=self.owner)
+        zone = (-np.inf if half else self.x_c - h.half_width, self.x_c + h.half_width)
+        return (self.y_low - self.y_c) - uy, self.uh.x.array.copy(), zone

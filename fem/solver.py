@@ -1,0 +1,379 @@
+"""Frictionless contact of a plane-strain elastic body against a rigid analytic obstacle (dolfinx 0.11).
+
+Units: mm, N, MPa; loads P per unit thickness (N/mm). Gap g > 0 open; pressure p >= 0 compressive. The weak
+forms (penalty, Nitsche) are documented in :mod:`fem.contact_forms`.
+
+Solution: semismooth Newton (PETSc SNES ``newtonls`` with ``basic`` full steps, LU/MUMPS) per load step, with
+a predictor that extrapolates u linearly in d from the last two converged states (path independence of small
+strain frictionless contact makes that predictor almost exact once the active set stops moving).
+
+* ``control="displacement"``: the obstacle moves by ``d_k = target k / n_steps`` along its direction.
+* ``control="force"``: load levels ``P_k = target k / n_steps``; d for each level is predicted by the secant
+  through the last two (d, P) states (the first from a stiffness guess 0.3 E'); the last level is corrected by
+  secant iterations on d until ``|P - target| <= force_rtol target``.
+
+Divergence (SNES converged reason <= 0) restores the last converged state and halves the increment, up to
+``max_cutbacks`` times per step, then raises :class:`ContactSolveError`.
+
+Measured load ``P`` (virtual work): ``P = -a(u, w)`` with ``w`` equal to the loading direction at every
+Dirichlet-constrained component dof and 0 elsewhere, i.e. the support reaction along the direction; it
+equals the discrete contact force. ``P_pressure = int p (n_o . direction) ds`` is the resultant of the
+contact pressure along the direction (for both methods it equals P up to round-off, because the Nitsche
+stress terms vanish for a rigid test field; it is a consistency check of the assembly). For ``symmetric_half=True`` both are doubled
+(full-body values) and patches are mirrored.
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
+import dolfinx
+import dolfinx.fem.petsc
+import numpy as np
+import ufl
+from mpi4py import MPI
+
+from fem.contact_forms import build_contact_forms
+from fem.elasticity import lame, plane_strain_modulus, sigma
+from fem.postprocess import Patch, SurfaceSamples, contact_edges, find_patches, sample_surface
+from fem.predictor import HertzPredictor as _HertzPredictor
+
+__all__ = ["ContactSolveError", "ContactResult", "solve_contact", "SUPPORT_KINDS"]
+
+SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free")
+_counter = itertools.count()
+
+
+class ContactSolveError(RuntimeError):
+    """A nonlinear contact solve failed (after cut-backs); the message names case, step and SNES reason."""
+
+
+@dataclass(frozen=True)
+class ContactResult:
+    """Result of :func:`solve_contact` (full-body values for a half model).
+
+    Attributes:
+        ndofs: global number of displacement dofs.
+        wall_time_s: wall time of the load stepping (s; includes JIT unless cached).
+        newton_iterations: SNES iterations per converged solve (load steps and force corrections).
+        load_steps: one dict per converged solve: d (mm), P (N/mm), iterations, time (s), kind.
+        d: final rigid displacement (mm).
+        P: final load by virtual work / support reaction (N/mm).
+        P_pressure: final resultant of the contact pressure along the loading direction (N/mm).
+        samples: surface samples (half-model samples are NOT mirrored; s = X1).
+        patches: contact patches (full body).
+        u: displacement Function.
+        options: the solver options used.
+        half: True for a half model.
+        forms: the ContactForms (UFL pieces) for output.
+        lame: Lame parameters.
+    """
+
+    ndofs: int
+    wall_time_s: float
+    newton_iterations: list
+    load_steps: list
+    d: float
+    P: float
+    P_pressure: float
+    samples: SurfaceSamples
+    patches: list[Patch]
+    u: Any
+    options: dict
+    half: bool
+    forms: Any = field(repr=False)
+    lame: Any = field(repr=False)
+
+
+def _supports(mesh_data, supports, symmetric_half):
+    groups = mesh_data.physical_groups
+    if supports is None:
+        supports = {"clamped": "clamped"}
+        if symmetric_half:
+            supports["symmetry"] = "roller_x"
+    for name, kind in supports.items():
+        if kind not in SUPPORT_KINDS:
+            raise ValueError(f"supports[{name!r}] must be one of {SUPPORT_KINDS}, got {kind!r}")
+        if name not in groups:
+            raise ValueError(f"supports names unknown physical group {name!r}; known: {sorted(groups)}")
+    return supports
+
+
+def _group_facets(mesh_data, name):
+    tag = mesh_data.physical_groups[name].tag
+    return mesh_data.facet_tags.find(tag)
+
+
+def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, method: str = "nitsche",
+                  kinematics: str = "small", traction: str = "obstacle", kappa0: float = 1e3,
+                  gamma0: float = 10.0, theta: float = 1.0, control: str = "displacement",
+                  target: float, n_steps: int = 4, symmetric_half: bool = False,
+                  on_step: Callable | None = None, petsc_prefix: str | None = None, max_cutbacks: int = 5,
+                  supports: dict | None = None, contact_group: str = "contact",
+                  quadrature_degree: int | None = None, force_rtol: float = 1e-10, snes_rtol: float = 1e-10,
+                  max_it: int = 40, case: str = "contact", petsc_options: dict | None = None,
+                  predictor: str = "auto", sample_degree: int | None = None,
+                  active_set_predictor: bool = True, first_step_fraction: float = 0.1) -> ContactResult:
+    """Solve frictionless contact of the meshed body against a rigid obstacle.
+
+    Args:
+        mesh_data: dolfinx ``MeshData`` (mesh, facet_tags, physical_groups) of the elastic body.
+        obstacle: rigid obstacle from :mod:`fem.obstacles`.
+        E: Young's modulus (MPa) > 0.  nu: Poisson's ratio in [0, 0.5).
+        degree: Lagrange degree (1 or 2).
+        method: ``"nitsche"`` or ``"penalty"``.  kinematics: ``"small"`` or ``"convective"``.
+        traction: ``"obstacle"`` or ``"halfplane"``.  kappa0, gamma0, theta: method parameters.
+        control: ``"displacement"`` (target = d, mm) or ``"force"`` (target = P, N/mm; full body).
+        n_steps: number of load steps >= 1.
+        symmetric_half: the mesh is the half x >= 0 with a ``symmetry`` edge (default support roller_x).
+        on_step: callable(dict) called after every converged solve with the load-step record.
+        petsc_prefix: unique PETSc options prefix (default: generated).
+        max_cutbacks: step halvings allowed per load step.
+        supports: physical group name -> one of SUPPORT_KINDS (default clamped bottom ``clamped``, and
+            ``symmetry``: roller_x for a half model).
+        contact_group: name of the candidate contact boundary.
+        quadrature_degree: Gauss degree of the contact integral (default 2 degree - 1: 2 points per P2 facet,
+            1 per P1 facet; more points than trace dofs over-constrain the penalty and make p oscillate).
+        sample_degree: Gauss degree of the post-processing sample points (default: the contact quadrature, where
+            the discrete law holds; between those points the law of a penalty/Nitsche solution oscillates).
+        predictor: ``"extrapolate"`` (u linear in d from the last two states), ``"hertz"`` (force control,
+            circle/parabola, direction (0, -1): linear solve with the Hertz pressure of the load level as a
+            Neumann load; d from the displacement at the first-contact point) or ``"auto"`` (hertz when
+            applicable).
+        active_set_predictor: before each Newton solve do one iteration with a prescribed active set (the
+            Hertz zone, or contact edges extrapolated linearly in d from the last two states; single-patch
+            scenes with the surface coordinate X1). Without it the sign of the tiny gaps of the predicted u
+            decides the first active set and semismooth Newton then releases about one quadrature point
+            per iteration.
+        first_step_fraction: without the Hertz predictor, an extra first step at this fraction of the first
+            load level (few quadrature points are in the initial overlap, so the unpredicted first solve is
+            short); 1 disables it.
+        force_rtol: relative tolerance of the final load in force control.
+        snes_rtol: SNES relative residual tolerance.  max_it: SNES max iterations.
+        case: name used in error messages.
+        petsc_options: extra SNES options overriding the defaults (e.g. ``{"snes_linesearch_type": "l2"}``).
+
+    Raises:
+        ValueError: bad option.  ContactSolveError: SNES failure after the allowed cut-backs.
+    """
+    if degree not in (1, 2, 3):
+        raise ValueError(f"degree must be 1, 2 or 3, got {degree}")
+    if control not in ("displacement", "force"):
+        raise ValueError(f"control must be 'displacement' or 'force', got {control!r}")
+    if not (target > 0 and np.isfinite(target)):
+        raise ValueError(f"target must be > 0 (mm or N/mm), got {target}")
+    if int(n_steps) < 1:
+        raise ValueError(f"n_steps must be >= 1, got {n_steps}")
+    if contact_group not in mesh_data.physical_groups:
+        raise ValueError(f"contact_group {contact_group!r} not in mesh physical groups")
+    lm = lame(E=E, nu=nu)
+    mesh = mesh_data.mesh
+    comm = mesh.comm
+    fdim = mesh.topology.dim - 1
+    supports = _supports(mesh_data, supports, symmetric_half)
+    qdeg = 2 * degree - 1 if quadrature_degree is None else int(quadrature_degree)
+    sdeg = qdeg if sample_degree is None else int(sample_degree)
+    mult = 2.0 if symmetric_half else 1.0
+
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (2,)))
+    u = dolfinx.fem.Function(V, name="displacement")
+    d = dolfinx.fem.Constant(mesh, 0.0)
+    mask = tuple(dolfinx.fem.Constant(mesh, 0.0) for _ in range(3))  # (on, lo, hi) active-set predictor
+    contact_facets = _group_facets(mesh_data, contact_group)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=mesh_data.facet_tags,
+                     metadata={"quadrature_degree": qdeg})
+    ds_c = ds(mesh_data.physical_groups[contact_group].tag)
+    forms = build_contact_forms(u=u, obstacle=obstacle, d=d, lame=lm, E=E, method=method, kinematics=kinematics,
+                                traction=traction, kappa0=kappa0, gamma0=gamma0, theta=theta, ds_c=ds_c,
+                                contact_facets=contact_facets, mask=mask)
+
+    # Dirichlet supports and the virtual-work field w (direction at constrained component dofs).
+    bcs = []
+    w = dolfinx.fem.Function(V)
+    direction = obstacle.direction
+    for name, kind in supports.items():
+        comps = {"clamped": (0, 1), "roller_x": (0,), "roller_y": (1,), "free": ()}[kind]
+        facets = _group_facets(mesh_data, name)
+        for c in comps:
+            Vc, _ = V.sub(c).collapse()
+            dofs = dolfinx.fem.locate_dofs_topological((V.sub(c), Vc), fdim, facets)
+            bcs.append(dolfinx.fem.dirichletbc(dolfinx.fem.Function(Vc), dofs, V.sub(c)))
+            w.x.array[dofs[0]] = direction[c]
+    reaction_form = dolfinx.fem.form(-ufl.inner(sigma(u, lm), ufl.grad(w)) * ufl.dx)
+    pressure_form = dolfinx.fem.form(-forms.pressure * ufl.dot(forms.n_c, ufl.as_vector(direction)) * ds_c)
+
+    prefix = petsc_prefix or f"fem_contact_{next(_counter)}_"
+    x_all = mesh.geometry.x
+    L = comm.allreduce(float(np.max(np.ptp(x_all[:, :2], axis=0))) if x_all.size else 0.0, op=MPI.MAX)
+    opts = {"snes_type": "newtonls", "snes_linesearch_type": "basic", "ksp_type": "preonly", "pc_type": "lu",
+            "pc_factor_mat_solver_type": "mumps", "snes_rtol": snes_rtol, "snes_atol": 1e-13 * E * L,
+            "snes_stol": 0.0, "snes_max_it": max_it}
+    opts.update(petsc_options or {})
+    problem = dolfinx.fem.petsc.NonlinearProblem(forms.F, u, bcs=bcs, J=forms.J, petsc_options_prefix=prefix,
+                                                 petsc_options=opts)
+    snes = problem.solver
+    if forms.update is not None:
+        ctx = {"u": u, "residual": problem.F, "jacobian": problem.J, "bcs": bcs}
+
+        def residual(snes_, x, b):
+            dolfinx.la.petsc._ghost_update(x, dolfinx.fem.petsc.PETSc.InsertMode.INSERT,
+                                           dolfinx.fem.petsc.PETSc.ScatterMode.FORWARD)
+            dolfinx.fem.petsc.assign(x, u)
+            forms.update(u)
+            dolfinx.fem.petsc.assemble_residual(snes_, x, b, **ctx)
+
+        snes.setFunction(residual, problem.b)
+
+    def measure():
+        P = mult * comm.allreduce(dolfinx.fem.assemble_scalar(reaction_form), op=MPI.SUM)
+        Pp = mult * comm.allreduce(dolfinx.fem.assemble_scalar(pressure_form), op=MPI.SUM)
+        return P, Pp
+
+    states = [(0.0, 0.0, np.zeros_like(u.x.array))]  # converged (d, P, u) history
+    records: list[dict] = []
+    edges: list = [None]  # contact zone (lo, hi) of each state (None: unknown or not a single patch)
+    t_start = time.perf_counter()
+    E_star = plane_strain_modulus(E=E, nu=nu)
+    if predictor not in ("auto", "hertz", "extrapolate"):
+        raise ValueError(f"predictor must be 'auto', 'hertz' or 'extrapolate', got {predictor!r}")
+    hertz_ok = (control == "force" and hasattr(obstacle, "hertz_contact")
+                and abs(obstacle.direction[0]) < 1e-14 and obstacle.direction[1] < 0)
+    if predictor == "hertz" and not hertz_ok:
+        raise ValueError("predictor='hertz' needs control='force', a circle/parabola obstacle and direction (0, -1)")
+    hertz_pred = (_HertzPredictor(u=u, obstacle=obstacle, lame=lm, E_star=E_star, bcs=bcs, ds_c=ds_c,
+                                  facets=contact_facets, prefix=prefix + "hertz_")
+                  if (predictor == "hertz" or (predictor == "auto" and hertz_ok)) else None)
+
+    def extrapolate(d_new):
+        if len(states) == 1:
+            return states[-1][2]
+        (d1, _, u1), (d2, _, u2) = states[-2], states[-1]
+        if d2 == d1:
+            return u2
+        return u2 + (d_new - d2) / (d2 - d1) * (u2 - u1)
+
+    def edges_now():
+        if not active_set_predictor:
+            return None
+        smp = sample_surface(u=u, forms=forms, facets=contact_facets, quadrature_degree=qdeg)
+        runs = contact_edges(smp.s, smp.q)
+        if len(runs) != 1:
+            return None
+        left, right, i, _ = runs[0]
+        return (-np.inf if i == 0 else left), right
+
+    def predicted_edges(d_new):
+        if len(edges) < 2 or edges[-1] is None:
+            return None
+        (d1, e1), (d2, e2) = (states[-2][0], edges[-2]), (states[-1][0], edges[-1])
+        if e1 is None and len(states) == 2:  # from the unloaded state: a zone shrunk to the first-contact point
+            c = 0.0 if np.isinf(e2[0]) else 0.5 * (e2[0] + e2[1])
+            e1 = (e2[0] if np.isinf(e2[0]) else c, c)
+        if e1 is None:
+            return None
+        if d2 == d1:
+            return e2
+        f = (d_new - d2) / (d2 - d1)
+        lo = -np.inf if np.isinf(e2[0]) else e2[0] + f * (e2[0] - e1[0])
+        return lo, e2[1] + f * (e2[1] - e1[1])
+
+    def attempt(d_new, u_pred, kind, zone=None):
+        t0 = time.perf_counter()
+        d.value = d_new
+        u.x.array[:] = u_pred
+        u.x.scatter_forward()
+        if forms.update is not None:
+            forms.update(u)
+        pre = 0
+        if zone is None:
+            zone = predicted_edges(d_new)
+        if zone is not None and active_set_predictor:
+            # One Newton iteration with the predicted active set lo < X1 < hi, then the true law.
+            mask[0].value, mask[1].value, mask[2].value = 1.0, max(zone[0], -1e300), zone[1]
+            snes.setTolerances(max_it=1)
+            problem.solve()
+            snes.setTolerances(max_it=max_it)
+            mask[0].value = 0.0
+            pre = 1
+        problem.solve()
+        reason, its = snes.getConvergedReason(), snes.getIterationNumber() + pre
+        if reason <= 0:
+            return reason, its
+        P, Pp = measure()
+        states.append((d_new, P, u.x.array.copy()))
+        edges.append(edges_now())
+        rec = {"d": d_new, "P": P, "P_pressure": Pp, "iterations": its, "time": time.perf_counter() - t0,
+               "kind": kind, "reason": reason}
+        records.append(rec)
+        if on_step is not None:
+            on_step(rec)
+        return reason, its
+
+    def reach(d_target, step, kind, u_pred=None, zone=None):
+        """Reach d_target from the last converged state, halving the increment on divergence."""
+        cut = 0
+        while True:
+            d_prev = states[-1][0]
+            d_try = d_target if cut == 0 else d_prev + (d_target - d_prev) / 2.0**cut
+            guess = u_pred if (cut == 0 and u_pred is not None) else extrapolate(d_try)
+            reason, its = attempt(d_try, guess, kind if cut == 0 else "cutback", zone if cut == 0 else None)
+            if reason > 0:
+                if d_try == d_target:
+                    return
+                cut = 0
+                u_pred = zone = None
+                continue
+            cut += 1
+            if cut > max_cutbacks:
+                raise ContactSolveError(f"{case}: load step {step} (d = {d_try:.6g} mm) diverged: SNES reason "
+                                        f"{reason} after {its} iterations and {max_cutbacks} cut-backs")
+
+    if not 0.0 < first_step_fraction <= 1.0:
+        raise ValueError(f"first_step_fraction must be in (0, 1], got {first_step_fraction}")
+    if control == "displacement":
+        if first_step_fraction < 1.0:
+            reach(first_step_fraction * target / n_steps, 0, "first")
+        for k in range(1, n_steps + 1):
+            reach(target * k / n_steps, k, "step")
+    else:
+        def secant(P_goal):
+            (d1, P1, _), (d2, P2, _) = states[-2], states[-1]
+            if P2 == P1:
+                return d2 * P_goal / P2 if P2 > 0 else P_goal / (0.3 * E_star)
+            return d2 + (P_goal - P2) * (d2 - d1) / (P2 - P1)
+
+        for k in range(1, n_steps + 1):
+            P_goal = target * k / n_steps
+            zone = None
+            if hertz_pred is not None:
+                d_next, u_next, zone = hertz_pred(P_goal, half=symmetric_half)
+            else:
+                if len(states) == 1 and first_step_fraction < 1.0:
+                    reach(first_step_fraction * P_goal / (0.3 * E_star), 0, "first")
+                d_next = P_goal / (0.3 * E_star) if len(states) == 1 else secant(P_goal)
+                u_next = None
+            reach(d_next, k, "step", u_next, zone)
+        for _ in range(30):
+            if abs(states[-1][1] - target) <= force_rtol * target:
+                break
+            reach(secant(target), n_steps, "force-correction")
+        else:
+            raise ContactSolveError(f"{case}: force control did not reach P = {target} N/mm (last P = "
+                                    f"{states[-1][1]:.10g}) in 30 secant corrections")
+    wall = time.perf_counter() - t_start
+
+    samples = sample_surface(u=u, forms=forms, facets=contact_facets, quadrature_degree=sdeg)
+    patches = find_patches(samples, half=symmetric_half)
+    P, Pp = measure()
+    options = dict(E=E, nu=nu, degree=degree, method=method, kinematics=kinematics, traction=traction,
+                   kappa0=kappa0, gamma0=gamma0, theta=theta, control=control, target=target, n_steps=n_steps,
+                   symmetric_half=symmetric_half, supports=supports, quadrature_degree=qdeg, sample_degree=sdeg,
+                   prefix=prefix, predictor="hertz" if hertz_pred is not None else "extrapolate")
+    return ContactResult(ndofs=V.dofmap.index_map.size_global * 2, wall_time_s=wall,
+                         newton_iterations=[r["iterations"] for r in records], load_steps=records,
+                         d=float(states[-1][0]), P=float(P), P_pressure=float(Pp), samples=samples,
+                         patches=patches, u=u, options=options, half=symmetric_half, forms=forms, lame=lm)

@@ -1,0 +1,56 @@
+"""Plots of the workbench (matplotlib, Agg backend, files only; no blocking ``show``).
+
+Plotting is separate from computing: every function here takes arrays that a run already computed.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from scripts.atomic import atomic_path  # noqa: E402
+
+__all__ = ["plot_pressure_panels"]
+
+
+def plot_pressure_panels(panels: list[dict], path: Path, *, title: str) -> None:
+    """One panel per run: FEM pressure against every analytic prediction.
+
+    Args:
+        panels: dicts with ``label``, ``x`` (mm), ``p_fem`` (MPa), optional ``sigma_nn`` (MPa),
+            ``predictions`` (name -> (x, p) arrays), ``xlabel`` and ``xlim``.
+        path: PNG file to write (atomically).
+        title: Figure title.
+    """
+    n = len(panels)
+    ncol = min(n, 3)
+    nrow = int(np.ceil(n / ncol))
+    fig, axes = plt.subplots(nrow, ncol, figsize=(5.2 * ncol, 3.8 * nrow), squeeze=False)
+    for ax, panel in zip(axes.flat, panels, strict=False):
+        x = np.asarray(panel["x"])
+        ax.plot(x, panel["p_fem"], "k.", ms=2.5, label="FEM (contact law)")
+        if panel.get("sigma_nn") is not None:
+            ax.plot(x, panel["sigma_nn"], "-", color="0.6", lw=0.8, label=r"FEM $-\sigma_{nn}$")
+        for (name, (xp, pp)), style in zip(panel.get("predictions", {}).items(), ("-", "--", "-.", ":"),
+                                           strict=False):
+            ax.plot(xp, pp, style, lw=1.4, label=name)
+        ax.set_xlabel(panel.get("xlabel", "x (mm)"))
+        ax.set_ylabel("p (MPa)")
+        ax.set_title(panel["label"], fontsize=10)
+        if panel.get("xlim"):
+            ax.set_xlim(*panel["xlim"])
+        ax.set_ylim(bottom=0)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    for ax in list(axes.flat)[n:]:
+        ax.axis("off")
+    fig.suptitle(title)
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110)
+    plt.close(fig)

@@ -1,0 +1,169 @@
+"""Run one case end to end and write ``results/<case>/`` atomically.
+
+Outputs (the results contract): ``metrics.json``, ``pressure.csv``, ``pressure.png``, ``report.md`` /
+``report.html``, ``run.log`` and ``vtk/<run>/`` (ParaView). Everything is written into a staging folder
+that replaces ``results/<case>/`` only when the case has finished, so an interrupted or failed run leaves
+the previous results intact. A failed run writes ``results/logs/<case>.log`` and exits 1.
+
+Works under ``mpiexec -n N``: every rank takes part in the solve and the VTK output; rank 0 writes the
+rest.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+import traceback
+from pathlib import Path
+
+from cases.schema import Case
+from scripts.atomic import atomic_dir, write_json, write_text
+
+__all__ = ["run_case", "case_metrics"]
+
+
+def _progress_printer(comm, log: list[str]):
+    t0 = time.perf_counter()
+
+    def progress(msg: str) -> None:
+        line = f"[{time.perf_counter() - t0:7.1f} s] {msg}"
+        log.append(line)
+        if comm.rank == 0:
+            print(line, flush=True)
+
+    return progress
+
+
+def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_time_s: float) -> dict:
+    """The case-level ``metrics.json`` from its runs' metrics (the results contract).
+
+    Top-level fields describe the case as a whole: ``ndofs`` is the largest run, times and iterations are
+    summed, ``P``/``P_pressure``/``patches`` are those of the first run, ``errors`` holds the worst value of
+    each error over the runs plus case-level comparisons (e.g. ``b_over_b0``), and ``runs`` lists every run.
+    """
+    from scripts.case_checks import case_level_comparisons
+
+    runs = [o.metrics for o in outcomes]
+    first = runs[0]
+    errors: dict[str, float] = {}
+    for r in runs:
+        for k, v in r.get("errors", {}).items():
+            if v is not None and not (isinstance(v, float) and math.isnan(v)):
+                errors[k] = max(errors.get(k, 0.0), v)
+    extra = case_level_comparisons(case, outcomes)
+    errors.update(extra.errors)
+    tol = dict(case.tolerances)
+    checks = {k: (errors.get(k) is not None and errors[k] <= t) for k, t in tol.items()}
+    kin = sorted({r["kinematics"] for r in runs})
+    return {
+        "case": case.name,
+        "description": case.description,
+        "method": "+".join(sorted({r["method"] for r in runs})),
+        "kinematics": "+".join(kin),
+        "h_contact": h_contact if h_contact is not None else case.discretisation.h_contact,
+        "ndofs": max(r["ndofs"] for r in runs),
+        "wall_time_s": wall_time_s,
+        "newton_iterations": int(sum(sum(r["newton_iterations"]) for r in runs)),
+        "load_steps": int(sum(len(r["load_steps"]) for r in runs)),
+        "P": first["P"],
+        "P_pressure": first["P_pressure"],
+        "patches": first["patches"],
+        "analytic": {"runs": {r["label"]: r.get("analytic") for r in runs}, **extra.analytic},
+        "errors": errors,
+        "tolerances": tol,
+        "checks": checks,
+        "pass": bool(all(checks.values())),
+        "headline": extra.headline,
+        "case_tables": extra.tables,
+        "runs": runs,
+    }
+
+
+def run_case(case: Case, *, out_root: Path, h_contact: float | None = None, ci: bool = False) -> dict | None:
+    """Run every run of ``case`` and write its results folder.
+
+    Args:
+        case: The loaded case.
+        out_root: Results root (``results``).
+        h_contact: Override of the contact element size (fraction of the half-width).
+        ci: Use the case's ``ci_level`` (coarsest level that must still meet the tolerances).
+
+    Returns:
+        The metrics dict (on every rank).
+    """
+    import dolfinx_solver  # noqa: F401
+
+    from mpi4py import MPI
+
+    from fem.output import write_vtk
+    from fem.solver import ContactSolveError
+    from scripts.case_report import write_case_outputs
+
+    comm = MPI.COMM_WORLD
+    if ci and h_contact is None:
+        h_contact = case.discretisation.ci_level or case.discretisation.h_contact
+    out = Path(out_root) / case.name
+    log: list[str] = []
+    progress = _progress_printer(comm, log)
+    progress(f"case {case.name}: {len(case.runs())} run(s), h_c = "
+             f"{h_contact or case.discretisation.h_contact} x half-width, {comm.size} MPI process(es)")
+    t0 = time.perf_counter()
+    try:
+        with atomic_dir(out) if comm.rank == 0 else _null_dir() as stage:
+            stage = Path(comm.bcast(str(stage) if comm.rank == 0 else None, root=0))
+            outcomes = []
+            for run in case.runs(h_contact=h_contact):
+                outcome = _run_one(run, case=case, stage=stage, comm=comm, progress=progress)
+                write_vtk(outcome.result, stage / "vtk" / _safe(run.label))
+                outcomes.append(outcome)
+            metrics = case_metrics(case, outcomes, h_contact=h_contact, wall_time_s=time.perf_counter() - t0)
+            metrics["mpi_processes"] = comm.size
+            if comm.rank == 0:
+                write_case_outputs(case, outcomes, metrics, stage)
+                verdict = "PASS" if metrics["pass"] else "FAIL"
+                progress(f"case {case.name}: {verdict} in {metrics['wall_time_s']:.1f} s -> {out}")
+                write_text(stage / "run.log", "\n".join(log) + "\n")
+                write_json(stage / "metrics.json", metrics)
+            comm.barrier()
+    except (ContactSolveError, ValueError) as exc:
+        _fail(case, out_root, log, exc, comm)
+        raise SystemExit(1) from None
+    except KeyboardInterrupt:
+        if comm.rank == 0:
+            print(f"interrupted: previous results of {case.name} left intact", file=sys.stderr)
+        raise SystemExit(130) from None
+    return metrics
+
+
+def _run_one(run, *, case, stage, comm, progress):
+    if run.geometry.scene == "block":
+        from scripts.scene_block import run_block
+
+        return run_block(run, name=case.name, stage=stage, comm=comm, progress=progress)
+    from scripts.scene_concave import run_concave
+
+    return run_concave(run, name=case.name, stage=stage, comm=comm, progress=progress)
+
+
+def _safe(label: str) -> str:
+    return "".join(c if c.isalnum() or c in "-_." else "_" for c in label)
+
+
+class _null_dir:
+    def __enter__(self):
+        return None
+
+    def __exit__(self, *exc):
+        return False
+
+
+def _fail(case: Case, out_root: Path, log: list[str], exc: BaseException, comm) -> None:
+    if comm.rank != 0:
+        return
+    path = Path(out_root) / "logs" / f"{case.name}.log"
+    text = "\n".join(log) + "\n\n" + "".join(traceback.format_exception(exc))
+    write_text(path, text)
+    first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    print(f"error: case {case.name} failed: {first} (log: {path}; previous results left intact)",
+          file=sys.stderr)

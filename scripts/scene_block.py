@@ -1,0 +1,130 @@
+"""Block scene: an elastic block under a rigid circle, parabola or wedge, compared with half-plane theory.
+
+Reads top to bottom: classical estimate -> mesh sized from it -> rigid obstacle -> force-controlled FEM
+-> comparison at the measured load. Units: mm, N, MPa.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from cases.schema import Run
+from scripts.compare import BlockTheory, block_theory, compare_block
+
+__all__ = ["BlockOutcome", "run_block"]
+
+MESH_CACHE = Path("results/mesh_cache")
+
+
+class BlockOutcome(NamedTuple):
+    """One block run: its metrics, the surface data for CSV/plots, the theory, and the FEM result."""
+
+    label: str
+    metrics: dict
+    x: np.ndarray          # material abscissa of the samples, mirrored to the full body (mm)
+    p: np.ndarray          # FEM contact pressure (MPa)
+    sigma_nn: np.ndarray   # projected normal stress (MPa)
+    predictions: dict      # name -> analytic pressure at x (MPa)
+    xlabel: str
+    theory: BlockTheory    # classical prediction at the measured load
+    result: Any            # fem.solver.ContactResult
+
+
+def obstacle_for(run: Run, theory: BlockTheory):
+    """The rigid obstacle of a block run (an analytic curve, never a mesh)."""
+    from fem.obstacles import CircleObstacle, ParabolaObstacle, WedgeObstacle
+
+    g = run.geometry
+    if g.indenter == "circle":
+        return CircleObstacle(center=(0.0, g.radius), radius=g.radius)
+    if g.indenter == "parabola":
+        return ParabolaObstacle(radius=g.radius)
+    return WedgeObstacle(slope=theory.m)
+
+
+def run_block(run: Run, *, name: str, stage: Path | None, comm, progress) -> BlockOutcome:
+    """Run one block scene and compare it with its classical prediction.
+
+    Args:
+        run: The run record (case with one variant applied).
+        name: Case name (for mesh file names and error messages).
+        stage: Staging folder of the case results (rank 0), or None on other ranks.
+        comm: MPI communicator.
+        progress: ``progress(str)`` for one-line status output.
+    """
+    import dolfinx_solver  # noqa: F401
+
+    from dolfinx.io import gmsh as gmsh_io
+
+    from fem.solver import solve_contact
+    from meshes.block import build_block_mesh
+
+    g, ld, disc, sol = run.geometry, run.loading, run.discretisation, run.solver
+    target = block_theory(g, run.material, P=ld.P, half_width=ld.half_width)
+    a0 = target.half_width
+    files = build_block_mesh(
+        width=g.width_factor * a0, height=g.height_factor * a0, contact_half_width=a0,
+        h_contact=disc.h_contact * a0, half_model=g.half_model, apex_refinement=g.indenter == "wedge",
+        out_dir=MESH_CACHE, name=f"{name}_{run.label}".replace("/", "_").replace("=", "_"),
+        stats_dir=None, comm=comm,
+    )
+    progress(f"[{run.label}] mesh {files.stats.get('cells', '?')} cells ({'cached' if files.cached else 'built'}), "
+             f"a0 = {a0:.4g} mm, P target = {target.P:.6g} N/mm")
+    mesh_data = gmsh_io.read_from_msh(str(files.msh), comm, 0, gdim=2)
+
+    def on_step(rec: dict) -> None:
+        progress(f"[{run.label}] {rec.get('kind', 'step')}: d = {rec['d']:.6g} mm, P = {rec['P']:.6g} N/mm, "
+                 f"{rec['iterations']} Newton its, {rec['time']:.2f} s")
+
+    result = solve_contact(
+        mesh_data, obstacle_for(run, target), E=run.material.E, nu=run.material.nu, degree=disc.degree,
+        method=sol.method, kinematics=sol.kinematics, traction=sol.traction, kappa0=sol.kappa0,
+        gamma0=sol.gamma0, theta=sol.theta, control="force", target=target.P, n_steps=ld.steps,
+        symmetric_half=g.half_model, on_step=on_step, case=f"{name}[{run.label}]",
+    )
+    smp = result.samples
+    x, p, snn = smp.s, smp.p, smp.sigma_nn
+    if result.half:  # mirror the half model (x >= 0) to the full body for plots and errors
+        keep = x > 0
+        x = np.concatenate([-x[keep][::-1], x])
+        p = np.concatenate([p[keep][::-1], p])
+        snn = np.concatenate([snn[keep][::-1], snn])
+    main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
+    half_width = main.half_width if main else math.nan
+    p_max = main.p_max if main else math.nan
+    theory, errors = compare_block(x=x, p=p, P=result.P, P_pressure=result.P_pressure,
+                                   half_width_fem=half_width, p_max_fem=p_max, geometry=g, material=run.material)
+    metrics = {
+        "label": run.label,
+        "scene": "block",
+        "nu": run.material.nu,
+        "method": sol.method,
+        "kinematics": sol.kinematics,
+        "traction": sol.traction,
+        "degree": disc.degree,
+        "h_contact": disc.h_contact,
+        "ndofs": result.ndofs,
+        "wall_time_s": result.wall_time_s,
+        "newton_iterations": list(result.newton_iterations),
+        "load_steps": result.load_steps,
+        "d": result.d,
+        "P": result.P,
+        "P_pressure": result.P_pressure,
+        "patches": [pt._asdict() for pt in result.patches],
+        "patch_half_width": half_width,
+        "p_max": p_max,
+        "mesh": files.stats,
+        "analytic": {
+            "kind": theory.kind, "P": theory.P, "E_star": theory.E_star, "half_width": theory.half_width,
+            "p_ref": theory.p_ref, "R": theory.R, "m": theory.m,
+        },
+        "errors": errors,
+    }
+    order = np.argsort(x, kind="stable")
+    x, p, snn = x[order], p[order], snn[order]
+    predictions = {f"{theory.kind} (at measured P)": theory.pressure(x)}
+    return BlockOutcome(run.label, metrics, x, p, snn, predictions, "x (mm, material)", theory, result)

@@ -1,0 +1,99 @@
+"""Summary report: ``results/report.md`` and ``results/report.html``.
+
+One row per scene with its headline numbers and a link to the case report, the paper-claims table, and
+links to the studies (convergence, stability, benchmark) when they have been run. It reads only what the
+runs wrote (``results/<case>/metrics.json``), so it works when only some cases exist yet.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from cases import case_names
+from scripts.atomic import write_text
+from scripts.markdown_html import markdown_to_html
+
+__all__ = ["load_metrics", "summary_markdown", "write_summary"]
+
+_HEADLINE = ("p_max", "half_width", "rms", "load_balance", "b_over_b0")
+
+
+def load_metrics(results: Path) -> dict[str, dict]:
+    """The metrics of every case that has run, by case name."""
+    out = {}
+    for name in case_names():
+        f = results / name / "metrics.json"
+        if f.is_file():
+            out[name] = json.loads(f.read_text())
+    return out
+
+
+def _fmt(v) -> str:
+    if v is None:
+        return "-"
+    if isinstance(v, float):
+        return f"{v:.3g}"
+    return str(v)
+
+
+def summary_markdown(results: Path) -> str:
+    """The summary report as Markdown."""
+    from scripts.paper_claims import claims_markdown
+
+    metrics = load_metrics(results)
+    lines = ["# Contact verification workbench: summary", ""]
+    missing = [n for n in case_names() if n not in metrics]
+    lines += [
+        f"Cases run: {len(metrics)} of {len(case_names())}."
+        + (f" Not run yet: {', '.join(missing)}." if missing else ""),
+        "",
+        "Errors are relative, measured against the theory evaluated at the load the FEM actually carries "
+        "(virtual-work reaction). Times are wall-clock seconds of the whole case (meshing, JIT if cold, solve).",
+        "",
+        "| case | runs | method | kinematics | ndofs | time (s) | P (N/mm) | "
+        + " | ".join(_HEADLINE) + " | pass | report |",
+        "|" + "---|" * (10 + len(_HEADLINE)),
+    ]
+    for name, m in metrics.items():
+        errs = m.get("errors", {})
+        tol = m.get("tolerances", {})
+        cells = []
+        for k in _HEADLINE:
+            if k in errs and errs[k] is not None:
+                mark = "" if k not in tol else (" ✓" if errs[k] <= tol[k] else " ✗")
+                cells.append(f"{_fmt(errs[k])}{mark}")
+            else:
+                cells.append("-")
+        lines.append(
+            f"| {name} | {len(m.get('runs', [])) or 1} | {m.get('method')} | {m.get('kinematics')} | "
+            f"{_fmt(m.get('ndofs'))} | {_fmt(m.get('wall_time_s'))} | {_fmt(m.get('P'))} | "
+            + " | ".join(cells)
+            + f" | {'PASS' if m.get('pass') else 'FAIL'} | [report]({name}/report.md) |"
+        )
+    lines += ["", "✓/✗: within/outside the case tolerance (see each case report for the tolerances).", ""]
+    for name, m in metrics.items():
+        if m.get("headline"):
+            lines.append(f"- **{name}**: {m['headline']}")
+    lines += ["", claims_markdown(results), ""]
+    studies = [("convergence", "Error against run time"), ("stability", "Numerical stability sweep"),
+               ("bench", "Performance benchmark"), ("analytic", "Analytic convective table")]
+    lines += ["## Studies", ""]
+    for folder, title in studies:
+        for candidate in ("report.md", "convective.md"):
+            if (results / folder / candidate).is_file():
+                lines.append(f"- [{title}]({folder}/{candidate})")
+                break
+        else:
+            lines.append(f"- {title}: not run yet (`make {folder if folder != 'analytic' else 'run'}`)")
+    return "\n".join(lines) + "\n"
+
+
+def write_summary(results: Path) -> None:
+    """Write ``report.md`` and ``report.html`` in ``results``."""
+    results = Path(results)
+    md = summary_markdown(results)
+    write_text(results / "report.md", md)
+    html = markdown_to_html(md.replace("/report.md)", "/report.html)"), title="Contact workbench summary")
+    write_text(results / "report.html", html)
+    print(f"wrote {results / 'report.md'} and {results / 'report.html'}")

@@ -1,0 +1,92 @@
+"""Command line of the analytic package (python -m analytic)."""
+
+import json
+import math
+
+import pytest
+
+from analytic.__main__ import main
+
+
+def _json(capsys, argv):
+    assert main(argv) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_hertz_json(capsys):
+    d = _json(capsys, ["hertz", "--P", "5106", "--R", "5.23", "--E", "214000", "--nu", "0.3", "--json"])
+    assert d["E_star"] == pytest.approx(214000 / 0.91, rel=1e-14)
+    assert d["full_width"] == pytest.approx(2 * d["half_width"], rel=1e-15)
+
+
+def test_wedge_json(capsys):
+    d = _json(
+        capsys,
+        [
+            "wedge",
+            "--P",
+            "100",
+            "--theta",
+            str(math.pi / 5),
+            "--E",
+            "210000",
+            "--nu",
+            "0",
+            "--convention",
+            "paper",
+            "--json",
+        ],
+    )
+    assert d["m"] == pytest.approx(math.pi / 5, rel=1e-15)
+    assert d["half_width"] == pytest.approx(100 / (210000 * math.pi / 5), rel=1e-14)
+    assert d["beta_rigid_indenter"] == -0.5
+
+
+def test_convective_json_keys(capsys):
+    d = _json(
+        capsys,
+        [
+            "convective",
+            "--profile",
+            "parabola",
+            "--b0-over-R",
+            "0.25",
+            "--beta",
+            "-0.5",
+            "--nodes",
+            "4096",
+            "--json",
+        ],
+    )
+    for key in ("b_over_b0_first_order", "b_over_b0_first_iterate", "b_over_b0_converged"):
+        assert 1.0 < d[key] < 1.2
+
+
+def test_table1_json(capsys):
+    d = _json(capsys, ["table1", "--json"])
+    assert len(d["rows"]) == 9
+    assert round(d["rows"][0]["width_eq4"], 2) == 0.78
+    assert d["rows"][1]["eq5"] == "R not published"
+
+
+@pytest.mark.parametrize(
+    "argv, field",
+    [
+        (["hertz", "--P", "-1", "--R", "1", "--E", "1", "--nu", "0.3"], "P"),
+        (["wedge", "--P", "1", "--theta", "2", "--E", "1", "--nu", "0.3"], "theta"),
+        (["convective", "--profile", "parabola", "--b0-over-R", "0.2", "--beta", "-0.7"], "beta"),
+        (["convective", "--profile", "wedge", "--beta", "-0.5"], "theta"),
+        (["hertz", "--P", "1", "--R", "1", "--E", "1", "--nu", "0.7"], "nu2"),
+    ],
+)
+def test_bad_values_exit_2_one_line(capsys, argv, field):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"{field} = " in err[0] and "out of range" in err[0]
+
+
+def test_argparse_error_is_one_line(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["hertz", "--P", "x"])
+    assert exc.value.code == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
