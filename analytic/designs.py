@@ -326,7 +326,8 @@ def _close_to_conformal() -> ConcaveDesign:
     xs = np.linspace(x[j - 1], x[j + 1], 2001)
     qs = np.interp(xs, x, q)
     q1s = np.interp(xs, x, q1)
-    ms = (np.arctan(q1s) - np.arctan2(qs - q[ia], xs - x[ia])) - (np.arctan2(qs - q[ia], xs - x[ia]) - ang[ia])
+    chord_s = np.arctan2(qs - q[ia], xs - x[ia])
+    ms = (np.arctan(q1s) - chord_s) - (chord_s - ang[ia])
     xb = float(xs[int(np.argmin(np.abs(ms)))])
     xp = np.linspace(xb, xa, 20001)  # clockwise: bottom runs right to left
     yp = np.interp(xp, x, q) + _CC_D0

@@ -223,17 +223,20 @@ def find_contact_pairs(curve_a: Curve, curve_b: Curve, *, t_range_a=None, t_rang
         return m
 
     cells = np.argwhere(sign_change(F1) & sign_change(F2))
-    starts = [np.column_stack([zs[cells[:, 0]] + 0.5 * (zs[1] - zs[0]), ts[cells[:, 1]] + 0.5 * (ts[1] - ts[0])])]
+    half = (0.5 * (zs[1] - zs[0]), 0.5 * (ts[1] - ts[0]))
+    starts = [np.column_stack([zs[cells[:, 0]] + half[0], ts[cells[:, 1]] + half[1]])]
     fm = np.argwhere(local_min(np.hypot(F1, F2)))
     starts.append(np.column_stack([zs[fm[:, 0]], ts[fm[:, 1]]]))
     starts = np.unique(np.concatenate(starts), axis=0)
     cap = (2.0 * (zs[1] - zs[0]), 2.0 * (ts[1] - ts[0]))
     box = (ra, rb)
     z, t = _newton(curve_a, curve_b, starts[:, 0].copy(), starts[:, 1].copy(), box, cap, 1e-15)
+    # polish with full Newton steps (the capped iteration may stop early in flat, near-conformal valleys)
+    z, t = _newton(curve_a, curve_b, z, t, box, (np.inf, np.inf), 1e-15, max_iter=12)
     # intersections: Newton on A - B from the local minima of the distance
     dm = np.argwhere(local_min(dist))
-    zi, ti = _newton(curve_a, curve_b, zs[dm[:, 0]].astype(float), ts[dm[:, 1]].astype(float), box, cap, 1e-15,
-                     solve_intersection=True)
+    zi, ti = _newton(curve_a, curve_b, zs[dm[:, 0]].astype(float), ts[dm[:, 1]].astype(float), box, cap,
+                     1e-15, solve_intersection=True)
 
     length_scale = max(1.0, float(np.ptp(np.concatenate([A, B]), axis=0).max()))
     # Newton on F converges only linearly to a shallow crossing (det H ~ sin^2 of the crossing angle):
@@ -265,13 +268,27 @@ def find_contact_pairs(curve_a: Curve, curve_b: Curve, *, t_range_a=None, t_rang
 
     pairs, non_plausible, crossings = [], [], []
     inter_tol = 1e-10 * length_scale
+    touch_tol = 1e-7 * length_scale  # closer pairs are treated as crossings (|gap| < ~1e-6 mm)
     for zz, tt in uniq:
         f, h11, h12, h22, r, a1, b1 = _residual(curve_a, curve_b, [zz], [tt])
         pa, pb = curve_a.point([zz])[0], curve_b.point([tt])[0]
         rad_a = float(hertz_radius(curve_a, [zz])[0])
         rad_b = float(hertz_radius(curve_b, [tt])[0])
         rel = float(relative_radius(rad_a, rad_b))
-        if np.linalg.norm(pa - pb) <= inter_tol:
+        if np.linalg.norm(pa - pb) <= touch_tol:
+            # a crossing (or a root of F left ~1e-6 mm off a very shallow crossing: polish it on A - B)
+            if np.linalg.norm(pa - pb) > inter_tol:
+                z2, t2 = _newton(curve_a, curve_b, np.array([zz]), np.array([tt]), box, cap, 1e-15,
+                                 solve_intersection=True)
+                q_a, q_b = curve_a.point(z2)[0], curve_b.point(t2)[0]
+                if np.linalg.norm(q_a - q_b) > inter_tol:
+                    continue  # neither a converged pair nor a crossing
+                zz, tt, pa, pb = float(z2[0]), float(t2[0]), q_a, q_b
+                rad_a = float(hertz_radius(curve_a, [zz])[0])
+                rad_b = float(hertz_radius(curve_b, [tt])[0])
+                rel = float(relative_radius(rad_a, rad_b))
+            if any(np.linalg.norm(pa - c.point) < dup_tol for c in crossings):
+                continue
             ta, tb = curve_a.tangent([zz])[0], curve_b.tangent([tt])[0]
             ang = math.degrees(math.acos(min(1.0, abs(float(ta @ tb)))))
             crossings.append(Intersection(float(zz), float(tt), 0.5 * (pa + pb), rad_a, rad_b, rel, ang))
@@ -285,8 +302,8 @@ def find_contact_pairs(curve_a: Curve, curve_b: Curve, *, t_range_a=None, t_rang
         else:
             plausible = h11[0] > 0.0 and h22[0] > 0.0 and det < 0.0
         plausible = bool(plausible and float(na @ nb) < 0.0)
-        pair = ContactPair(float(zz), float(tt), pa, pb, na, gap, max(-gap, 0.0), rad_a, rad_b, rel, plausible,
-                           np.linalg.eigvalsh(H))
+        pair = ContactPair(float(zz), float(tt), pa, pb, na, gap, max(-gap, 0.0), rad_a, rad_b, rel,
+                           plausible, np.linalg.eigvalsh(H))
         (pairs if plausible else non_plausible).append(pair)
     pairs.sort(key=lambda p: p.gap)
     non_plausible.sort(key=lambda p: p.gap)
@@ -297,8 +314,9 @@ def find_contact_pairs(curve_a: Curve, curve_b: Curve, *, t_range_a=None, t_rang
 def _print_text(res: LCPResult, out) -> None:
     for label, items in (("plausible", res.pairs), ("non-plausible", res.non_plausible)):
         for p in items:
-            print(f"{label:13s} A{p.point_a.round(5).tolist()} B{p.point_b.round(5).tolist()} gap={p.gap:+.6g} "
-                  f"R_a={p.radius_a:.6g} R_b={p.radius_b:.6g} R={p.relative_radius:.6g}", file=out)
+            print(f"{label:13s} A{p.point_a.round(5).tolist()} B{p.point_b.round(5).tolist()} "
+                  f"gap={p.gap:+.6g} R_a={p.radius_a:.6g} R_b={p.radius_b:.6g} R={p.relative_radius:.6g}",
+                  file=out)
     for c in res.intersections:
         print(f"{'intersection':13s} {c.point.round(5).tolist()} R_a={c.radius_a:.6g} R_b={c.radius_b:.6g} "
               f"R={c.relative_radius:.6g} angle={c.angle_deg:.4g} deg", file=out)
@@ -311,7 +329,8 @@ def cli(argv: list[str]) -> int:
 
     parser = argparse.ArgumentParser(prog="python -m analytic lcp", description=cli.__doc__)
     parser.add_argument("--config", required=True, help=f"one of {', '.join(DESIGN_NAMES)}")
-    parser.add_argument("--d", type=float, default=0.0, help="particle displacement along the path (mm), [0, 2]")
+    parser.add_argument("--d", type=float, default=0.0,
+                        help="particle displacement along the path (mm), [0, 2]")
     parser.add_argument("--n-samples", type=int, default=400, help="grid points per parameter, >= 16")
     parser.add_argument("--json", action="store_true", help="print JSON")
     try:

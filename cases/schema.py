@@ -266,6 +266,7 @@ _TOLERANCE_KEYS = {
     "rms": "RMS(p_fem - p_theory) / p0",
     "load_balance": "|P - P_pressure| / P",
     "b_over_b0": "relative error of the FEM convective ratio b/b0 against the converged theory",
+    "rms_convective": "RMS(p_fem - p_convective)/p_ref of the convective run against the converged theory",
     "fit_rms": "elliptical-fit RMS / p0 (upper bound)",
     "patch_size": "relative mismatch of eq. (4) and eq. (5) patch sizes",
 }

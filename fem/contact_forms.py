@@ -32,9 +32,11 @@ of ``x > 0``).
 
 from __future__ import annotations
 
-from typing import Any, Callable, NamedTuple
-
 import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
+
+from collections.abc import Callable
+from typing import Any, NamedTuple
+
 import dolfinx
 import ufl
 

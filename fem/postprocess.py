@@ -12,9 +12,10 @@ half-width, peak) and doubles their load when ``half=True``.
 
 from __future__ import annotations
 
+import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
+
 from typing import NamedTuple
 
-import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
 import basix
 import dolfinx
 import numpy as np

@@ -12,6 +12,7 @@ within about one quadrature point of the converged one.
 from __future__ import annotations
 
 import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
+
 import dolfinx
 import dolfinx.fem.petsc
 import numpy as np

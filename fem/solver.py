@@ -3,14 +3,25 @@
 Units: mm, N, MPa; loads P per unit thickness (N/mm). Gap g > 0 open; pressure p >= 0 compressive. The weak
 forms (penalty, Nitsche) are documented in :mod:`fem.contact_forms`.
 
-Solution: semismooth Newton (PETSc SNES ``newtonls`` with ``basic`` full steps, LU/MUMPS) per load step, with
-a predictor that extrapolates u linearly in d from the last two converged states (path independence of small
-strain frictionless contact makes that predictor almost exact once the active set stops moving).
+Solution: semismooth Newton (PETSc SNES ``newtonls`` with ``basic`` full steps, LU/MUMPS) per load step.
+Because small-strain frictionless contact is path independent, the cost is all in the active set. Measured on
+the Hertz scene, semismooth Newton started from a predicted u whose active set is decided by the sign of its
+tiny gaps releases about one quadrature point per iteration (10-25 iterations per step). So every solve
+starts with ONE Newton iteration on a prescribed active set ``lo < X1 < hi`` (the Hertz zone of the load
+level, or the contact edges of the last two states extrapolated linearly in d), then the true law:
+
+* predictor ``hertz`` (force control, circle/parabola, direction (0, -1); :mod:`fem.predictor`): u from a
+  linear solve with the Hertz pressure as a Neumann load, d from its displacement at the first-contact point;
+* predictor ``extrapolate``: u linear in d from the last two converged states; without history a short first
+  step at ``first_step_fraction`` of the first level.
+
+Reported ``iterations`` count that predictor iteration too (1 = the prescribed active set was already right).
 
 * ``control="displacement"``: the obstacle moves by ``d_k = target k / n_steps`` along its direction.
-* ``control="force"``: load levels ``P_k = target k / n_steps``; d for each level is predicted by the secant
+* ``control="force"``: load levels ``P_k = target k / n_steps``; d from the Hertz predictor or the secant
   through the last two (d, P) states (the first from a stiffness guess 0.3 E'); the last level is corrected by
-  secant iterations on d until ``|P - target| <= force_rtol target``.
+  secant iterations on d until ``|P - target| <= force_rtol target`` (each a separate record, kind
+  ``force-correction``).
 
 Divergence (SNES converged reason <= 0) restores the last converged state and halves the increment, up to
 ``max_cutbacks`` times per step, then raises :class:`ContactSolveError`.
@@ -19,18 +30,20 @@ Measured load ``P`` (virtual work): ``P = -a(u, w)`` with ``w`` equal to the loa
 Dirichlet-constrained component dof and 0 elsewhere, i.e. the support reaction along the direction; it
 equals the discrete contact force. ``P_pressure = int p (n_o . direction) ds`` is the resultant of the
 contact pressure along the direction (for both methods it equals P up to round-off, because the Nitsche
-stress terms vanish for a rigid test field; it is a consistency check of the assembly). For ``symmetric_half=True`` both are doubled
-(full-body values) and patches are mirrored.
+stress terms vanish for a rigid test field; it is a consistency check of the assembly). For
+``symmetric_half=True`` both are doubled (full-body values) and patches are mirrored.
 """
 
 from __future__ import annotations
 
+import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
+
 import itertools
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any, NamedTuple
 
-import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
 import dolfinx
 import dolfinx.fem.petsc
 import numpy as np
@@ -42,7 +55,7 @@ from fem.elasticity import lame, plane_strain_modulus, sigma
 from fem.postprocess import Patch, SurfaceSamples, contact_edges, find_patches, sample_surface
 from fem.predictor import HertzPredictor as _HertzPredictor
 
-__all__ = ["ContactSolveError", "ContactResult", "solve_contact", "SUPPORT_KINDS"]
+__all__ = ["ContactSolveError", "ContactResult", "Snapshot", "solve_contact", "SUPPORT_KINDS"]
 
 SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free")
 _counter = itertools.count()
@@ -59,7 +72,8 @@ class ContactResult:
     Attributes:
         ndofs: global number of displacement dofs.
         wall_time_s: wall time of the load stepping (s; includes JIT unless cached).
-        newton_iterations: SNES iterations per converged solve (load steps and force corrections).
+        newton_iterations: Newton iterations per converged solve (load steps and force corrections), the
+            prescribed-active-set predictor iteration included.
         load_steps: one dict per converged solve: d (mm), P (N/mm), iterations, time (s), kind.
         d: final rigid displacement (mm).
         P: final load by virtual work / support reaction (N/mm).
@@ -71,6 +85,7 @@ class ContactResult:
         half: True for a half model.
         forms: the ContactForms (UFL pieces) for output.
         lame: Lame parameters.
+        snapshots: one :class:`Snapshot` per ``record_at`` displacement (displacement control).
     """
 
     ndofs: int
@@ -87,6 +102,19 @@ class ContactResult:
     half: bool
     forms: Any = field(repr=False)
     lame: Any = field(repr=False)
+    snapshots: list = field(default_factory=list)
+
+
+class Snapshot(NamedTuple):
+    """Surface state at one recorded displacement (``record_at``): d (mm), P and P_pressure (N/mm, full
+    body), surface samples, patches, and the Newton iterations of the solve that reached it."""
+
+    d: float
+    P: float
+    P_pressure: float
+    samples: SurfaceSamples
+    patches: list[Patch]
+    iterations: int
 
 
 def _supports(mesh_data, supports, symmetric_half):
@@ -117,7 +145,8 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
                   quadrature_degree: int | None = None, force_rtol: float = 1e-10, snes_rtol: float = 1e-10,
                   max_it: int = 40, case: str = "contact", petsc_options: dict | None = None,
                   predictor: str = "auto", sample_degree: int | None = None,
-                  active_set_predictor: bool = True, first_step_fraction: float = 0.1) -> ContactResult:
+                  active_set_predictor: bool = True, first_step_fraction: float = 0.1,
+                  record_at: Sequence[float] | None = None) -> ContactResult:
     """Solve frictionless contact of the meshed body against a rigid obstacle.
 
     Args:
@@ -152,6 +181,8 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
         first_step_fraction: without the Hertz predictor, an extra first step at this fraction of the first
             load level (few quadrature points are in the initial overlap, so the unpredicted first solve is
             short); 1 disables it.
+        record_at: displacement control only: increasing displacements (mm) ending at ``target``; the solver
+            steps through them (``n_steps`` sub-steps to the first) and keeps a :class:`Snapshot` at each.
         force_rtol: relative tolerance of the final load in force control.
         snes_rtol: SNES relative residual tolerance.  max_it: SNES max iterations.
         case: name used in error messages.
@@ -334,7 +365,24 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
 
     if not 0.0 < first_step_fraction <= 1.0:
         raise ValueError(f"first_step_fraction must be in (0, 1], got {first_step_fraction}")
-    if control == "displacement":
+    snapshots: list[Snapshot] = []
+    if control == "displacement" and record_at:
+        # Step through the recorded displacements in turn (n_steps sub-steps to the first one, one step between
+        # the others, cut back as needed) and keep a snapshot of the surface at each.
+        levels = [float(v) for v in record_at]
+        if any(v <= 0 for v in levels) or levels != sorted(levels) or levels[-1] != float(target):
+            raise ValueError("record_at must be increasing values > 0 (mm) ending at target")
+        for k in range(1, n_steps + 1):
+            reach(levels[0] * k / n_steps, k, "step")
+        for k, level in enumerate(levels):
+            if k > 0:
+                reach(level, n_steps + k, "step")
+            smp = sample_surface(u=u, forms=forms, facets=contact_facets, quadrature_degree=sdeg)
+            P_k, Pp_k = measure()
+            snapshots.append(Snapshot(d=level, P=float(P_k), P_pressure=float(Pp_k), samples=smp,
+                                      patches=find_patches(smp, half=symmetric_half),
+                                      iterations=int(records[-1]["iterations"]) if records else 0))
+    elif control == "displacement":
         if first_step_fraction < 1.0:
             reach(first_step_fraction * target / n_steps, 0, "first")
         for k in range(1, n_steps + 1):
@@ -376,4 +424,5 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
     return ContactResult(ndofs=V.dofmap.index_map.size_global * 2, wall_time_s=wall,
                          newton_iterations=[r["iterations"] for r in records], load_steps=records,
                          d=float(states[-1][0]), P=float(P), P_pressure=float(Pp), samples=samples,
-                         patches=patches, u=u, options=options, half=symmetric_half, forms=forms, lame=lm)
+                         patches=patches, u=u, options=options, half=symmetric_half, forms=forms, lame=lm,
+                         snapshots=snapshots)

@@ -46,6 +46,7 @@ def msh_to_xdmf(msh, xdmf) -> Path:
     (``physical_groups``: name -> [dim, tag]).
     """
     import dolfinx_solver  # noqa: F401  (must precede dolfinx / petsc4py)
+
     from dolfinx.io import XDMFFile
     from dolfinx.io import gmsh as dgmsh
     from mpi4py import MPI

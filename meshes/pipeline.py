@@ -13,11 +13,11 @@ from meshes.quality import mesh_quality, write_mesh_stats
 
 __all__ = ["build_cached", "BUILDER_VERSION"]
 
-BUILDER_VERSION = 1  # bump to invalidate every cached mesh when a builder changes
+BUILDER_VERSION = 2  # bump to invalidate every cached mesh when a builder changes
 
 
 def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable, write_xdmf: bool = True,
-                 stats_dir=None, comm=None) -> MeshFiles:
+                 stats_dir=None, comm=None, extra_stats: Callable | None = None) -> MeshFiles:
     """Build (or reuse) one mesh.
 
     Args:
@@ -30,12 +30,14 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
         write_xdmf: also write XDMF via dolfinx.
         stats_dir: when given, also write ``<stats_dir>/mesh.json``.
         comm: optional MPI communicator: only rank 0 builds, the result is broadcast.
+        extra_stats: ``extra_stats(points, triangles, contact_edges) -> dict`` merged into the stats.
     """
     if comm is not None and comm.size > 1:
         result = None
         if comm.rank == 0:
             result = build_cached(kind=kind, params=params, name=name, out_dir=out_dir, make=make,
-                                  write_xdmf=write_xdmf, stats_dir=stats_dir, comm=None)
+                                  write_xdmf=write_xdmf, stats_dir=stats_dir, comm=None,
+                                  extra_stats=extra_stats)
         return comm.bcast(result, root=0)
     key = cache_key({"kind": kind, "version": BUILDER_VERSION, "write_xdmf": write_xdmf, **params})
     paths = cache_paths(out_dir, name, key)
@@ -53,6 +55,8 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
             write_msh(gmsh, paths["msh"])
         t_mesh = time.perf_counter() - t0
         stats = mesh_quality(points, tri, edges, window)
+        if extra_stats is not None:
+            stats.update(extra_stats(points, tri, edges))
         stats.update(kind=kind, key=key, params=params, mesh_time_s=t_mesh,
                      physical_groups={k: list(v) for k, v in groups.items()})
         if write_xdmf:

@@ -36,8 +36,9 @@ def mesh_quality(points: np.ndarray, triangles: np.ndarray, contact_edges: np.nd
             zone (e.g. |x| <= a); None = all contact edges.
 
     Returns:
-        dict with ``n_cells``, ``n_nodes``, ``min_angle_deg``, ``max_aspect_ratio`` (circumradius / (2
-        inradius), 1 for equilateral), ``h_max`` / ``h_min`` (all edges), and for the contact edges
+        dict with ``n_cells``, ``n_nodes`` (aliases ``cells``, ``nodes``), ``min_angle_deg``,
+        ``max_aspect_ratio`` (circumradius / (2 inradius), 1 for equilateral), ``h_max`` / ``h_min`` (all
+        edges), and for the contact edges
         ``n_contact_edges``, ``contact_h_max`` (over the window), ``contact_h_min``,
         ``n_contact_edges_window``.
     """
@@ -56,6 +57,8 @@ def mesh_quality(points: np.ndarray, triangles: np.ndarray, contact_edges: np.nd
     stats = {
         "n_cells": int(len(tri)),
         "n_nodes": int(len(np.unique(tri))),
+        "cells": int(len(tri)),  # alias of n_cells
+        "nodes": int(len(np.unique(tri))),  # alias of n_nodes
         "min_angle_deg": float(ang.min()),
         "max_angle_deg": float(ang.max()),
         "max_aspect_ratio": float((r_circ / (2.0 * r_in)).max()),

@@ -10,7 +10,10 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import numpy as np
+
 from analytic import convective, materials
+from scripts.compare import rms_error
 
 __all__ = ["CaseComparison", "case_level_comparisons", "convective_theory", "fem_b_over_b0"]
 
@@ -19,12 +22,14 @@ PAPER_B_OVER_B0 = {"wedge": 1.097, "parabola": 1.09}
 
 
 class CaseComparison(NamedTuple):
-    """Case-level analytic values, errors, a one-line headline and extra Markdown tables."""
+    """Case-level analytic values, errors, a one-line headline, extra Markdown tables, and extra top-level
+    fields of ``metrics.json`` (e.g. the per-step table of a concave case)."""
 
     analytic: dict
     errors: dict
     headline: str
     tables: dict
+    top: dict = {}
 
 
 def convective_theory(outcome) -> convective.ConvectiveSolution:
@@ -69,6 +74,13 @@ def case_level_comparisons(case, outcomes) -> CaseComparison:
         ]
         table = ["| source | b/b0 |", "|---|---|"] + [f"| {k} | {v:.5f} |" for k, v in rows]
         err = abs(ratio - sol.b_over_b0_converged) / sol.b_over_b0_converged
+        # pressure of the convective run against the converged convective theory (x in b0, p in P/b0)
+        th = conv.theory
+        sr = conv.series[0]
+        p_conv = np.interp(sr.x, sol.x * th.half_width, sol.p_converged * th.P / th.half_width)
+        sr.predictions["convective theory (converged)"] = p_conv
+        rms_conv = rms_error(sr.x, sr.p, p_conv, center=0.0, half_width=conv.metrics["patch_half_width"],
+                             p_ref=th.p_ref)
         analytic = {
             "beta": sol.beta,
             "b_over_b0_first_order": sol.b_over_b0_first_order,
@@ -79,7 +91,8 @@ def case_level_comparisons(case, outcomes) -> CaseComparison:
         }
         headline = (f"b/b0: FEM {ratio:.4f}, converged theory {sol.b_over_b0_converged:.4f}, first order "
                     f"{sol.b_over_b0_first_order:.4f}, paper prints {paper}")
-        return CaseComparison(analytic, {"b_over_b0": err}, headline, {"Convective ratio b/b0": table})
+        errors = {"b_over_b0": err, "rms_convective": rms_conv}
+        return CaseComparison(analytic, errors, headline, {"Convective ratio b/b0": table})
     concave = [o for o in outcomes if o.metrics.get("scene") == "concave"]
     if concave:
         from scripts.scene_concave import concave_case_comparison

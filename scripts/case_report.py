@@ -18,20 +18,21 @@ from scripts.plots import plot_pressure_panels
 __all__ = ["write_case_outputs", "case_report_markdown"]
 
 
+def _slug(name: str) -> str:
+    return "_".join("".join(c if c.isalnum() else " " for c in name.lower()).split())
+
+
 def _csv_text(outcomes) -> str:
-    names = []
-    for o in outcomes:
-        for k in o.predictions:
-            if k not in names:
-                names.append(k)
+    series = [sr for o in outcomes for sr in o.series]
+    names = list(dict.fromkeys(k for sr in series for k in sr.predictions))
     buf = io.StringIO()
     w = csv.writer(buf)
-    w.writerow(["run", "coordinate_mm", "p_fem_MPa", "sigma_nn_MPa", *[f"p_{n}_MPa" for n in names]])
-    for o in outcomes:
-        for i in range(len(o.x)):
-            row = [o.label, f"{o.x[i]:.10g}", f"{o.p[i]:.10g}", f"{o.sigma_nn[i]:.10g}"]
+    w.writerow(["run", "coordinate_mm", "p_fem_MPa", "sigma_nn_MPa", *[f"p_{_slug(n)}_MPa" for n in names]])
+    for sr in series:
+        for i in range(len(sr.x)):
+            row = [sr.label, f"{sr.x[i]:.10g}", f"{sr.p[i]:.10g}", f"{sr.sigma_nn[i]:.10g}"]
             for n in names:
-                v = o.predictions.get(n)
+                v = sr.predictions.get(n)
                 row.append("" if v is None or not np.isfinite(v[i]) else f"{v[i]:.10g}")
             w.writerow(row)
     return buf.getvalue()
@@ -90,16 +91,9 @@ def case_report_markdown(case, outcomes, metrics) -> str:
 def write_case_outputs(case, outcomes, metrics, stage: Path) -> None:
     """Write the CSV, the plot and the report of a case into its staging folder."""
     write_text(stage / "pressure.csv", _csv_text(outcomes))
-    panels = []
-    for o in outcomes:
-        hw = [pt["half_width"] + abs(pt["center"]) for pt in o.metrics["patches"]] or [1.0]
-        lim = 1.6 * max(hw)
-        center = 0.0 if o.xlabel.startswith("x") else None
-        panels.append({
-            "label": o.label, "x": o.x, "p_fem": o.p, "sigma_nn": o.sigma_nn, "xlabel": o.xlabel,
-            "predictions": {k: (o.x, v) for k, v in o.predictions.items()},
-            "xlim": (-lim, lim) if center == 0.0 else o.metrics.get("xlim"),
-        })
+    panels = [{"label": sr.label, "x": sr.x, "p_fem": sr.p, "sigma_nn": sr.sigma_nn, "xlabel": sr.xlabel,
+               "predictions": {k: (sr.x, v) for k, v in sr.predictions.items()}, "xlim": sr.xlim}
+              for o in outcomes for sr in o.series]
     plot_pressure_panels(panels, stage / "pressure.png", title=case.name)
     md = case_report_markdown(case, outcomes, metrics)
     write_text(stage / "report.md", md)

@@ -86,7 +86,8 @@ def _analytic_claims(results: Path) -> list[Claim]:
                 CC, f"{cfg} d = {row.row.d:.2f}: eq. (5) patch size with the {e.pair} R", f"{e.width_printed:g} mm",
                 f"{e.width_eq5_R_printed:.3f} mm (printed R), {e.width_eq5_R_computed:.3f} mm (R from radii)",
                 "closed form",
-                "confirmed (a full width)" if abs(e.width_eq5_R_printed - e.width_printed) < 0.006 else "not confirmed"))
+                "confirmed (a full width)" if abs(e.width_eq5_R_printed - e.width_printed) < 0.006
+                else "not confirmed"))
     return out
 
 

@@ -56,7 +56,7 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
     tol = dict(case.tolerances)
     checks = {k: (errors.get(k) is not None and errors[k] <= t) for k, t in tol.items()}
     kin = sorted({r["kinematics"] for r in runs})
-    return {
+    return extra.top | {
         "case": case.name,
         "description": case.description,
         "method": "+".join(sorted({r["method"] for r in runs})),

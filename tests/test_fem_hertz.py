@@ -12,6 +12,7 @@ rigid test field), median Newton iterations per solve <= 8 (measured 1 with the 
 """
 
 import dolfinx_solver  # noqa: F401
+
 import numpy as np
 import pytest
 from dolfinx.io import gmsh as dgmsh
@@ -20,7 +21,7 @@ from mpi4py import MPI
 from analytic.hertz import hertz, hertz_load_from_half_width, hertz_pressure
 from fem.elasticity import plane_strain_modulus
 from fem.obstacles import CircleObstacle
-from fem.solver import solve_contact
+from fem.solver import ContactSolveError, solve_contact
 from meshes.block import build_block_mesh
 
 R, E, NU = 10.0, 200e3, 0.3
@@ -100,3 +101,11 @@ def test_penalty_converges_to_nitsche(mesh10):
     # first-order in 1/kappa0: each decade of kappa0 divides the error by ~10 (accept >= 5)
     assert errs[0] / errs[1] >= 5.0 and errs[1] / errs[2] >= 5.0, errs
     assert errs[2] <= 1e-3, errs
+
+
+def test_divergence_raises_contact_solve_error(mesh10):
+    """One Newton iteration allowed, no predictor: the step and its cut-back fail -> named error."""
+    with pytest.raises(ContactSolveError, match=r"hertz-fail: load step 1 .* SNES reason -5"):
+        solve_contact(mesh10, CircleObstacle(center=(0.0, R), radius=R), E=E, nu=NU, traction="halfplane",
+                      control="displacement", target=0.05, n_steps=1, symmetric_half=True, max_it=1,
+                      active_set_predictor=False, first_step_fraction=1.0, max_cutbacks=1, case="hertz-fail")

@@ -8,6 +8,7 @@ penetration g = -p / kappa, so p = M d / H / (1 + M / (kappa H)) exactly (also l
 """
 
 import dolfinx_solver  # noqa: F401
+
 import dolfinx
 import numpy as np
 import pytest

@@ -1,0 +1,53 @@
+"""``make ci``: every case at its coarsest level (``ci_level``), checked against the case tolerances.
+
+Results go to ``results/ci/<case>/`` (the default-resolution results are left alone); the report is
+``results/ci_report.md``. Exit code 1 on any tolerance violation or failed run.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from cases import case_names, load_case
+from scripts.atomic import write_text
+from scripts.summary import load_metrics
+
+__all__ = ["run_ci"]
+
+
+def run_ci(results: Path) -> int:
+    """Run every case at its CI level in a subprocess each (a crash of one case cannot hide the others)."""
+    results = Path(results)
+    ci_root = results / "ci"
+    rows, ok = [], True
+    for name in case_names():
+        case = load_case(name)
+        level = case.discretisation.ci_level or case.discretisation.h_contact
+        t0 = time.perf_counter()
+        proc = subprocess.run([sys.executable, "-m", "scripts", "run", name, "--ci", "--out", str(ci_root)],
+                              capture_output=True, text=True)
+        dt = time.perf_counter() - t0
+        sys.stdout.write(proc.stdout)
+        sys.stderr.write(proc.stderr)
+        rows.append((name, level, proc.returncode, dt))
+    metrics = load_metrics(ci_root)
+    lines = ["# CI report: every case at its coarsest level", "",
+             "| case | h_c (x half-width) | exit | time (s) | checks | verdict |", "|---|---|---|---|---|---|"]
+    for name, level, code, dt in rows:
+        m = metrics.get(name)
+        if m is None or code not in (0, 1):
+            verdict, checks = "FAIL (run failed)", f"see {ci_root}/logs/{name}.log"
+        else:
+            failed = [k for k, v in m["checks"].items() if not v]
+            checks = ", ".join(f"{k} {m['errors'].get(k, float('nan')):.3g} <= {m['tolerances'][k]:.3g}"
+                               f"{'' if m['checks'][k] else ' ✗'}" for k in m["checks"]) or "-"
+            verdict = "PASS" if (m["pass"] and code == 0) else f"FAIL ({', '.join(failed) or 'exit ' + str(code)})"
+        ok &= verdict == "PASS"
+        lines.append(f"| {name} | {level} | {code} | {dt:.1f} | {checks} | {verdict} |")
+    lines += ["", f"Overall: **{'PASS' if ok else 'FAIL'}**", ""]
+    write_text(results / "ci_report.md", "\n".join(lines))
+    print("\n".join(lines))
+    return 0 if ok else 1

@@ -1,0 +1,89 @@
+"""Plots of the convergence study (reads ``results/convergence/convergence.json``; files only, Agg backend).
+
+Run: ``python -m scripts.convergence_plot [JSON]`` -> ``error_vs_time.png`` and ``error_vs_ndofs.png`` next to
+the JSON. One panel per case x error metric, one line per method x degree, log-log axes.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from scripts.atomic import atomic_path  # noqa: E402
+
+__all__ = ["main", "plot_study"]
+
+DEFAULT_JSON = Path("results") / "convergence" / "convergence.json"
+STYLE = {("penalty", 1): ("tab:orange", "s", "--"), ("penalty", 2): ("tab:red", "s", "-"),
+         ("nitsche", 1): ("tab:cyan", "o", "--"), ("nitsche", 2): ("tab:blue", "o", "-")}
+LABELS = {"p_max": "peak pressure error", "half_width": "half-width error", "rms": "RMS(p - p_th) / p_ref",
+          "l2": "Gauss L2(p - p_th) / p_ref", "b_over_b0": "b/b0 error (vs converged theory)"}
+
+
+def _panel(ax, rows: list[dict], *, metric: str, xkey: str) -> None:
+    for (method, degree), (color, marker, ls) in STYLE.items():
+        sel = [r for r in rows if r["method"] == method and r["degree"] == degree]
+        pts = sorted((r[xkey], r[metric]) for r in sel if r[metric] is not None and r[metric] > 0)
+        if pts:
+            xs, ys = zip(*pts, strict=True)
+            ax.loglog(xs, ys, ls=ls, marker=marker, color=color, ms=4, lw=1.2, label=f"{method} P{degree}")
+    ax.grid(which="both", alpha=0.3)
+    ax.set_ylabel(LABELS.get(metric, metric), fontsize=8)
+
+
+def plot_study(data: dict, *, out_dir: Path) -> list[Path]:
+    """Write ``error_vs_time.png`` (warm solver time) and ``error_vs_ndofs.png``; returns the paths.
+
+    Args:
+        data: The JSON written by :mod:`scripts.convergence` (``rows``, ``metrics``, ``time_of``).
+        out_dir: Output folder.
+    """
+    cases = [c for c in data["metrics"] if any(r["case"] == c for r in data["rows"])]
+    ncol = max(len(data["metrics"][c]) for c in cases)
+    paths = []
+    for stem, xlabel in (("error_vs_time", "warm solver wall time (s)"), ("error_vs_ndofs", "ndofs")):
+        fig, axes = plt.subplots(len(cases), ncol, figsize=(4.0 * ncol, 3.4 * len(cases)), squeeze=False)
+        for i, case in enumerate(cases):
+            rows = [r for r in data["rows"] if r["case"] == case]
+            for j, metric in enumerate(data["metrics"][case]):
+                ax = axes[i, j]
+                xkey = data.get("time_of", {}).get(metric, "time_s") if stem == "error_vs_time" else "ndofs"
+                _panel(ax, rows, metric=metric, xkey=xkey)
+                ax.set_title(f"{case}: {metric}", fontsize=9)
+                pair = " (small + convective pair)" if xkey == "time_pair_s" else ""
+                ax.set_xlabel(xlabel + pair, fontsize=8)
+                if i == 0 and j == 0:
+                    ax.legend(fontsize=7)
+            for ax in axes[i, len(data["metrics"][case]):]:
+                ax.set_visible(False)
+        fig.suptitle(f"Error against {'run time' if stem == 'error_vs_time' else 'ndofs'} "
+                     "(each line: one method x degree over the h_c levels)", fontsize=10)
+        fig.tight_layout()
+        path = Path(out_dir) / f"{stem}.png"
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=120)
+        plt.close(fig)
+        paths.append(path)
+    return paths
+
+
+def main(argv: list[str] | None = None) -> int:
+    """CLI: plot the study JSON (default results/convergence/convergence.json); exit 2 if it is missing."""
+    argv = sys.argv[1:] if argv is None else argv
+    path = Path(argv[0]) if argv else DEFAULT_JSON
+    if not path.is_file():
+        print(f"error: {path} does not exist; run `python -m scripts.convergence` first", file=sys.stderr)
+        return 2
+    for p in plot_study(json.loads(path.read_text()), out_dir=path.parent):
+        print(f"wrote {p}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

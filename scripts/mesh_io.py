@@ -1,0 +1,24 @@
+"""Read a gmsh ``.msh`` file into dolfinx quietly (named physical groups, MPI-distributed)."""
+
+from __future__ import annotations
+
+import dolfinx_solver  # noqa: F401
+
+from pathlib import Path
+
+__all__ = ["read_mesh"]
+
+
+def read_mesh(path: str | Path, comm):
+    """``dolfinx.io.gmsh.read_from_msh`` with gmsh's terminal output off.
+
+    Returns:
+        dolfinx ``MeshData(mesh, cell_tags, facet_tags, ..., physical_groups)``; rank 0 reads the file.
+    """
+    import gmsh
+    from dolfinx.io import gmsh as gmsh_io
+
+    if not gmsh.isInitialized():
+        gmsh.initialize(interruptible=False)
+    gmsh.option.setNumber("General.Terminal", 0)
+    return gmsh_io.read_from_msh(str(path), comm, 0, gdim=2)

@@ -1,0 +1,241 @@
+"""Concave scenes of the close-to-conformal paper: a rigid convex particle pressed into a concave body.
+
+Reads top to bottom: design curves -> LCP contact pairs at every displacement step (pure geometry) -> mesh
+refined at the predicted pairs -> displacement-controlled FEM through the Table 1 steps -> per step: load,
+peak, patches, elliptical fits, eq. (4)/(5) patch sizes and Hertz superposition against the FEM.
+
+Pressures are plotted against the arc length s of the UNDEFORMED concave surface (mm), as in the paper.
+In 2D there is no universal load-indentation law, so every Hertz prediction is evaluated at the load the
+FEM patch actually carries. Units: mm, N, MPa.
+
+Hertz superposition is evaluated two ways:
+    "independent": each plausible LCP pair with an overlap gets a Hertz patch carrying the FEM load of the
+        patch it lies in (split equally when one FEM patch holds several pairs) -- the paper's use of Hertz.
+    "best fit": the loads of the pairs' Hertz patches are fitted by least squares to the FEM pressure: the
+        best any superposition of those Hertz patches can do. If even that misses, superposition fails.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+from scipy import optimize
+
+from analytic import hertz, materials
+from analytic.fit import fit_elliptical
+from analytic.superposition import ContactPair as HertzPair
+from analytic.superposition import superpose
+from cases.schema import Run
+from scripts.case_checks import CaseComparison
+from scripts.outcome import Outcome, Series
+
+__all__ = ["run_concave", "concave_case_comparison"]
+
+MESH_CACHE = Path("results/mesh_cache")
+_SAMPLES_LCP = 300
+
+
+def _lcp_at(des, d: float):
+    from analytic.designs import particle_at
+    from analytic.lcp import find_contact_pairs
+
+    return find_contact_pairs(des.concave, particle_at(des, d), n_samples=_SAMPLES_LCP)
+
+
+def _arc_length_of(curve, X: np.ndarray) -> np.ndarray:
+    """Arc length (mm) along the undeformed concave curve of the material surface points X (n, 2)."""
+    t = curve.project(X).t
+    return curve.arc_length(t)
+
+
+def _best_superposition(s, p, pairs, *, E_star, p_ref):
+    """Least-squares loads (>= 0) of Hertz patches at the given pairs; returns (loads, p_fit, rms/p_ref)."""
+    if not pairs:
+        return [], np.zeros_like(p), math.nan
+    def resid(logP):
+        hp = [HertzPair(s=pr.s, R=pr.R, P=float(np.exp(lp))) for pr, lp in zip(pairs, logP, strict=True)]
+        return superpose(hp, E_star=E_star, s=s).p - p
+
+    x0 = np.log([max(pr.P, 1e-6 * p_ref) for pr in pairs])
+    sol = optimize.least_squares(resid, x0, method="lm" if len(s) > len(pairs) else "trf")
+    loads = np.exp(sol.x)
+    fit = resid(sol.x) + p
+    rms = float(np.sqrt(np.mean((fit - p) ** 2)) / p_ref)
+    return loads.tolist(), fit, rms
+
+
+def _step_metrics(snap, *, curve, lcp, E_star, label):
+    """Per-step comparison of one FEM snapshot with Hertz theory (all at the measured patch loads)."""
+    from fem.postprocess import find_patches
+
+    smp = snap.samples
+    s = _arc_length_of(curve, smp.X)
+    order = np.argsort(s, kind="stable")
+    smp = smp._replace(**{f: getattr(smp, f)[order] for f in smp._fields if getattr(smp, f) is not None})
+    s = s[order]
+    smp = smp._replace(s=s)
+    patches = find_patches(smp)
+    p = smp.p
+    p_max = float(p.max()) if p.size else 0.0
+    pairs = [pr for pr in lcp.pairs if pr.plausible and pr.gap < 0 and 0 < pr.relative_radius < math.inf]
+    pair_s = [float(curve.arc_length(np.array([pr.t_a]))[0]) for pr in pairs]
+    out_patches = []
+    for pt in patches:
+        lo, hi = pt.center - pt.half_width, pt.center + pt.half_width
+        inside = (s >= lo - 0.05 * pt.half_width) & (s <= hi + 0.05 * pt.half_width)
+        fit = fit_elliptical(s[inside], p[inside]) if inside.sum() >= 5 else None
+        in_pairs = [k for k, sp in enumerate(pair_s) if lo <= sp <= hi]
+        entry = {
+            "center": pt.center, "half_width": pt.half_width, "p_max": pt.p_max, "P": pt.P,
+            "width_eq4": hertz.patch_width_eq4(pt.P, pt.p_max) if pt.p_max > 0 else math.nan,
+            "width_fem": 2.0 * pt.half_width,
+            "fit": fit._asdict() if fit else None,
+            "pairs": in_pairs,
+            "width_eq5": [hertz.patch_width_eq5(pt.P, pairs[k].relative_radius, E_star) for k in in_pairs],
+            "R_pairs": [pairs[k].relative_radius for k in in_pairs],
+        }
+        out_patches.append(entry)
+    # independent superposition: each pair carries the load of its FEM patch (shared equally)
+    indep = []
+    for entry in out_patches:
+        for k in entry["pairs"]:
+            indep.append(HertzPair(s=pair_s[k], R=pairs[k].relative_radius, P=entry["P"] / len(entry["pairs"])))
+    p_ref = max(p_max, 1e-300)
+    if indep:
+        p_indep = superpose(indep, E_star=E_star, s=s).p
+        rms_indep = float(np.sqrt(np.mean((p_indep - p) ** 2)) / p_ref)
+    else:
+        p_indep, rms_indep = np.zeros_like(p), math.nan
+    loads, p_best, rms_best = _best_superposition(s, p, indep, E_star=E_star, p_ref=p_ref)
+    fit_main = max((e for e in out_patches if e["fit"]), key=lambda e: e["P"], default=None)
+    metrics = {
+        "label": label,
+        "d": snap.d,
+        "delta_lcp": max((pr.delta for pr in pairs), default=0.0),
+        "P": snap.P,
+        "P_pressure": snap.P_pressure,
+        "p_max": p_max,
+        "iterations": snap.iterations,
+        "patches": out_patches,
+        "n_patches": len(out_patches),
+        "fit": fit_main["fit"] if fit_main else None,
+        "lcp_pairs": [{"s": pair_s[k], "delta": pr.delta, "radius_convex": pr.radius_b,
+                       "radius_concave": pr.radius_a, "R": pr.relative_radius} for k, pr in enumerate(pairs)],
+        "lcp_intersections": len(lcp.intersections),
+        "superposition_independent_rms_over_p0": rms_indep,
+        "superposition_best_rms_over_p0": rms_best,
+        "superposition_best_loads": loads,
+    }
+    predictions = {"Hertz superposition (patch loads)": p_indep, "best-fit Hertz superposition": p_best}
+    if fit_main:
+        f = fit_main["fit"]
+        predictions["elliptical fit (main patch)"] = hertz.hertz_pressure(s, a=f["half_width"], p0=f["p_max"],
+                                                                          center=f["center"])
+    span = [e["center"] - e["half_width"] for e in out_patches] + [e["center"] + e["half_width"] for e in out_patches]
+    if span:
+        lo, hi = min(span), max(span)
+        pad = max(0.3 * (hi - lo), 0.2)
+        xlim = (lo - pad, hi + pad)
+    else:
+        xlim = (float(s.min()), float(s.max()))
+    series = Series(f"{label}: d = {snap.d:.3g} mm, P = {snap.P:.4g} N/mm", s, p, smp.sigma_nn, predictions,
+                    "s (mm, arc length of the undeformed concave surface)", xlim)
+    return metrics, series
+
+
+def run_concave(run: Run, *, name: str, stage: Path | None, comm, progress) -> Outcome:
+    """Run a concave scene through its displacement steps and compare each step with Hertz theory."""
+    from analytic.designs import design
+    from fem.obstacles import CurveObstacle
+    from fem.solver import solve_contact
+    from meshes.concave import build_concave_mesh
+    from scripts.mesh_io import read_mesh
+
+    g, ld, disc, sol = run.geometry, run.loading, run.discretisation, run.solver
+    des = design(g.design)
+    E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
+    lcps = [_lcp_at(des, d) for d in ld.d]
+    # Mesh size from the smallest expected patch: a ~ sqrt(R delta) at the first step with an overlap.
+    a_est = math.inf
+    for lcp in lcps:
+        for pr in lcp.pairs:
+            if pr.plausible and pr.gap < 0 and 0 < pr.relative_radius < math.inf:
+                a_est = min(a_est, math.sqrt(pr.relative_radius * pr.delta))
+        if math.isfinite(a_est):
+            break
+    if not math.isfinite(a_est):
+        raise ValueError(f"{name}: loading.d = {list(ld.d)} never brings the particle into contact "
+                         "(no overlapping plausible LCP pair); allowed: displacements that reach the body")
+    h_c = disc.h_contact * a_est
+    files = build_concave_mesh(design=des, h_contact=h_c, out_dir=MESH_CACHE, name=f"{name}", comm=comm)
+    progress(f"[{run.label}] mesh {files.stats.get('cells', '?')} cells ({'cached' if files.cached else 'built'}), "
+             f"h_c = {h_c:.4g} mm (a_est = {a_est:.4g} mm)")
+    mesh_data = read_mesh(files.msh, comm)
+
+    def on_step(rec: dict) -> None:
+        progress(f"[{run.label}] {rec.get('kind', 'step')}: d = {rec['d']:.6g} mm, P = {rec['P']:.6g} N/mm, "
+                 f"{rec['iterations']} Newton its, {rec['time']:.2f} s")
+
+    result = solve_contact(
+        mesh_data, CurveObstacle(des.particle, direction=tuple(des.direction)), E=run.material.E,
+        nu=run.material.nu, degree=disc.degree, method=sol.method, kinematics=sol.kinematics,
+        traction=sol.traction, kappa0=sol.kappa0, gamma0=sol.gamma0, theta=sol.theta, control="displacement",
+        target=ld.d[-1], record_at=ld.d, n_steps=ld.steps, on_step=on_step, case=f"{name}[{run.label}]",
+    )
+    steps, series = [], []
+    for snap, lcp in zip(result.snapshots, lcps, strict=True):
+        m, sr = _step_metrics(snap, curve=des.concave, lcp=lcp, E_star=E_star, label=run.label)
+        steps.append(m)
+        series.append(sr)
+    last = steps[-1]
+    metrics = {
+        "label": run.label, "scene": "concave", "design": des.name, "nu": run.material.nu,
+        "method": sol.method, "kinematics": sol.kinematics, "traction": sol.traction, "degree": disc.degree,
+        "h_contact": disc.h_contact, "h_contact_mm": h_c, "ndofs": result.ndofs, "wall_time_s": result.wall_time_s,
+        "newton_iterations": list(result.newton_iterations), "load_steps": result.load_steps, "d": result.d,
+        "P": result.P, "P_pressure": result.P_pressure,
+        "patches": [{k: e[k] for k in ("center", "half_width", "p_max", "P")} for e in last["patches"]],
+        "mesh": files.stats, "steps": steps,
+        "analytic": {"E_star": E_star, "lcp": [s["lcp_pairs"] for s in steps]},
+        "errors": {"load_balance": max(abs(s["P"] - s["P_pressure"]) / abs(s["P"]) for s in steps if s["P"] > 0)},
+    }
+    return Outcome(run.label, metrics, series, None, result)
+
+
+def concave_case_comparison(case, outcomes) -> CaseComparison:
+    """Per-step table, P-delta stiffness and the superposition verdict of a concave case."""
+    steps = [s for o in outcomes for s in o.metrics["steps"]]
+    rows = ["| d (mm) | delta LCP (mm) | P (N/mm) | p0 (MPa) | patches | 2a FEM (mm) | eq. (4) 2a (mm) | "
+            "eq. (5) 2a (mm) | R (mm) | fit RMS/p0 | superposition RMS/p0 (patch loads) | best superposition RMS/p0 |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for s in steps:
+        for k, e in enumerate(s["patches"] or [None]):
+            if e is None:
+                rows.append(f"| {s['d']:.3f} | {s['delta_lcp']:.4g} | {s['P']:.4g} | - | 0 |" + " - |" * 7)
+                continue
+            eq5 = ", ".join(f"{w:.3f}" for w in e["width_eq5"]) or "-"
+            R = ", ".join(f"{r:.3g}" for r in e["R_pairs"]) or "-"
+            fit = f"{e['fit']['rms_over_p0']:.3g}" if e["fit"] else "-"
+            first = k == 0
+            rows.append(
+                f"| {s['d']:.3f} | {s['delta_lcp']:.4g} | {s['P']:.4g} | {e['p_max']:.4g} | {k + 1}/{s['n_patches']} | "
+                f"{e['width_fem']:.3f} | {e['width_eq4']:.3f} | {eq5} | {R} | {fit} | "
+                + (f"{s['superposition_independent_rms_over_p0']:.3g} | {s['superposition_best_rms_over_p0']:.3g} |"
+                   if first else "| |"))
+    loaded = [s for s in steps if s["P"] > 0]
+    stiffness = None
+    if len(loaded) >= 2:
+        a, b = loaded[-2], loaded[-1]
+        if b["delta_lcp"] > a["delta_lcp"]:
+            stiffness = (b["P"] - a["P"]) / (b["delta_lcp"] - a["delta_lcp"])
+    last = steps[-1]
+    headline = (f"{len(steps)} steps; at d = {last['d']:.2f} mm: P = {last['P']:.4g} N/mm, p0 = {last['p_max']:.4g} "
+                f"MPa, {last['n_patches']} patch(es); best Hertz superposition RMS/p0 = "
+                f"{last['superposition_best_rms_over_p0']:.3g}")
+    pd = ["| d (mm) | delta (mm) | P (N/mm) |", "|---|---|---|"] + [
+        f"| {s['d']:.3f} | {s['delta_lcp']:.4g} | {s['P']:.5g} |" for s in steps]
+    top = {"steps": steps, "stiffness": stiffness,
+           "superposition_rms_over_p0": last["superposition_best_rms_over_p0"]}
+    return CaseComparison({}, {}, headline, {"Steps": rows, "Load against indentation": pd}, top)

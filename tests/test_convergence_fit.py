@@ -1,0 +1,115 @@
+"""Rate fitting of the convergence study (scripts.convergence) on synthetic data; no dolfinx, < 1 s.
+
+The fit is a least-squares line in log-log over the finest three levels, so an exact power law must come out
+to round-off (tolerance 1e-10: a few ulps of log amplified by the 3-point fit), and pre-asymptotic coarse
+levels must not change it.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from scripts.convergence import RateFit, cheapest, fit_rate, l2_pressure_error, observed_rates
+
+H = np.array([0.2, 0.1, 0.05, 0.025, 0.0125])
+
+
+def test_exact_power_law_in_h_and_ndofs():
+    """err = 3 h^1.5 and ndofs = 40 h^-2 (uniform 2D refinement): slopes 1.5 and -0.75 exactly."""
+    err = 3.0 * H**1.5
+    fit = fit_rate(H, err)
+    assert isinstance(fit, RateFit)
+    assert abs(fit.slope - 1.5) < 1e-10, fit
+    assert abs(fit.intercept - math.log(3.0)) < 1e-10, fit
+    assert fit.n_points == 3 and fit.max_residual < 1e-10
+    assert abs(fit_rate(40.0 * H**-2, err).slope + 0.75) < 1e-10
+
+
+def test_only_the_finest_three_levels_count():
+    """Coarse levels on another rate (pre-asymptotic) are ignored: still slope 2 to round-off."""
+    err = 0.5 * H**2
+    err[:2] = [0.9, 0.7]  # far off the asymptote
+    assert abs(fit_rate(H, err).slope - 2.0) < 1e-10
+    # all five levels would see the coarse ones: the slope moves far away from 2
+    assert abs(fit_rate(H, err, n_finest=5).slope - 2.0) > 0.3
+
+
+def test_noisy_data_within_band():
+    """Multiplicative noise of +-2 % on err = h: |slope - 1| <= log(1.02/0.98)/log(2) ~ 0.058 (worst case of
+    a 3-point fit over a factor 4 in h); seeded, so the test is deterministic."""
+    rng = np.random.default_rng(0)
+    err = H * (1.0 + 0.02 * rng.uniform(-1.0, 1.0, H.size))
+    assert abs(fit_rate(H, err).slope - 1.0) <= math.log(1.02 / 0.98) / math.log(2.0)
+
+
+@pytest.mark.parametrize(
+    ("x", "err", "kw", "match"),
+    [
+        (H, H[:-1], {}, "equal length"),
+        (H[:2], H[:2], {}, "need at least"),
+        (H, H, {"n_finest": 1}, "n_finest"),
+        (H, np.r_[H[:-1], 0.0], {}, "err must be finite and > 0"),
+        (H, np.r_[H[:-1], np.nan], {}, "err must be finite and > 0"),
+        (np.r_[H[:-2], H[-3], H[-1]], H, {}, "strictly monotone"),
+        (np.r_[H[:-1], -1.0], H, {}, "x must be finite and > 0"),
+    ],
+)
+def test_bad_input_raises_value_error(x, err, kw, match):
+    with pytest.raises(ValueError, match=match):
+        fit_rate(x, err, **kw)
+
+
+def _rows(case, method, degree, rate, nan_last=False):
+    rows = []
+    for h in H:
+        e = 0.1 * h**rate
+        rows.append({"case": case, "method": method, "degree": degree, "h_contact": float(h),
+                     "ndofs": 100.0 / h**2, "rms": e, "time_s": 1.0 / h,
+                     "p_max": math.nan if nan_last and h == H[-1] else e})
+    return rows
+
+
+def test_observed_rates_groups_and_orders_rows():
+    """Rows in any order; per configuration the slopes are the power-law exponents (h) and -rate/2 (ndofs)."""
+    rows = _rows("c", "nitsche", 2, 2.0) + _rows("c", "penalty", 1, 1.0, nan_last=True)
+    rows = rows[::-1]
+    rates = observed_rates(rows, metrics={"c": ("rms", "p_max")})
+    got = {(r["method"], r["metric"]): r for r in rates}
+    assert abs(got["nitsche", "rms"]["slope_h"] - 2.0) < 1e-10
+    assert abs(got["nitsche", "rms"]["slope_ndofs"] + 1.0) < 1e-10
+    assert abs(got["penalty", "rms"]["slope_h"] - 1.0) < 1e-10
+    assert got["penalty", "p_max"]["slope_h"] is None and "finite" in got["penalty", "p_max"]["note"]
+
+
+def test_cheapest_picks_fastest_row_below_target():
+    rows = _rows("c", "nitsche", 2, 2.0) + _rows("c", "penalty", 1, 1.0)
+    best = cheapest(rows, metric="rms", target=5e-4)
+    # nitsche P2: 0.1 h^2 <= 5e-4 from h = 0.05 (2.5e-4); penalty P1 never (0.1 h >= 1.25e-3)
+    assert best["c"]["method"] == "nitsche" and best["c"]["h_contact"] == 0.05
+    assert cheapest(rows, metric="rms", target=1e-9)["c"] is None
+
+
+class _Theory:
+    """Hertz-like theory stub: p = p0 sqrt(1 - (x/a)^2)."""
+
+    half_width, p_ref = 1.0, 2.0
+
+    def pressure(self, x):
+        return self.p_ref * np.sqrt(np.clip(1.0 - (x / self.half_width) ** 2, 0.0, None))
+
+
+class _Samples:
+    def __init__(self, s, p, w):
+        self.s, self.p, self.weight = s, p, w
+
+
+def test_l2_pressure_error_of_a_constant_offset():
+    """p = p_th + 0.1 p_ref on the band: the weighted mean error is exactly 0.1 (round-off tolerance)."""
+    pts, wts = np.polynomial.legendre.leggauss(2)
+    edges = np.linspace(0.0, 1.2, 25)
+    s = (0.5 * (edges[:-1] + edges[1:])[:, None] + 0.5 * np.diff(edges)[:, None] * pts).ravel()
+    w = (0.5 * np.diff(edges)[:, None] * wts).ravel()
+    th = _Theory()
+    assert abs(l2_pressure_error(_Samples(s, th.pressure(s) + 0.2, w), th, half_width_fem=1.0) - 0.1) < 1e-12
+    assert l2_pressure_error(_Samples(s, th.pressure(s), w), th, half_width_fem=1.0) == 0.0
