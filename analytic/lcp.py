@@ -93,7 +93,8 @@ class Intersection(NamedTuple):
 
 
 class LCPResult(NamedTuple):
-    """All solutions of eq. (2): plausible pairs (sorted by gap), non-plausible ones, intersections."""
+    """All solutions of eq. (2): plausible pairs (sorted by gap), non-plausible ones (by |gap|), and
+    intersections (by x)."""
 
     pairs: list[ContactPair]
     non_plausible: list[ContactPair]
@@ -306,7 +307,7 @@ def find_contact_pairs(curve_a: Curve, curve_b: Curve, *, t_range_a=None, t_rang
                            plausible, np.linalg.eigvalsh(H))
         (pairs if plausible else non_plausible).append(pair)
     pairs.sort(key=lambda p: p.gap)
-    non_plausible.sort(key=lambda p: p.gap)
+    non_plausible.sort(key=lambda p: abs(p.gap))  # the relevant (near) ones first
     crossings.sort(key=lambda c: c.point[0])
     return LCPResult(pairs, non_plausible, crossings)
 

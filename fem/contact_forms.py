@@ -54,7 +54,7 @@ class ContactForms(NamedTuple):
 
     Attributes:
         F: residual form (N/mm per unit test displacement).
-        J: Jacobian form.
+        J: Jacobian form (None when ``bulk`` is given: the mixed solver forms its blocks).
         gap: UFL gap g(u) (mm).
         argument: UFL pressure argument q with ``p = [q]_+`` (MPa).
         pressure: UFL contact pressure p >= 0 (MPa).
@@ -133,7 +133,7 @@ def _curve_gap(*, u, obstacle, d, contact_facets, kinematics):
 
 def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str, kinematics: str,
                         traction: str, kappa0: float, gamma0: float, theta: float, ds_c, contact_facets,
-                        mask=None) -> ContactForms:
+                        mask=None, v=None, stress_u=None, stress_v=None, bulk=None) -> ContactForms:
     """Assemble the UFL residual/Jacobian of frictionless contact (see module docstring for the weak form).
 
     Args:
@@ -149,6 +149,11 @@ def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str, ki
         mask: optional Constants ``(on, lo, hi)``: while ``on = 1`` the positive part is replaced by a prescribed
             active set, ``p = q`` for ``lo < X1 < hi`` and 0 elsewhere (the solver's active-set predictor
             iteration); ``on = 0`` gives the true contact law.
+        v: test function (default ``TestFunction`` of u's space; a mixed formulation passes its own).
+        stress_u, stress_v: UFL stress of the state and of the test field entering the Nitsche terms (default
+            ``sigma(u)``, ``sigma(v)``; the mixed u-p formulation passes ``2 mu eps - p I`` and ``2 mu eps(v) -
+            q I``). The contact terms are otherwise unchanged.
+        bulk: UFL bulk residual replacing ``inner(sigma(u), grad v) dx`` (mixed formulation).
     """
     _check("method", method, METHODS)
     _check("kinematics", kinematics, KINEMATICS)
@@ -160,8 +165,9 @@ def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str, ki
     if method == "nitsche" and not gamma0 > 0:
         raise ValueError(f"gamma0 must be > 0, got {gamma0}")
     mesh = u.function_space.mesh
-    v = ufl.TestFunction(u.function_space)
-    du = ufl.TrialFunction(u.function_space)
+    v = ufl.TestFunction(u.function_space) if v is None else v
+    stress_u = sigma(u, lame) if stress_u is None else stress_u
+    stress_v = sigma(v, lame) if stress_v is None else stress_v
     X = ufl.SpatialCoordinate(mesh)
     n_b = ufl.FacetNormal(mesh)
     h = ufl.CellDiameter(mesh)
@@ -190,7 +196,7 @@ def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str, ki
         gap, n_c, update = _curve_gap(u=u, obstacle=obstacle, d=d, contact_facets=contact_facets,
                                       kinematics=kinematics)
 
-    sig_n = lambda w: ufl.dot(n_c, ufl.dot(sigma(w, lame), n_b))  # noqa: E731
+    sig_n = lambda s: ufl.dot(n_c, ufl.dot(s, n_b))  # noqa: E731
     if method == "penalty":
         kappa = kappa0 * E / h
         q = -kappa * gap
@@ -198,11 +204,12 @@ def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str, ki
         F_c = p * ufl.dot(n_c, v) * ds_c
     else:
         gamma = gamma0 * E / h
-        P_gamma = sig_n(u) + gamma * gap
+        P_gamma = sig_n(stress_u) + gamma * gap
         q = -P_gamma
         p = _law(q, X, mask)
-        F_c = (-theta / gamma * sig_n(u) * sig_n(v) - p / gamma * (theta * sig_n(v) - gamma * ufl.dot(n_c, v))) * ds_c
-    F = ufl.inner(sigma(u, lame), ufl.grad(v)) * ufl.dx + F_c
-    J = ufl.derivative(F, u, du)
-    return ContactForms(F=F, J=J, gap=gap, argument=q, pressure=p, n_c=n_c, sigma_nn=-sig_n(u),
+        F_c = (-theta / gamma * sig_n(stress_u) * sig_n(stress_v)
+               - p / gamma * (theta * sig_n(stress_v) - gamma * ufl.dot(n_c, v))) * ds_c
+    F = (ufl.inner(stress_u, ufl.grad(v)) * ufl.dx if bulk is None else bulk) + F_c
+    J = ufl.derivative(F, u, ufl.TrialFunction(u.function_space)) if bulk is None else None
+    return ContactForms(F=F, J=J, gap=gap, argument=q, pressure=p, n_c=n_c, sigma_nn=-sig_n(stress_u),
                         F_c=F_c, update=update)

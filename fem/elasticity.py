@@ -3,6 +3,15 @@
 ``sigma(u) = lambda tr(eps) I + 2 mu eps`` with ``eps = sym(grad u)``, plane strain
 (``lambda = E nu / ((1 + nu)(1 - 2 nu))``, ``mu = E / (2 (1 + nu))``); the out-of-plane stress
 ``sigma_zz = lambda tr(eps)`` enters the von Mises stress.
+
+Mixed (u-p) form, locking-free as nu -> 1/2: the extra unknown ``p = -lambda tr(eps(u))`` (MPa) gives
+``sigma(u, p) = 2 mu eps(u) - p I`` (the same stress), weak form (Taylor-Hood P2 u / P1 p)::
+
+    int 2 mu eps(u) : eps(v) - p div v dx + (boundary terms) = 0             for all v
+    -int q (lambda div u + p) / (lambda + mu) dx = 0                          for all q
+
+(the second line is ``div u + p / lambda = 0`` scaled by ``lambda / (lambda + mu)`` so that it stays finite
+for nu = 0, where it gives p = 0, and for nu -> 1/2, where it tends to ``div u = 0``).
 """
 
 from __future__ import annotations
@@ -11,7 +20,8 @@ from typing import NamedTuple
 
 import ufl
 
-__all__ = ["Lame", "lame", "epsilon", "sigma", "von_mises", "plane_strain_modulus"]
+__all__ = ["Lame", "lame", "epsilon", "sigma", "sigma_mixed", "mixed_constraint", "von_mises",
+           "plane_strain_modulus"]
 
 
 class Lame(NamedTuple):
@@ -44,6 +54,16 @@ def sigma(u, lm: Lame):
     """In-plane Cauchy stress (MPa)."""
     eps = epsilon(u)
     return lm.lmbda * ufl.tr(eps) * ufl.Identity(len(u)) + 2.0 * lm.mu * eps
+
+
+def sigma_mixed(u, p, lm: Lame):
+    """In-plane Cauchy stress (MPa) of the mixed form: ``2 mu eps(u) - p I`` with ``p = -lambda tr eps``."""
+    return 2.0 * lm.mu * epsilon(u) - p * ufl.Identity(len(u))
+
+
+def mixed_constraint(u, p, q, lm: Lame):
+    """Pressure equation of the mixed form (UFL integrand): ``-q (lambda div u + p) / (lambda + mu)``."""
+    return -q * (lm.lmbda * ufl.div(u) + p) / (lm.lmbda + lm.mu)
 
 
 def von_mises(u, lm: Lame):

@@ -236,6 +236,16 @@ def concave_case_comparison(case, outcomes) -> CaseComparison:
                 f"{last['superposition_best_rms_over_p0']:.3g}")
     pd = ["| d (mm) | delta (mm) | P (N/mm) |", "|---|---|---|"] + [
         f"| {s['d']:.3f} | {s['delta_lcp']:.4g} | {s['P']:.5g} |" for s in steps]
+    # Hertz checks at the first loaded step (where the paper finds the symmetric patches Hertzian):
+    # eq. (4) against eq. (5) patch size, and the elliptical-fit RMS/p0 of the largest patch.
+    errors = {}
+    first = next((s for s in steps if s["P"] > 0 and s["patches"]), None)
+    if first is not None:
+        main = max(first["patches"], key=lambda e: e["P"])
+        if main["width_eq5"]:
+            errors["patch_size"] = abs(main["width_eq4"] - main["width_eq5"][0]) / main["width_eq5"][0]
+        if main["fit"]:
+            errors["fit_rms"] = main["fit"]["rms_over_p0"]
     top = {"steps": steps, "stiffness": stiffness,
            "superposition_rms_over_p0": last["superposition_best_rms_over_p0"]}
-    return CaseComparison({}, {}, headline, {"Steps": rows, "Load against indentation": pd}, top)
+    return CaseComparison({}, errors, headline, {"Steps": rows, "Load against indentation": pd}, top)

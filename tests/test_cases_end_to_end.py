@@ -1,0 +1,43 @@
+"""Every case runs end to end at its coarsest (CI) level, fills the results contract and meets its tolerances.
+
+Requirement: no case can rot. Each case is run through the real CLI (``python -m scripts run CASE --ci``)
+in a subprocess, into a temporary results folder.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from cases import case_names
+
+ROOT = Path(__file__).resolve().parents[1]
+
+CONTRACT = ("case", "method", "kinematics", "ndofs", "wall_time_s", "newton_iterations", "load_steps", "P",
+            "P_pressure", "patches", "analytic", "errors", "tolerances", "pass")
+
+
+@pytest.mark.parametrize("name", case_names())
+def test_case_runs_at_ci_level(name, tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "scripts", "run", name, "--ci", "--out", str(tmp_path)],
+                          cwd=ROOT, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    out = tmp_path / name
+    m = json.loads((out / "metrics.json").read_text())
+    for key in CONTRACT:
+        assert key in m, key
+    for pt in m["patches"]:
+        assert set(pt) >= {"center", "half_width", "p_max", "P"}
+    assert m["pass"] is True, m["checks"]
+    # load by virtual work and by the integral of the pressure agree (both are measured, not imposed)
+    assert abs(m["P"] - m["P_pressure"]) <= 2e-3 * abs(m["P"])
+    for f in ("pressure.csv", "pressure.png", "report.md", "report.html", "run.log"):
+        assert (out / f).is_file(), f
+    header = (out / "pressure.csv").read_text().splitlines()[0].split(",")
+    assert header[:4] == ["run", "coordinate_mm", "p_fem_MPa", "sigma_nn_MPa"] and len(header) >= 5
+    assert list((out / "vtk").rglob("*.pvd")), "VTK output for ParaView"
+    assert not list(tmp_path.glob(f".{name}.staging.*")), "no staging folder left behind"
