@@ -22,7 +22,9 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
+from scipy import sparse
 from scipy.interpolate import BSpline as _ScipyBSpline
+from scipy.sparse.linalg import spsolve
 
 from analytic.curves import BSpline, CircleArc, CompositeCurve, Curve, clamped_uniform_knots
 
@@ -89,20 +91,22 @@ def fit_clamped_bspline(points: np.ndarray, n_control: int, *, degree: int = 3) 
         pts = np.column_stack([np.interp(uf, u, pts[:, 0]), np.interp(uf, u, pts[:, 1])])
         u = uf
     knots = clamped_uniform_knots(n_control, degree)
-    M = _ScipyBSpline.design_matrix(np.clip(u, 0.0, 1.0), knots, degree).toarray()
+    M = _ScipyBSpline.design_matrix(np.clip(u, 0.0, 1.0), knots, degree).tocsc()
     p0, p1 = pts[0], pts[-1]
     # unknowns: alpha0, alpha1 (scalars), interior control points 2..n-3 (x and y)
-    m = len(pts)
+    c0, c1 = M[:, [1]].toarray()[:, 0], M[:, [n_control - 2]].toarray()[:, 0]
+    e0, e1 = M[:, [0]].toarray()[:, 0], M[:, [n_control - 1]].toarray()[:, 0]
+    rhs = pts - np.outer(e0 + c0, p0) - np.outer(e1 + c1, p1)
+    inner = M[:, 2: n_control - 2]
+    zero = sparse.csc_matrix(inner.shape)
+    A = sparse.hstack([
+        sparse.csc_matrix(np.column_stack([np.concatenate([c0 * t0[0], c0 * t0[1]]),
+                                           np.concatenate([-c1 * t1[0], -c1 * t1[1]])])),
+        sparse.vstack([sparse.hstack([inner, zero]), sparse.hstack([zero, inner])]),
+    ]).tocsc()
+    # normal equations of the (banded, well-conditioned) B-spline least-squares problem
+    sol = spsolve((A.T @ A).tocsc(), A.T @ np.concatenate([rhs[:, 0], rhs[:, 1]]))
     n_in = n_control - 4
-    rhs = pts - np.outer(M[:, 0] + M[:, 1], p0) - np.outer(M[:, -1] + M[:, -2], p1)
-    A = np.zeros((2 * m, 2 + 2 * n_in))
-    A[:m, 0] = M[:, 1] * t0[0]
-    A[m:, 0] = M[:, 1] * t0[1]
-    A[:m, 1] = -M[:, -2] * t1[0]
-    A[m:, 1] = -M[:, -2] * t1[1]
-    A[:m, 2: 2 + n_in] = M[:, 2:-2]
-    A[m:, 2 + n_in:] = M[:, 2:-2]
-    sol, *_ = np.linalg.lstsq(A, np.concatenate([rhs[:, 0], rhs[:, 1]]), rcond=None)
     cp = np.empty((n_control, 2))
     cp[0], cp[-1] = p0, p1
     cp[1] = p0 + sol[0] * t0

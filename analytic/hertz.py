@@ -20,6 +20,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from analytic.materials import validate_positive as _positive
+
 __all__ = [
     "HertzContact",
     "hertz",
@@ -60,13 +62,6 @@ class HertzContact(NamedTuple):
     half_width: float
     full_width: float
     p0: float
-
-
-def _positive(value: float, name: str, unit: str) -> float:
-    value = float(value)
-    if not (value > 0.0 and math.isfinite(value)):
-        raise ValueError(f"{name} = {value!r} out of range: need 0 < {name} < inf ({unit})")
-    return value
 
 
 def relative_radius(R1: float, R2: float = math.inf) -> float:

@@ -20,6 +20,7 @@ import math
 from typing import NamedTuple
 
 __all__ = [
+    "validate_positive",
     "Dundurs",
     "beta_rigid_indenter",
     "compliance",
@@ -49,6 +50,14 @@ def validate_modulus(E: float, name: str = "E", *, allow_inf: bool = False) -> f
         rng = "0 < {n} <= inf (inf = rigid)" if allow_inf else "0 < {n} < inf"
         raise ValueError(f"{name} = {E!r} out of range: need {rng.format(n=name)} (MPa)")
     return E
+
+
+def validate_positive(value: float, name: str, unit: str) -> float:
+    """Return ``value`` as float or raise ``ValueError`` unless 0 < value < inf (``unit`` names its unit)."""
+    value = float(value)
+    if not (value > 0.0 and math.isfinite(value)):
+        raise ValueError(f"{name} = {value!r} out of range: need 0 < {name} < inf ({unit})")
+    return value
 
 
 def validate_poisson(nu: float, name: str = "nu") -> float:

@@ -20,6 +20,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from analytic.materials import validate_positive as _positive
+
 __all__ = [
     "WedgeContact",
     "wedge",
@@ -48,13 +50,6 @@ class WedgeContact(NamedTuple):
     E_star: float
     half_width: float
     full_width: float
-
-
-def _positive(value: float, name: str, unit: str) -> float:
-    value = float(value)
-    if not (value > 0.0 and math.isfinite(value)):
-        raise ValueError(f"{name} = {value!r} out of range: need 0 < {name} < inf ({unit})")
-    return value
 
 
 def wedge_slope(theta: float, *, convention: str) -> float:

@@ -372,6 +372,8 @@ def _check_run(run: Run, where: str) -> None:
                 f"{where}: geometry.design is required for a concave scene; "
                 "allowed values: 'symmetric', 'close_to_conformal'"
             )
+    if g.indenter == "circle" and ld.control == "force" and (ld.P is None) != (ld.half_width is None):
+        _check_circle_reachable(run, where)
     if ld.control == "force":
         if (ld.P is None) == (ld.half_width is None):
             raise CaseError(f"{where}: loading needs exactly one of P (N/mm) or half_width (mm) for force control")
@@ -384,6 +386,24 @@ def _check_run(run: Run, where: str) -> None:
             raise CaseError(f"{where}: loading.d = {list(ld.d)!r} must be increasing")
         if ld.P is not None or ld.half_width is not None:
             raise CaseError(f"{where}: loading.P/half_width are only allowed with control = 'force'")
+
+
+def _check_circle_reachable(run: Run, where: str) -> None:
+    """A rigid circle cannot make a contact wider than itself: the Hertz half-width must stay below R/2
+    (the half-plane theory and the case's comparison mean nothing beyond that)."""
+    from analytic import hertz, materials
+
+    g, ld = run.geometry, run.loading
+    limit = 0.5 * g.radius
+    if ld.half_width is not None:
+        a = ld.half_width
+    else:
+        a = hertz.hertz_half_width(ld.P, g.radius, materials.plane_strain_modulus(run.material.E, run.material.nu))
+    if a >= limit:
+        field_ = "loading.half_width" if ld.half_width is not None else "loading.P"
+        value = ld.half_width if ld.half_width is not None else ld.P
+        raise CaseError(f"{where}: {field_} = {value!r} cannot be reached by a circle of radius {g.radius} mm "
+                        f"(Hertz half-width {a:.4g} mm); allowed: half-width < radius/2 = {limit:.4g} mm")
 
 
 def load_case(path: str | Path) -> Case:

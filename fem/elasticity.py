@@ -66,9 +66,10 @@ def mixed_constraint(u, p, q, lm: Lame):
     return -q * (lm.lmbda * ufl.div(u) + p) / (lm.lmbda + lm.mu)
 
 
-def von_mises(u, lm: Lame):
-    """Von Mises stress (MPa) including the plane-strain ``sigma_zz = lambda tr(eps)``."""
-    s = sigma(u, lm)
-    szz = lm.lmbda * ufl.tr(epsilon(u))
+def von_mises(u, lm: Lame, p=None):
+    """Von Mises stress (MPa) including the plane-strain ``sigma_zz = lambda tr(eps)`` (``= -p`` when the
+    mixed pressure ``p`` is given)."""
+    s = sigma(u, lm) if p is None else sigma_mixed(u, p, lm)
+    szz = lm.lmbda * ufl.tr(epsilon(u)) if p is None else -p
     sxx, syy, sxy = s[0, 0], s[1, 1], s[0, 1]
     return ufl.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3.0 * sxy**2)

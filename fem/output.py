@@ -20,7 +20,7 @@ from typing import NamedTuple
 import dolfinx
 import numpy as np
 
-from fem.elasticity import sigma, von_mises
+from fem.elasticity import sigma, sigma_mixed, von_mises
 
 __all__ = ["VtkFiles", "write_vtk", "write_samples_csv"]
 
@@ -60,9 +60,11 @@ def write_vtk(result, out_dir) -> VtkFiles:
     T = dolfinx.fem.functionspace(mesh, ("DG", 1, (2, 2)))
     S = dolfinx.fem.functionspace(mesh, ("DG", 1))
     s = dolfinx.fem.Function(T, name="stress")
-    s.interpolate(dolfinx.fem.Expression(sigma(u, result.lame), T.element.interpolation_points))
+    ph = getattr(result, "pressure_field", None)
+    stress_u = sigma(u, result.lame) if ph is None else sigma_mixed(u, ph, result.lame)
+    s.interpolate(dolfinx.fem.Expression(stress_u, T.element.interpolation_points))
     vm = dolfinx.fem.Function(S, name="von_mises")
-    vm.interpolate(dolfinx.fem.Expression(von_mises(u, result.lame), S.element.interpolation_points))
+    vm.interpolate(dolfinx.fem.Expression(von_mises(u, result.lame, ph), S.element.interpolation_points))
     stress = out / "stress.pvd"
     with dolfinx.io.VTKFile(comm, str(stress), "w") as f:
         f.write_function([s, vm], 0.0)

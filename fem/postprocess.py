@@ -21,7 +21,8 @@ import dolfinx
 import numpy as np
 import ufl
 
-__all__ = ["SurfaceSamples", "Patch", "sample_surface", "find_patches", "contact_edges", "integration_entities"]
+__all__ = ["SurfaceSamples", "Patch", "sample_surface", "find_patches", "contact_edges", "integration_entities",
+           "facets_across", "resolution_warnings"]
 
 
 class SurfaceSamples(NamedTuple):
@@ -151,3 +152,47 @@ def find_patches(samples: SurfaceSamples, *, half: bool = False) -> list[Patch]:
         else:
             patches.append(Patch(center=0.5 * (left + right), half_width=0.5 * (right - left), p_max=p_max, P=P))
     return patches
+
+
+def facets_across(samples: SurfaceSamples, *, quadrature_degree: int, half: bool = False) -> list[float]:
+    """Number of contact facets spanned by each patch (same order as :func:`find_patches`).
+
+    ``(right - left) / h`` with ``h`` the mean length of the facets holding the patch's active samples (the
+    sample weights of one facet sum to its length; ``quadrature_degree`` gives the points per facet). A half
+    model's patch at ``s = 0`` counts its mirror image too.
+    """
+    n_q = len(basix.make_quadrature(basix.CellType.interval, quadrature_degree)[1])
+    out = []
+    for left, right, i, j in contact_edges(samples.s, samples.q):
+        n = j - i + 1
+        h = float(np.sum(samples.weight[i:j + 1])) * n_q / n
+        width = 2.0 * right if (half and i == 0) else right - left
+        out.append(width / h if h > 0 else 0.0)
+    return out
+
+
+def resolution_warnings(samples: SurfaceSamples, *, quadrature_degree: int, half: bool = False,
+                        min_facets_across: int = 8) -> list[str]:
+    """Named warnings about whether the contact is resolved by the mesh (empty list: none).
+
+    * ``"no contact: ..."``: no sample is active.
+    * ``"contact unresolved: ..."``: a patch spans fewer than ``min_facets_across`` contact facets, so its
+      half-width and peak are set by where the nodes fall rather than by the solution (refine h_contact).
+    * ``"contact truncated: ..."``: a patch reaches the end of the candidate contact boundary (the contact
+      group is too short; the symmetry end of a half model does not count).
+    """
+    runs = contact_edges(samples.s, samples.q)
+    if not runs:
+        return ["no contact: no active contact sample (the obstacle does not touch the body)"]
+    out = []
+    n = len(samples.s)
+    for (left, right, i, j), k in zip(runs, facets_across(samples, quadrature_degree=quadrature_degree, half=half),
+                                      strict=True):
+        if k < min_facets_across:
+            where = 0.0 if (half and i == 0) else 0.5 * (left + right)
+            out.append(f"contact unresolved: the patch at X1 = {where:.6g} mm spans {k:.2f} contact facets "
+                       f"(< {min_facets_across}); refine h_contact")
+        if j == n - 1 or (i == 0 and not half):
+            out.append(f"contact truncated: the patch [{left:.6g}, {right:.6g}] mm reaches the end of the "
+                       "candidate contact boundary")
+    return out

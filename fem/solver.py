@@ -51,13 +51,20 @@ import ufl
 from mpi4py import MPI
 
 from fem.contact_forms import build_contact_forms
-from fem.elasticity import lame, plane_strain_modulus, sigma
-from fem.postprocess import Patch, SurfaceSamples, contact_edges, find_patches, sample_surface
+from fem.elasticity import lame, mixed_constraint, plane_strain_modulus, sigma, sigma_mixed
+from fem.postprocess import (Patch, SurfaceSamples, contact_edges, find_patches, resolution_warnings,
+                             sample_surface)
 from fem.predictor import HertzPredictor as _HertzPredictor
 
-__all__ = ["ContactSolveError", "ContactResult", "Snapshot", "solve_contact", "SUPPORT_KINDS"]
+__all__ = ["ContactSolveError", "ContactResult", "Snapshot", "solve_contact", "SUPPORT_KINDS", "FORMULATIONS",
+           "MIN_FACETS_ACROSS"]
 
 SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free")
+FORMULATIONS = ("displacement", "mixed")
+# A patch spanning fewer contact facets than this is reported "contact unresolved" (ContactResult.warnings):
+# with P2 and 2 Gauss points per facet the edge-location error is about one Gauss spacing, so < 8 facets
+# across the patch means a half-width error above ~ 1/16 and a peak that depends on where the nodes fall.
+MIN_FACETS_ACROSS = 8
 _counter = itertools.count()
 
 
@@ -86,6 +93,10 @@ class ContactResult:
         forms: the ContactForms (UFL pieces) for output.
         lame: Lame parameters.
         snapshots: one :class:`Snapshot` per ``record_at`` displacement (displacement control).
+        warnings: named warnings about the result's trustworthiness, e.g. ``"contact unresolved: ..."`` when a
+            patch spans fewer than ``min_facets_across`` contact facets (see
+            :func:`fem.postprocess.resolution_warnings`); empty when none.
+        pressure_field: the P1 pressure ``p = -lambda div u`` (MPa) of the mixed formulation, else None.
     """
 
     ndofs: int
@@ -103,6 +114,8 @@ class ContactResult:
     forms: Any = field(repr=False)
     lame: Any = field(repr=False)
     snapshots: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
+    pressure_field: Any = field(default=None, repr=False)
 
 
 class Snapshot(NamedTuple):
@@ -146,7 +159,8 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
                   max_it: int = 40, case: str = "contact", petsc_options: dict | None = None,
                   predictor: str = "auto", sample_degree: int | None = None,
                   active_set_predictor: bool = True, first_step_fraction: float = 0.1,
-                  record_at: Sequence[float] | None = None) -> ContactResult:
+                  record_at: Sequence[float] | None = None, formulation: str = "displacement",
+                  min_facets_across: int = MIN_FACETS_ACROSS) -> ContactResult:
     """Solve frictionless contact of the meshed body against a rigid obstacle.
 
     Args:
@@ -187,6 +201,11 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
         snes_rtol: SNES relative residual tolerance.  max_it: SNES max iterations.
         case: name used in error messages.
         petsc_options: extra SNES options overriding the defaults (e.g. ``{"snes_linesearch_type": "l2"}``).
+        formulation: ``"displacement"`` (default) or ``"mixed"``: Taylor-Hood u-p plane strain (P``degree`` u,
+            P``degree-1`` p = -lambda div u, :mod:`fem.elasticity`), locking-free as nu -> 1/2; the contact
+            terms are unchanged (Nitsche uses the mixed stress ``2 mu eps - p I``). Needs degree >= 2 and an
+            analytic obstacle.
+        min_facets_across: a patch spanning fewer contact facets adds a "contact unresolved" warning.
 
     Raises:
         ValueError: bad option.  ContactSolveError: SNES failure after the allowed cut-backs.
@@ -201,6 +220,13 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
         raise ValueError(f"n_steps must be >= 1, got {n_steps}")
     if contact_group not in mesh_data.physical_groups:
         raise ValueError(f"contact_group {contact_group!r} not in mesh physical groups")
+    if formulation not in FORMULATIONS:
+        raise ValueError(f"formulation must be one of {FORMULATIONS}, got {formulation!r}")
+    mixed = formulation == "mixed"
+    if mixed and degree < 2:
+        raise ValueError(f"degree must be >= 2 for formulation='mixed' (Taylor-Hood), got {degree}")
+    if mixed and not getattr(obstacle, "analytic", False):
+        raise ValueError("formulation='mixed' needs an analytic obstacle (not a CurveObstacle)")
     lm = lame(E=E, nu=nu)
     mesh = mesh_data.mesh
     comm = mesh.comm
@@ -218,9 +244,22 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=mesh_data.facet_tags,
                      metadata={"quadrature_degree": qdeg})
     ds_c = ds(mesh_data.physical_groups[contact_group].tag)
+    ph = None
+    if mixed:
+        Q = dolfinx.fem.functionspace(mesh, ("Lagrange", degree - 1))
+        ph = dolfinx.fem.Function(Q, name="pressure")
+        W = ufl.MixedFunctionSpace(V, Q)
+        v_t, q_t = ufl.TestFunctions(W)
+        du_t, dp_t = ufl.TrialFunctions(W)
+        stress = sigma_mixed(u, ph, lm)
+        bulk = (ufl.inner(stress, ufl.grad(v_t)) + mixed_constraint(u, ph, q_t, lm)) * ufl.dx
+        mixed_kw = dict(v=v_t, stress_u=stress, stress_v=sigma_mixed(v_t, q_t, lm), bulk=bulk)
+    else:
+        stress = sigma(u, lm)
+        mixed_kw = {}
     forms = build_contact_forms(u=u, obstacle=obstacle, d=d, lame=lm, E=E, method=method, kinematics=kinematics,
                                 traction=traction, kappa0=kappa0, gamma0=gamma0, theta=theta, ds_c=ds_c,
-                                contact_facets=contact_facets, mask=mask)
+                                contact_facets=contact_facets, mask=mask, **mixed_kw)
 
     # Dirichlet supports and the virtual-work field w (direction at constrained component dofs).
     bcs = []
@@ -234,7 +273,7 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
             dofs = dolfinx.fem.locate_dofs_topological((V.sub(c), Vc), fdim, facets)
             bcs.append(dolfinx.fem.dirichletbc(dolfinx.fem.Function(Vc), dofs, V.sub(c)))
             w.x.array[dofs[0]] = direction[c]
-    reaction_form = dolfinx.fem.form(-ufl.inner(sigma(u, lm), ufl.grad(w)) * ufl.dx)
+    reaction_form = dolfinx.fem.form(-ufl.inner(stress, ufl.grad(w)) * ufl.dx)
     pressure_form = dolfinx.fem.form(-forms.pressure * ufl.dot(forms.n_c, ufl.as_vector(direction)) * ds_c)
 
     prefix = petsc_prefix or f"fem_contact_{next(_counter)}_"
@@ -244,8 +283,14 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
             "pc_factor_mat_solver_type": "mumps", "snes_rtol": snes_rtol, "snes_atol": 1e-13 * E * L,
             "snes_stol": 0.0, "snes_max_it": max_it}
     opts.update(petsc_options or {})
-    problem = dolfinx.fem.petsc.NonlinearProblem(forms.F, u, bcs=bcs, J=forms.J, petsc_options_prefix=prefix,
-                                                 petsc_options=opts)
+    if mixed:
+        J_full = ufl.derivative(forms.F, u, du_t) + ufl.derivative(forms.F, ph, dp_t)
+        problem = dolfinx.fem.petsc.NonlinearProblem(ufl.extract_blocks(forms.F), [u, ph], bcs=bcs,
+                                                     J=ufl.extract_blocks(J_full), kind="mpi",
+                                                     petsc_options_prefix=prefix, petsc_options=opts)
+    else:
+        problem = dolfinx.fem.petsc.NonlinearProblem(forms.F, u, bcs=bcs, J=forms.J, petsc_options_prefix=prefix,
+                                                     petsc_options=opts)
     snes = problem.solver
     if forms.update is not None:
         ctx = {"u": u, "residual": problem.F, "jacobian": problem.J, "bcs": bcs}
@@ -264,7 +309,20 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
         Pp = mult * comm.allreduce(dolfinx.fem.assemble_scalar(pressure_form), op=MPI.SUM)
         return P, Pp
 
-    states = [(0.0, 0.0, np.zeros_like(u.x.array))]  # converged (d, P, u) history
+    n_u = u.x.array.size
+
+    def get_state():
+        return u.x.array.copy() if ph is None else np.concatenate([u.x.array, ph.x.array])
+
+    def set_state(arr):
+        """Set u (and the mixed pressure); a displacement-only array keeps the last converged pressure."""
+        u.x.array[:] = arr[:n_u]
+        u.x.scatter_forward()
+        if ph is not None:
+            ph.x.array[:] = arr[n_u:] if arr.size > n_u else states[-1][2][n_u:]
+            ph.x.scatter_forward()
+
+    states = [(0.0, 0.0, get_state() * 0.0)]  # converged (d, P, state = u or [u, p]) history
     records: list[dict] = []
     edges: list = [None]  # contact zone (lo, hi) of each state (None: unknown or not a single patch)
     t_start = time.perf_counter()
@@ -315,8 +373,7 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
     def attempt(d_new, u_pred, kind, zone=None):
         t0 = time.perf_counter()
         d.value = d_new
-        u.x.array[:] = u_pred
-        u.x.scatter_forward()
+        set_state(u_pred)
         if forms.update is not None:
             forms.update(u)
         pre = 0
@@ -335,7 +392,7 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
         if reason <= 0:
             return reason, its
         P, Pp = measure()
-        states.append((d_new, P, u.x.array.copy()))
+        states.append((d_new, P, get_state()))
         edges.append(edges_now())
         rec = {"d": d_new, "P": P, "P_pressure": Pp, "iterations": its, "time": time.perf_counter() - t0,
                "kind": kind, "reason": reason}
@@ -416,13 +473,17 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
 
     samples = sample_surface(u=u, forms=forms, facets=contact_facets, quadrature_degree=sdeg)
     patches = find_patches(samples, half=symmetric_half)
+    warns = resolution_warnings(samples, quadrature_degree=sdeg, half=symmetric_half,
+                                min_facets_across=min_facets_across)
     P, Pp = measure()
     options = dict(E=E, nu=nu, degree=degree, method=method, kinematics=kinematics, traction=traction,
                    kappa0=kappa0, gamma0=gamma0, theta=theta, control=control, target=target, n_steps=n_steps,
                    symmetric_half=symmetric_half, supports=supports, quadrature_degree=qdeg, sample_degree=sdeg,
-                   prefix=prefix, predictor="hertz" if hertz_pred is not None else "extrapolate")
-    return ContactResult(ndofs=V.dofmap.index_map.size_global * 2, wall_time_s=wall,
+                   prefix=prefix, predictor="hertz" if hertz_pred is not None else "extrapolate",
+                   formulation=formulation)
+    ndofs = V.dofmap.index_map.size_global * 2 + (ph.function_space.dofmap.index_map.size_global if mixed else 0)
+    return ContactResult(ndofs=ndofs, wall_time_s=wall,
                          newton_iterations=[r["iterations"] for r in records], load_steps=records,
                          d=float(states[-1][0]), P=float(P), P_pressure=float(Pp), samples=samples,
                          patches=patches, u=u, options=options, half=symmetric_half, forms=forms, lame=lm,
-                         snapshots=snapshots)
+                         snapshots=snapshots, warnings=warns, pressure_field=ph)

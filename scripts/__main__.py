@@ -69,6 +69,10 @@ def main(argv: list[str] | None = None) -> int:
             if args.h_contact is not None and not 0 < args.h_contact <= 1:
                 raise CaseError(f"--h-contact = {args.h_contact} is out of range; allowed: 0 < h_contact <= 1")
             cases = [load_case(name) for name in args.cases]  # validate all before running any
+            from scripts.preflight import preflight
+
+            for case in cases:
+                preflight(case)
             from scripts.run_case import run_case
 
             ok = True

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from scripts.atomic import write_text
-from scripts.markdown_html import markdown_to_html
+from scripts.markdown_html import fmt, markdown_to_html
 from scripts.plots import plot_pressure_panels
 
 __all__ = ["write_case_outputs", "case_report_markdown"]
@@ -39,11 +39,7 @@ def _csv_text(outcomes) -> str:
 
 
 def _fmt(v) -> str:
-    if v is None:
-        return "-"
-    if isinstance(v, float):
-        return f"{v:.5g}"
-    return str(v)
+    return fmt(v, 5)
 
 
 def case_report_markdown(case, outcomes, metrics) -> str:

@@ -8,12 +8,21 @@ from __future__ import annotations
 import html
 import re
 
-__all__ = ["markdown_to_html"]
+__all__ = ["fmt", "markdown_to_html"]
 
 _CSS = """body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}
 table{border-collapse:collapse;margin:1em 0;font-size:90%}th,td{border:1px solid #bbb;padding:3px 7px}
 th{background:#eee}td{text-align:right}td:first-child{text-align:left}code{background:#f4f4f4;padding:0 3px}
 img{max-width:100%}.pass{color:#070;font-weight:bold}.fail{color:#b00;font-weight:bold}"""
+
+
+def fmt(value, digits: int = 5) -> str:
+    """A table cell: ``-`` for None, ``digits`` significant digits for floats."""
+    if value is None:
+        return "-"
+    if isinstance(value, float):
+        return f"{value:.{digits}g}"
+    return str(value)
 
 
 def _inline(text: str) -> str:

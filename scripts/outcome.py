@@ -6,7 +6,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-__all__ = ["Series", "Outcome"]
+__all__ = ["Series", "Outcome", "step_printer"]
 
 
 class Series(NamedTuple):
@@ -48,3 +48,13 @@ class Outcome(NamedTuple):
     series: list[Series]
     theory: Any
     result: Any
+
+
+def step_printer(progress, label: str):
+    """An ``on_step`` callback of :func:`fem.solver.solve_contact` that prints one line per converged solve."""
+
+    def on_step(rec: dict) -> None:
+        progress(f"[{label}] {rec.get('kind', 'step')}: d = {rec['d']:.6g} mm, P = {rec['P']:.6g} N/mm, "
+                 f"{rec['iterations']} Newton its, {rec['time']:.2f} s")
+
+    return on_step

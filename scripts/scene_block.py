@@ -13,7 +13,7 @@ import numpy as np
 
 from cases.schema import Run
 from scripts.compare import BlockTheory, block_theory, compare_block
-from scripts.outcome import Outcome, Series
+from scripts.outcome import Outcome, Series, step_printer
 
 __all__ = ["obstacle_for", "run_block"]
 
@@ -59,15 +59,11 @@ def run_block(run: Run, *, name: str, stage: Path | None, comm, progress) -> Out
              f"a0 = {a0:.4g} mm, P target = {target.P:.6g} N/mm")
     mesh_data = read_mesh(files.msh, comm)
 
-    def on_step(rec: dict) -> None:
-        progress(f"[{run.label}] {rec.get('kind', 'step')}: d = {rec['d']:.6g} mm, P = {rec['P']:.6g} N/mm, "
-                 f"{rec['iterations']} Newton its, {rec['time']:.2f} s")
-
     result = solve_contact(
         mesh_data, obstacle_for(run, target), E=run.material.E, nu=run.material.nu, degree=disc.degree,
         method=sol.method, kinematics=sol.kinematics, traction=sol.traction, kappa0=sol.kappa0,
         gamma0=sol.gamma0, theta=sol.theta, control="force", target=target.P, n_steps=ld.steps,
-        symmetric_half=g.half_model, on_step=on_step, case=f"{name}[{run.label}]",
+        symmetric_half=g.half_model, on_step=step_printer(progress, run.label), case=f"{name}[{run.label}]",
     )
     smp = result.samples
     x, p, snn = smp.s, smp.p, smp.sigma_nn

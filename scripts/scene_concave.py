@@ -29,7 +29,7 @@ from analytic.superposition import ContactPair as HertzPair
 from analytic.superposition import superpose
 from cases.schema import Run
 from scripts.case_checks import CaseComparison
-from scripts.outcome import Outcome, Series
+from scripts.outcome import Outcome, Series, step_printer
 
 __all__ = ["run_concave", "concave_case_comparison"]
 
@@ -174,15 +174,12 @@ def run_concave(run: Run, *, name: str, stage: Path | None, comm, progress) -> O
              f"h_c = {h_c:.4g} mm (a_est = {a_est:.4g} mm)")
     mesh_data = read_mesh(files.msh, comm)
 
-    def on_step(rec: dict) -> None:
-        progress(f"[{run.label}] {rec.get('kind', 'step')}: d = {rec['d']:.6g} mm, P = {rec['P']:.6g} N/mm, "
-                 f"{rec['iterations']} Newton its, {rec['time']:.2f} s")
-
     result = solve_contact(
         mesh_data, CurveObstacle(des.particle, direction=tuple(des.direction)), E=run.material.E,
         nu=run.material.nu, degree=disc.degree, method=sol.method, kinematics=sol.kinematics,
         traction=sol.traction, kappa0=sol.kappa0, gamma0=sol.gamma0, theta=sol.theta, control="displacement",
-        target=ld.d[-1], record_at=ld.d, n_steps=ld.steps, on_step=on_step, case=f"{name}[{run.label}]",
+        target=ld.d[-1], record_at=ld.d, n_steps=ld.steps, on_step=step_printer(progress, run.label),
+        case=f"{name}[{run.label}]",
     )
     steps, series = [], []
     for snap, lcp in zip(result.snapshots, lcps, strict=True):

@@ -12,7 +12,7 @@ from pathlib import Path
 
 from cases import case_names
 from scripts.atomic import write_text
-from scripts.markdown_html import markdown_to_html
+from scripts.markdown_html import fmt, markdown_to_html
 
 __all__ = ["load_metrics", "summary_markdown", "write_summary"]
 
@@ -30,11 +30,7 @@ def load_metrics(results: Path) -> dict[str, dict]:
 
 
 def _fmt(v) -> str:
-    if v is None:
-        return "-"
-    if isinstance(v, float):
-        return f"{v:.3g}"
-    return str(v)
+    return fmt(v, 3)
 
 
 def summary_markdown(results: Path) -> str:

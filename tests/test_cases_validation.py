@@ -93,6 +93,8 @@ BAD = {
                           ["variant[0]", "material.nu", "-1 < nu < 0.5"]),
     "variant_unknown_key": (("P = 100.0", "P = 100.0\n[[variant]]\nmesh = { h = 1 }"), ["variant[0].mesh"]),
     "malformed_toml": (("nu = 0.3", "nu = = 0.3"), ["malformed TOML"]),
+    "load_unreachable_P": (("P = 100.0", "P = 1.0e7"), ["loading.P", "cannot be reached", "radius/2"]),
+    "load_unreachable_half_width": (("P = 100.0", "half_width = 6.0"), ["loading.half_width", "cannot be reached"]),
 }
 
 
@@ -135,3 +137,15 @@ def test_cli_subprocess_exit_code(tmp_path):
     assert proc.returncode == 2
     assert proc.stderr.strip().count("\n") == 0 and "material.nu" in proc.stderr
     assert not (tmp_path / "r").exists()
+
+
+def test_unreachable_concave_displacement_exit_2(tmp_path, capsys):
+    """A displacement path that never reaches the concave body is bad input, rejected before any run."""
+    p = tmp_path / "short.toml"
+    text = (ROOT / "cases" / "concave_symmetric.toml").read_text()
+    p.write_text(text.replace("d = [0.60, 0.80, 1.00]", "d = [0.05, 0.10]"))
+    out = tmp_path / "r"
+    assert main(["run", str(p), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "loading.d" in err and "never brings" in err, err
+    assert not out.exists()
