@@ -93,11 +93,20 @@ class Curve(abc.ABC):
         distance to any point (used as the coarse stage of :meth:`project`)."""
 
     # -- derived quantities -------------------------------------------------------------------------------
+    def _samples(self) -> tuple[np.ndarray, np.ndarray]:
+        """(parameters, points) of the coarse projection grid, computed once per (immutable) curve."""
+        cache = self.__dict__.get("_sample_cache")
+        if cache is None:
+            ts = self.sample_parameters()
+            cache = (ts, self.point(ts))
+            self.__dict__["_sample_cache"] = cache
+        return cache
+
     @property
     def is_closed(self) -> bool:
         """True when C(t_min) == C(t_max) (to 1e-12 relative to the curve size)."""
         ends = self.point([self.t_min, self.t_max])
-        scale = max(1.0, float(np.ptp(self.point(self.sample_parameters()), axis=0).max()))
+        scale = max(1.0, float(np.ptp(self._samples()[1], axis=0).max()))
         return bool(np.linalg.norm(ends[0] - ends[1]) <= 1e-12 * scale)
 
     def tangent(self, t) -> np.ndarray:
@@ -200,36 +209,49 @@ class Curve(abc.ABC):
         """
         x_all = _as_points(points)
         n = len(x_all)
-        ts = self.sample_parameters()
-        cs = self.point(ts)
+        ts, cs = self._samples()
+        chord = float(np.linalg.norm(np.diff(cs, axis=0), axis=1).max())
+        c2 = (cs * cs).sum(axis=1)
         t_out = np.empty(n)
         closed = self.is_closed
         chunk = max(16, _CHUNK_ENTRIES // len(ts))
         for start in range(0, n, chunk):
             x = x_all[start : start + chunk]
             m = len(x)
-            d2 = ((x[:, None, :] - cs[None, :, :]) ** 2).sum(axis=2)  # (m, N)
-            left = np.concatenate([np.full((m, 1), np.inf), d2[:, :-1]], axis=1)
-            right = np.concatenate([d2[:, 1:], np.full((m, 1), np.inf)], axis=1)
+            # squared distances to the samples by |x|^2 + |c|^2 - 2 x.c (BLAS); the ~eps |x|^2 round-off
+            # only affects the coarse choice of candidates, which the bracketed Newton then refines
+            d2 = (x * x).sum(axis=1)[:, None] + c2[None, :] - 2.0 * (x @ cs.T)  # (m, N)
+            is_min = np.ones(d2.shape, dtype=bool)
+            is_min[:, 1:] &= d2[:, 1:] <= d2[:, :-1]
+            is_min[:, :-1] &= d2[:, :-1] <= d2[:, 1:]
             if closed:  # wrap-around neighbours (first and last samples coincide)
-                left[:, 0] = d2[:, -2]
-                right[:, -1] = d2[:, 1]
-            is_min = (d2 <= left) & (d2 <= right)
-            score = np.where(is_min, d2, np.inf)
+                is_min[:, 0] &= d2[:, 0] <= d2[:, -2]
+                is_min[:, -1] &= d2[:, -1] <= d2[:, 1]
+            score = np.where(is_min, np.maximum(d2, 0.0), np.inf)
             k = min(n_candidates, score.shape[1])
-            cand = np.argsort(score, axis=1)[:, :k]
+            if k < score.shape[1]:
+                cand = np.argpartition(score, k - 1, axis=1)[:, :k]
+            else:
+                cand = np.argsort(score, axis=1)
+            rows = np.arange(m)
+            cand_d = np.sqrt(score[rows[:, None], cand])
+            # a sampled local minimum can hold the global one only if its sampled distance is within one
+            # sample chord of the best sampled distance: refine only those
+            keep = np.isfinite(cand_d) & (cand_d <= cand_d.min(axis=1, keepdims=True) + chord)
             best_t = np.full(m, np.nan)
             best_d = np.full(m, np.inf)
             nsamp = len(ts)
             for j in range(k):
-                i = cand[:, j]
-                valid = np.isfinite(score[np.arange(m), i])
+                sel = np.flatnonzero(keep[:, j])
+                if not len(sel):
+                    continue
+                i = cand[sel, j]
                 lo = ts[np.maximum(i - 1, 0)]
                 hi = ts[np.minimum(i + 1, nsamp - 1)]
-                tj = self._refine(x, lo, hi, ts[i])
-                dj = ((self.point(tj) - x) ** 2).sum(axis=1)
-                take = valid & (dj < best_d)
-                best_t[take], best_d[take] = tj[take], dj[take]
+                tj = self._refine(x[sel], lo, hi, ts[i])
+                dj = ((self.point(tj) - x[sel]) ** 2).sum(axis=1)
+                take = dj < best_d[sel]
+                best_t[sel[take]], best_d[sel[take]] = tj[take], dj[take]
             if t_guess is not None:
                 tg = np.clip(_as_t(t_guess)[start : start + chunk], self.t_min, self.t_max)
                 tj = self._refine(x, np.full(m, self.t_min), np.full(m, self.t_max), tg)
@@ -301,8 +323,8 @@ class BSpline(Curve):
 
     def sample_parameters(self) -> np.ndarray:
         spans = np.unique(self.knots)
-        # >= 4 samples per knot span (a cubic span has at most 2 distance minima), ~4000 samples in all
-        per_span = int(np.clip(4096 // (len(spans) - 1), 4, 24))
+        # >= 4 samples per knot span (a cubic span has at most 2 distance minima), ~1000 samples in all
+        per_span = int(np.clip(1024 // (len(spans) - 1), 4, 24))
         grids = [np.linspace(a, b, per_span + 1) for a, b in zip(spans[:-1], spans[1:], strict=True)]
         return np.unique(np.concatenate(grids))
 

@@ -52,12 +52,19 @@ from mpi4py import MPI
 
 from fem.contact_forms import build_contact_forms
 from fem.elasticity import lame, mixed_constraint, plane_strain_modulus, sigma, sigma_mixed
-from fem.postprocess import (Patch, SurfaceSamples, contact_edges, find_patches, resolution_warnings,
-                             sample_surface)
+from fem.postprocess import (
+    Patch,
+    SurfaceSamples,
+    contact_edges,
+    find_patches,
+    penetration_warning,
+    resolution_warnings,
+    sample_surface,
+)
 from fem.predictor import HertzPredictor as _HertzPredictor
 
-__all__ = ["ContactSolveError", "ContactResult", "Snapshot", "solve_contact", "SUPPORT_KINDS", "FORMULATIONS",
-           "MIN_FACETS_ACROSS"]
+__all__ = ["ContactSolveError", "ContactResult", "Snapshot", "solve_contact", "snes_reason_name", "SUPPORT_KINDS",
+           "FORMULATIONS", "MIN_FACETS_ACROSS"]
 
 SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free")
 FORMULATIONS = ("displacement", "mixed")
@@ -128,6 +135,14 @@ class Snapshot(NamedTuple):
     samples: SurfaceSamples
     patches: list[Patch]
     iterations: int
+
+
+def snes_reason_name(reason: int) -> str:
+    """PETSc's name of a SNES converged reason (e.g. -5 -> ``DIVERGED_MAX_IT``)."""
+    from petsc4py import PETSc
+
+    names = {v: k for k, v in vars(PETSc.SNES.ConvergedReason).items() if k.isupper() and isinstance(v, int)}
+    return names.get(int(reason), f"UNKNOWN_{int(reason)}")
 
 
 def _supports(mesh_data, supports, symmetric_half):
@@ -418,7 +433,8 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
             cut += 1
             if cut > max_cutbacks:
                 raise ContactSolveError(f"{case}: load step {step} (d = {d_try:.6g} mm) diverged: SNES reason "
-                                        f"{reason} after {its} iterations and {max_cutbacks} cut-backs")
+                                        f"{reason} ({snes_reason_name(reason)}) after {its} iterations and "
+                                        f"{max_cutbacks} cut-backs")
 
     if not 0.0 < first_step_fraction <= 1.0:
         raise ValueError(f"first_step_fraction must be in (0, 1], got {first_step_fraction}")
@@ -475,6 +491,8 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
     patches = find_patches(samples, half=symmetric_half)
     warns = resolution_warnings(samples, quadrature_degree=sdeg, half=symmetric_half,
                                 min_facets_across=min_facets_across)
+    pen = penetration_warning(samples, d=states[-1][0])
+    warns += [pen] if pen else []
     P, Pp = measure()
     options = dict(E=E, nu=nu, degree=degree, method=method, kinematics=kinematics, traction=traction,
                    kappa0=kappa0, gamma0=gamma0, theta=theta, control=control, target=target, n_steps=n_steps,

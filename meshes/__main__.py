@@ -1,9 +1,12 @@
 """``python -m meshes build NAME [--h-contact H] [--half] [--out-dir DIR] [--stats-dir DIR] [--json]``.
 
-NAME is one of the built-in defaults (hertz_default: a = 0.5 mm, W = H = 40 a, h_c = a/20;
+NAME is a case (``cases/<NAME>.toml``: every run's mesh is built exactly as the case runs it, sized from the
+analytic contact estimate; ``--h-contact`` is then a FRACTION of the half-width and the statistics go to
+``results/<case>/mesh.json`` unless ``--stats-dir`` says otherwise), or one of the built-in defaults
+(hertz_default: a = 0.5 mm, W = H = 40 a, h_c = a/20;
 wedge_default: the same block with apex refinement; concave_symmetric / symmetric and close_to_conformal:
-the designs of :mod:`analytic.designs`, h_c = 0.05 mm) or the name of a concave case in ``cases/`` (its
-design and h_contact are used). Prints the mesh statistics. Bad values: one stderr line, exit code 2.
+the designs of :mod:`analytic.designs`, h_c = 0.05 mm; a case of the same name takes precedence). Prints the
+mesh statistics. Bad values: one stderr line, exit code 2.
 """
 
 from __future__ import annotations
@@ -12,7 +15,6 @@ import argparse
 import json
 import math
 import sys
-from pathlib import Path
 
 from meshes.cache import DEFAULT_CACHE_DIR
 
@@ -23,26 +25,11 @@ CONCAVE_DEFAULTS = {"concave_symmetric": "symmetric", "symmetric": "symmetric",
                     "close_to_conformal": "close_to_conformal"}
 
 
-def _concave_case(name: str):
-    """(design name, h_contact) of a concave case TOML, or None."""
-    path = Path("cases") / f"{name}.toml"
-    if not path.exists():
-        return None
-    try:
-        from cases.schema import load_case
-    except ImportError:
-        return None
-    case = load_case(path)
-    if case.geometry.scene != "concave":
-        return None
-    return case.geometry.design, case.discretisation.h_contact
-
-
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m meshes", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
     b = sub.add_parser("build", help="build one mesh and print its statistics")
-    b.add_argument("name", help=f"one of {sorted({*BLOCK_DEFAULTS, *CONCAVE_DEFAULTS})} or a concave case")
+    b.add_argument("name", help=f"one of {sorted({*BLOCK_DEFAULTS, *CONCAVE_DEFAULTS})}")
     b.add_argument("--h-contact", type=float, default=None, help="contact element size (mm), > 0")
     b.add_argument("--half", action="store_true", help="half model (block scenes)")
     b.add_argument("--out-dir", default=str(DEFAULT_CACHE_DIR), help="mesh cache directory")
@@ -53,6 +40,10 @@ def main(argv=None) -> int:
     if args.h_contact is not None and not (math.isfinite(args.h_contact) and args.h_contact > 0):
         print(f"error: --h-contact must be > 0 (mm), got {args.h_contact}", file=sys.stderr)
         return 2
+    from cases import CaseError, case_names, load_case
+
+    if args.name in case_names():
+        return _build_case(args, load_case, CaseError)
     try:
         if args.name in BLOCK_DEFAULTS:
             from meshes.block import build_block_mesh
@@ -64,15 +55,11 @@ def main(argv=None) -> int:
                                      apex_refinement=spec["apex"], out_dir=args.out_dir, name=args.name,
                                      write_xdmf=not args.no_xdmf, stats_dir=args.stats_dir)
         else:
-            if args.name in CONCAVE_DEFAULTS:
-                design_name, h_c = CONCAVE_DEFAULTS[args.name], 0.05
-            else:
-                found = _concave_case(args.name)
-                if found is None:
-                    print(f"error: name must be one of {sorted({*BLOCK_DEFAULTS, *CONCAVE_DEFAULTS})} or a "
-                          f"concave case in cases/, got {args.name!r}", file=sys.stderr)
-                    return 2
-                design_name, h_c = found
+            if args.name not in CONCAVE_DEFAULTS:
+                print(f"error: name must be one of {sorted({*BLOCK_DEFAULTS, *CONCAVE_DEFAULTS})}, "
+                      f"got {args.name!r}", file=sys.stderr)
+                return 2
+            design_name, h_c = CONCAVE_DEFAULTS[args.name], 0.05
             from meshes.concave import build_concave_mesh
 
             files = build_concave_mesh(design=design_name, h_contact=args.h_contact or h_c,
@@ -88,6 +75,37 @@ def main(argv=None) -> int:
     else:
         for k, v in out.items():
             print(f"{k:28s} {v:.6g}" if isinstance(v, float) else f"{k:28s} {v}")
+    return 0
+
+
+def _build_case(args, load_case, CaseError) -> int:
+    """Build every run's mesh of a case, print and write its statistics."""
+    from pathlib import Path
+
+    from mpi4py import MPI
+
+    from scripts.case_mesh import case_meshes
+
+    if args.h_contact is not None and not args.h_contact <= 1.0:
+        print(f"error: --h-contact is a fraction of the half-width for a case; allowed: 0 < h <= 1, "
+              f"got {args.h_contact}", file=sys.stderr)
+        return 2
+    try:
+        case = load_case(args.name)
+        stats_dir = Path(args.stats_dir) if args.stats_dir else Path("results") / case.name
+        files = case_meshes(case, comm=MPI.COMM_WORLD, h_contact=args.h_contact, stats_dir=stats_dir)
+    except (CaseError, ValueError) as exc:
+        print(f"error: {str(exc).splitlines()[0]}", file=sys.stderr)
+        return 2
+    out = {label: {"msh": str(f.msh), "cached": f.cached, **{k: v for k, v in f.stats.items() if k != "params"}}
+           for label, f in files.items()}
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        for label, st in out.items():
+            print(f"[{label}]")
+            for k, v in st.items():
+                print(f"  {k:26s} {v:.6g}" if isinstance(v, float) else f"  {k:26s} {v}")
     return 0
 
 

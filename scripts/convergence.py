@@ -1,23 +1,23 @@
 """Convergence study (issue "Error against run time"): error against ndofs and WARM wall time.
 
 Run: ``python -m scripts.convergence`` (``make convergence``) -> ``results/convergence/`` with
-``convergence.json`` (everything), ``convergence.csv`` (one row per case x method x degree x level),
+``convergence.json`` (everything), ``convergence.csv`` (one row per case x series x method x degree x level),
 ``report.md`` and, from :mod:`scripts.convergence_plot`, ``error_vs_time.png`` and ``error_vs_ndofs.png``.
 All files are written atomically. Computing lives here; plotting reads the JSON.
 
 Study: for ``hertz_cylinder`` and ``wedge_convective``, every contact element size ``h_c`` of ``levels``
-(fractions of the classical half-width) x method {penalty, nitsche} x Lagrange degree {1, 2}; everything else
-is the case file (penalty kappa0 = 1e3, Nitsche gamma0 = 10, block W = H = 40 a, mesh growth 1.3). Each run is
-solved once to warm the JIT and file caches (its time is kept as ``cold_s``), then ``repeats`` more identical
-times; ``time_s`` is the median of those warm solver times (``fem.solver`` load stepping only, no meshing).
+(fractions of the classical half-width) x method {penalty, nitsche} x Lagrange degree {1, 2}, in two series:
+``case`` (the case file as it is: kappa0 = 1e3, gamma0 = 10, block W = H = 40 a) and ``ideal`` (the same with
+the model floors removed: block W = H = 640 a, and a parabola instead of the circle for Hertz). Each run is
+solved once to warm the JIT and file caches (``cold_s``), then ``repeats`` more identical times; ``time_s`` is
+the median of those warm solver times (``fem.solver`` load stepping only, no meshing).
 
-Errors (relative, dimensionless; :mod:`scripts.compare` defines p_max, half_width, rms, load_balance):
-    hertz:  p_max, half_width, rms = RMS(p - p_H)/p0 over |x| <= 1.05 max(a_fem, a) (trapezoid over the
-            samples), l2 = the same mean with the Gauss weights of the contact facets
-            (:func:`l2_pressure_error`).
-    wedge:  half_width, rms, l2 of the ``small`` run (p_ref = P/(2b), the mean pressure), and b_over_b0 =
-            |(b/b0)_fem - (b/b0)_converged| / (b/b0)_converged from the small/convective pair
-            (:func:`scripts.case_checks.fem_b_over_b0`); its time is that of the pair (``time_pair_s``).
+Errors (relative, dimensionless; formulas in :mod:`scripts.compare` and :mod:`scripts.case_checks`):
+    p_max, half_width, rms (RMS(p - p_th)/p_ref over |x| <= 1.05 max(a_fem, a), trapezoid over the samples)
+    and l2 (the same mean with the contact-facet Gauss weights, :func:`l2_pressure_error`); p_ref = p0 (Hertz)
+    or P/(2b) (wedge). Wedge: those of the ``small`` run, plus the case-level b_over_b0 (FEM b/b0 against the
+    converged Ciavarella-Hills value) and rms_convective (convective run against the converged theory), both
+    timed by the small + convective pair (``time_pair_s``).
 
 Observed rates: least-squares slope of log(error) against log(h_c) and against log(ndofs) over the finest
 three levels (:func:`fit_rate`): error ~ h^slope_h, error ~ ndofs^slope_ndofs.
@@ -28,9 +28,11 @@ from __future__ import annotations
 import argparse
 import csv
 import io
+import json
 import math
 import statistics
 import sys
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -62,21 +64,25 @@ METHODS = ("penalty", "nitsche")
 DEGREES = (1, 2)
 N_FINEST = 3
 RMS_TARGET = 0.005  # issue: cheapest configuration with RMS/p_ref <= 0.5 %
-# error metrics of each case (row keys), and which time column they are plotted against
-METRICS = {
+METRICS = {  # error columns per case (row keys)
     "hertz_cylinder": ("p_max", "half_width", "rms", "l2"),
-    "wedge_convective": ("b_over_b0", "half_width", "rms", "l2"),
+    "wedge_convective": ("b_over_b0", "rms_convective", "half_width", "rms", "l2"),
 }
-TIME_OF = {"b_over_b0": "time_pair_s"}  # default "time_s"
-# model-floor diagnostics at the finest level (Nitsche): geometry overrides applied to the case's runs
-FLOOR_VARIANTS = {
-    "hertz_cylinder": {"case (W = H = 40 a, circle)": {},
-                       "W = H = 320 a, circle": {"width_factor": 320.0, "height_factor": 320.0},
-                       "W = H = 320 a, parabola": {"width_factor": 320.0, "height_factor": 320.0,
-                                                   "indenter": "parabola"}},
-    "wedge_convective": {"case (W = H = 40 b0)": {},
-                         "W = H = 320 b0": {"width_factor": 320.0, "height_factor": 320.0}},
+TIME_OF = {"b_over_b0": "time_pair_s", "rms_convective": "time_pair_s"}  # default "time_s"
+BIG = {"width_factor": 640.0, "height_factor": 640.0}
+SERIES = {  # geometry overrides of each series
+    "hertz_cylinder": {"case": {}, "ideal": {**BIG, "indenter": "parabola"}},
+    "wedge_convective": {"case": {}, "ideal": BIG},
 }
+FLOORS = {  # finest-level decomposition of the model floors (Nitsche P2)
+    "hertz_cylinder": {"case (W = H = 40 a, circle)": {}, "W = H = 640 a, circle": BIG,
+                       "W = H = 640 a, parabola": {**BIG, "indenter": "parabola"}},
+    "wedge_convective": {"case (W = H = 40 b0)": {}, "W = H = 160 b0": {"width_factor": 160.0,
+                                                                       "height_factor": 160.0},
+                         "W = H = 640 b0": BIG},
+}
+KAPPA0_SWEEP = (1e2, 1e3, 1e4, 1e5)
+KAPPA0_LEVEL = 0.0125
 
 
 class RateFit(NamedTuple):
@@ -131,7 +137,7 @@ def l2_pressure_error(samples, theory, *, half_width_fem: float) -> float:
     """Gauss-quadrature L2 mean of the pressure error on the patch, relative to the reference pressure.
 
     l2 = sqrt( sum_q w_q (p_q - p_th(x_q))^2 / sum_q w_q ) / p_ref over the contact-facet Gauss points with
-    |x_q| <= 1.05 max(a_fem, a) (the band of :func:`scripts.compare.rms_error`), w_q = Gauss weight times
+    |x_q| <= 1.05 max(a_fem, a) (the band of :func:`scripts.compare.rms_error`); w_q = Gauss weight times
     facet length (mm). These are the points where the discrete contact law holds.
 
     Args:
@@ -151,80 +157,98 @@ def l2_pressure_error(samples, theory, *, half_width_fem: float) -> float:
 
 
 class _Timed(NamedTuple):
-    outcome: Any       # the last scripts.scene_block.BlockOutcome
-    cold_s: float      # solver time of the warm-up solve (s)
-    warm_s: list       # solver times of the repeated identical solves (s)
-    spread: float      # max relative change of the rms error across the solves (determinism check)
+    outcome: Any       # the last scripts.outcome.Outcome
+    cold_s: float      # solver time of the first solve (s)
+    warm_s: list       # solver times of the repeated identical solves (s); [cold_s] when repeats = 0
+    spread: float      # max relative change of the FEM half-width across the solves (determinism check)
 
 
-def _timed_run(run, *, name: str, repeats: int, comm, progress: Callable[[str], None]) -> _Timed:
-    """Warm-up solve, then ``repeats`` identical solves; returns the last outcome and the times."""
+def _timed_run(run, *, name: str, repeats: int, comm) -> _Timed:
+    """First (warm-up) solve, then ``repeats`` identical solves; returns the last outcome and the times."""
     from scripts.scene_block import run_block
 
-    quiet = lambda s: None  # noqa: E731
-    first = run_block(run, name=name, stage=None, comm=comm, progress=quiet)
-    cold = first.metrics["wall_time_s"]
-    rms0 = first.metrics["errors"]["rms"]
-    warm, spread, last = [], 0.0, first
+    def solve():
+        return run_block(run, name=name, stage=None, comm=comm, progress=lambda s: None)
+
+    first = last = solve()
+    a0, warm, spread = first.metrics["patch_half_width"], [], 0.0
     for _ in range(repeats):
-        last = run_block(run, name=name, stage=None, comm=comm, progress=quiet)
+        last = solve()
         warm.append(last.metrics["wall_time_s"])
-        spread = max(spread, abs(last.metrics["errors"]["rms"] - rms0) / max(abs(rms0), 1e-300))
-    return _Timed(last, cold, warm, spread)
+        spread = max(spread, abs(last.metrics["patch_half_width"] - a0) / abs(a0))
+    return _Timed(last, first.metrics["wall_time_s"], warm or [first.metrics["wall_time_s"]], spread)
 
 
-def _configure(run, *, method: str, degree: int, geometry: dict | None = None):
-    """The run with another contact method, Lagrange degree and (optionally) geometry overrides."""
-    return replace(run, solver=replace(run.solver, method=method),
-                   discretisation=replace(run.discretisation, degree=degree),
-                   geometry=replace(run.geometry, **(geometry or {})))
+def _configure(run, *, method: str, degree: int, geometry: dict, kappa0: float | None = None):
+    """The run with another contact method, Lagrange degree, geometry overrides and penalty factor."""
+    solver = replace(run.solver, method=method, **({} if kappa0 is None else {"kappa0": kappa0}))
+    return replace(run, solver=solver, discretisation=replace(run.discretisation, degree=degree),
+                   geometry=replace(run.geometry, **geometry))
 
 
-def _row(case_name: str, method: str, degree: int, level: float, timed: dict[str, _Timed]) -> dict:
-    """One CSV/JSON row from the timed runs of one configuration."""
-    from scripts.case_checks import convective_theory, fem_b_over_b0
+def _measure(case, *, series: str, method: str, degree: int, level: float, repeats: int, comm,
+             kappa0: float | None = None) -> dict:
+    """One configuration: every run of the case, timed; returns its CSV/JSON row (NaN errors on failure)."""
+    from scripts.case_checks import case_level_comparisons
 
-    main_label = "small" if "small" in timed else "base"
-    t = timed[main_label]
+    geometry = {**SERIES.get(case.name, {}), **FLOORS.get(case.name, {})}.get(series, {})
+    row = {"case": case.name, "series": series, "method": method, "degree": degree, "h_contact": level,
+           "kappa0": kappa0 if kappa0 is not None else case.solver.kappa0, "failed": ""}
+    row.update({k: math.nan for k in ("p_max", "half_width", "rms", "l2", "b_over_b0", "b_over_b0_fem",
+                                      "b_over_b0_theory", "rms_convective", "load_balance", "time_s",
+                                      "cold_s", "time_pair_s", "h_mm")})
+    row.update(ndofs=0, cells=0, newton_iterations=0, repeat_spread=0.0)
+    try:
+        timed = {run.label: _timed_run(_configure(run, method=method, degree=degree, geometry=geometry,
+                                                  kappa0=kappa0), name=case.name, repeats=repeats, comm=comm)
+                 for run in case.runs(h_contact=level)}
+    except RuntimeError as exc:  # fem.solver.ContactSolveError: record, keep the study going
+        row["failed"] = str(exc).splitlines()[0]
+        return row
+    t = timed.get("small", timed.get("base", next(iter(timed.values()))))
     o, m = t.outcome, t.outcome.metrics
-    row = {
-        "case": case_name, "method": method, "degree": degree, "h_contact": level,
-        "h_mm": level * float(o.theory.half_width), "ndofs": m["ndofs"], "cells": m["mesh"].get("cells"),
-        "time_s": statistics.median(t.warm_s), "cold_s": t.cold_s,
-        "time_pair_s": sum(statistics.median(x.warm_s) for x in timed.values()),
-        "newton_iterations": int(sum(m["newton_iterations"])),
-        "repeat_spread": max(x.spread for x in timed.values()),
-        "p_max": m["errors"].get("p_max", math.nan), "half_width": m["errors"]["half_width"],
-        "rms": m["errors"]["rms"],
-        "l2": l2_pressure_error(o.result.samples, o.theory, half_width_fem=m["patch_half_width"]),
-        "load_balance": max(x.outcome.metrics["errors"]["load_balance"] for x in timed.values()),
-        "b_over_b0": math.nan, "b_over_b0_fem": math.nan, "b_over_b0_theory": math.nan,
-    }
-    if {"small", "convective"} <= set(timed):
-        conv = timed["convective"].outcome
-        ratio = fem_b_over_b0(o, conv)
-        exact = convective_theory(conv).b_over_b0_converged
-        row.update(b_over_b0_fem=ratio, b_over_b0_theory=exact, b_over_b0=abs(ratio - exact) / exact)
+    row.update(
+        h_mm=level * float(o.theory.half_width), ndofs=m["ndofs"], cells=m["mesh"].get("cells", 0),
+        time_s=statistics.median(t.warm_s), cold_s=t.cold_s,
+        time_pair_s=sum(statistics.median(x.warm_s) for x in timed.values()),
+        newton_iterations=int(sum(m["newton_iterations"])),
+        repeat_spread=max(x.spread for x in timed.values()),
+        p_max=m["errors"].get("p_max", math.nan), half_width=m["errors"]["half_width"],
+        rms=m["errors"]["rms"],
+        l2=l2_pressure_error(o.result.samples, o.theory, half_width_fem=m["patch_half_width"]),
+        load_balance=max(x.outcome.metrics["errors"]["load_balance"] for x in timed.values()),
+    )
+    if len(timed) > 1:
+        cmp = case_level_comparisons(case, [x.outcome for x in timed.values()])
+        row.update(b_over_b0=float(cmp.errors.get("b_over_b0", math.nan)),
+                   rms_convective=float(cmp.errors.get("rms_convective", math.nan)),
+                   b_over_b0_fem=float(cmp.analytic.get("b_over_b0_fem", math.nan)),
+                   b_over_b0_theory=float(cmp.analytic.get("b_over_b0_converged", math.nan)))
     return row
+
+
+def _group(rows: list[dict], *keys: str) -> dict[tuple, list[dict]]:
+    out: dict[tuple, list[dict]] = {}
+    for r in rows:
+        out.setdefault(tuple(r[k] for k in keys), []).append(r)
+    return out
 
 
 def observed_rates(rows: list[dict], *, metrics: dict[str, Sequence[str]] = METRICS,
                    n_finest: int = N_FINEST) -> list[dict]:
-    """Fitted slopes per case x method x degree x metric, against h_c and against ndofs.
+    """Fitted slopes per case x series x method x degree x metric, against h_c and against ndofs.
 
-    Rows of one configuration are ordered coarse to fine (h_c decreasing). A metric with a non-finite or zero
+    Rows of one configuration are sorted coarse to fine (h_c decreasing). A metric with a non-finite or zero
     error on a fitted level gets ``None`` slopes and the reason in ``note``.
     """
     out = []
-    keys = sorted({(r["case"], r["method"], r["degree"]) for r in rows})
-    for case, method, degree in keys:
-        sel = sorted((r for r in rows if (r["case"], r["method"], r["degree"]) == (case, method, degree)),
-                     key=lambda r: -r["h_contact"])
-        h = [r["h_contact"] for r in sel]
-        n = [r["ndofs"] for r in sel]
+    groups = _group(rows, "case", "series", "method", "degree")
+    for (case, series, method, degree), sel in sorted(groups.items()):
+        sel = sorted(sel, key=lambda r: -r["h_contact"])
+        h, n = [r["h_contact"] for r in sel], [r["ndofs"] for r in sel]
         for metric in metrics.get(case, ()):
-            err = [r[metric] for r in sel]
-            rec = {"case": case, "method": method, "degree": degree, "metric": metric,
+            err = [math.nan if r[metric] is None else r[metric] for r in sel]
+            rec = {"case": case, "series": series, "method": method, "degree": degree, "metric": metric,
                    "levels": h[-n_finest:], "slope_h": None, "slope_ndofs": None, "note": ""}
             try:
                 fh, fn = fit_rate(h, err, n_finest=n_finest), fit_rate(n, err, n_finest=n_finest)
@@ -236,50 +260,26 @@ def observed_rates(rows: list[dict], *, metrics: dict[str, Sequence[str]] = METR
 
 
 def cheapest(rows: list[dict], *, metric: str = "rms", target: float = RMS_TARGET) -> dict[str, dict | None]:
-    """Per case, the row with the smallest warm time among those with ``row[metric] <= target``."""
+    """Per ``case/series``, the row with the smallest warm time among those with ``row[metric] <= target``."""
     out = {}
-    for case in sorted({r["case"] for r in rows}):
-        ok = [r for r in rows if r["case"] == case and r[metric] is not None and r[metric] <= target]
-        out[case] = min(ok, key=lambda r: r["time_s"]) if ok else None
-    return out
-
-
-def _floors(case, level: float, *, comm, progress) -> list[dict]:
-    """Model-floor diagnostics: Nitsche P1/P2 at the finest level with bigger blocks / a parabola."""
-    from scripts.scene_block import run_block
-
-    out = []
-    for label, geo in FLOOR_VARIANTS.get(case.name, {}).items():
-        for degree in DEGREES:
-            run = case.runs(h_contact=level)[0]  # the small (or base) run
-            o = run_block(_configure(run, method="nitsche", degree=degree, geometry=geo), name=case.name,
-                          stage=None, comm=comm, progress=lambda s: None)
-            e = o.metrics["errors"]
-            rec = {"case": case.name, "variant": label, "degree": degree, "h_contact": level,
-                   "ndofs": o.metrics["ndofs"], "p_max": e.get("p_max", math.nan),
-                   "half_width": e["half_width"], "rms": e["rms"],
-                   "l2": l2_pressure_error(o.result.samples, o.theory,
-                                           half_width_fem=o.metrics["patch_half_width"])}
-            progress(f"floor {case.name} [{label}] P{degree}: rms {rec['rms']:.3e} p_max {rec['p_max']:.3e} "
-                     f"half_width {rec['half_width']:.3e}")
-            out.append(rec)
+    for (case, series), sel in sorted(_group(rows, "case", "series").items()):
+        ok = [r for r in sel if r[metric] is not None and r[metric] <= target]
+        out[f"{case}/{series}"] = min(ok, key=lambda r: r["time_s"]) if ok else None
     return out
 
 
 def run_study(*, cases: Sequence[str] = CASES, levels: Sequence[float] = DEFAULT_LEVELS, repeats: int = 3,
-              floors: bool = True, progress: Callable[[str], None] = print) -> dict:
+              diagnostics: bool = True, progress: Callable[[str], None] = print) -> dict:
     """Run the whole study and return the JSON-ready data (no files written).
 
     Args:
         cases: Case names (block scenes).
         levels: h_c fractions of the classical half-width, coarse to fine, each in (0, 1].
         repeats: Timed warm solves per run after the warm-up solve, >= 1 (the median is kept).
-        floors: Also run the model-floor diagnostics at the finest level.
+        diagnostics: Also run the model-floor decomposition (finest level) and the penalty kappa0 sweep.
         progress: One-line status output.
     """
     import dolfinx_solver  # noqa: F401  (before mpi4py/dolfinx)
-
-    import time
 
     from mpi4py import MPI
 
@@ -291,39 +291,54 @@ def run_study(*, cases: Sequence[str] = CASES, levels: Sequence[float] = DEFAULT
     if int(repeats) != repeats or repeats < 1:
         raise ValueError(f"repeats must be an integer >= 1, got {repeats!r}")
     loaded = [load_case(c) for c in cases]  # validate all before running any
-    comm = MPI.COMM_WORLD
-    t0 = time.perf_counter()
-    rows, floor_rows = [], []
+    comm, t0 = MPI.COMM_WORLD, time.perf_counter()
+
+    def say(r: dict) -> None:
+        extra = f" kappa0={r['kappa0']:g}" if r["series"] == "kappa0 sweep" else ""
+        progress(f"{r['case']} [{r['series']}] {r['method']} P{r['degree']} h_c={r['h_contact']:g}{extra}: "
+                 + (f"FAILED {r['failed']}" if r["failed"] else
+                    f"ndofs {r['ndofs']}, warm {r['time_s']:.3f} s (cold {r['cold_s']:.2f} s), "
+                    f"rms {r['rms']:.2e}, half_width {r['half_width']:.2e}, p_max {r['p_max']:.2e}, "
+                    f"b/b0 {r['b_over_b0']:.2e}"))
+
+    rows, floors, sweep = [], [], []
     for case in loaded:
-        for method in METHODS:
-            for degree in DEGREES:
-                for level in levels:
-                    timed = {run.label: _timed_run(_configure(run, method=method, degree=degree),
-                                                   name=case.name, repeats=repeats, comm=comm, progress=progress)
-                             for run in case.runs(h_contact=level)}
-                    row = _row(case.name, method, degree, level, timed)
-                    rows.append(row)
-                    progress(f"{case.name} {method} P{degree} h_c={level:g}: ndofs {row['ndofs']}, warm "
-                             f"{row['time_s']:.3f} s (cold {row['cold_s']:.2f} s), rms {row['rms']:.3e}, "
-                             f"half_width {row['half_width']:.3e}, p_max {row['p_max']:.3e}, "
-                             f"b/b0 {row['b_over_b0']:.3e}")
-        if floors:
-            floor_rows += _floors(case, levels[-1], comm=comm, progress=progress)
+        for series in SERIES.get(case.name, {"case": {}}):
+            for method in METHODS:
+                for degree in DEGREES:
+                    for level in levels:
+                        rows.append(_measure(case, series=series, method=method, degree=degree, level=level,
+                                             repeats=repeats, comm=comm))
+                        say(rows[-1])
+        if not diagnostics:
+            continue
+        for label in FLOORS.get(case.name, {}):
+            floors.append(_measure(case, series=label, method="nitsche", degree=2, level=levels[-1],
+                                   repeats=0, comm=comm))
+            say(floors[-1])
+        for degree in DEGREES:
+            for kappa0 in KAPPA0_SWEEP:
+                r = _measure(case, series="case", method="penalty", degree=degree, level=KAPPA0_LEVEL,
+                             repeats=0, comm=comm, kappa0=kappa0)
+                sweep.append({**r, "series": "kappa0 sweep"})
+                say(sweep[-1])
     return {
         "description": "error against ndofs and warm solver time; see scripts/convergence.py",
         "levels": levels, "repeats": repeats, "n_finest": N_FINEST, "metrics": METRICS, "time_of": TIME_OF,
-        "rms_target": RMS_TARGET, "rows": rows, "rates": observed_rates(rows),
-        "cheapest_rms": cheapest(rows), "floors": floor_rows, "study_wall_time_s": time.perf_counter() - t0,
+        "series": SERIES, "rms_target": RMS_TARGET, "rows": rows, "rates": observed_rates(rows),
+        "cheapest_rms": cheapest(rows), "floors": floors, "kappa0_sweep": sweep,
+        "study_wall_time_s": time.perf_counter() - t0,
     }
 
 
-CSV_COLUMNS = ("case", "method", "degree", "h_contact", "h_mm", "ndofs", "cells", "time_s", "cold_s",
-               "time_pair_s", "newton_iterations", "p_max", "half_width", "rms", "l2", "b_over_b0",
-               "b_over_b0_fem", "b_over_b0_theory", "load_balance", "repeat_spread")
+CSV_COLUMNS = ("case", "series", "method", "degree", "h_contact", "h_mm", "ndofs", "cells", "time_s",
+               "cold_s", "time_pair_s", "newton_iterations", "p_max", "half_width", "rms", "l2", "b_over_b0",
+               "rms_convective", "b_over_b0_fem", "b_over_b0_theory", "load_balance", "repeat_spread",
+               "failed")
 
 
 def to_csv(rows: list[dict]) -> str:
-    """CSV text, one row per case x method x degree x level (columns :data:`CSV_COLUMNS`)."""
+    """CSV text, one row per case x series x method x degree x level (columns :data:`CSV_COLUMNS`)."""
     buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=CSV_COLUMNS, extrasaction="ignore", lineterminator="\n")
     w.writeheader()
@@ -336,53 +351,80 @@ def _e(v) -> str:
     return "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else f"{v:.2e}"
 
 
+def _t(v) -> str:
+    return "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else f"{v:.3f}"
+
+
+def _status(r: dict) -> str:
+    if not r["failed"]:
+        return "ok"
+    return "diverged (SNES max iterations)" if "DIVERGED_MAX_IT" in r["failed"] else r["failed"][:80]
+
+
 def _s(v) -> str:
     return "-" if v is None else f"{v:+.2f}"
 
 
 def to_markdown(data: dict, *, discussion: str = "") -> str:
-    """The tables of ``report.md`` (errors, fitted slopes, cheapest configuration, floors) + a discussion."""
+    """``report.md``: error tables, fitted slopes, cheapest configuration, diagnostics, discussion."""
     lines = ["# Convergence study: error against run time", "",
-             f"Levels h_c/a = {', '.join(f'{v:g}' for v in data['levels'])}; times are WARM solver times: "
-             f"each run was solved once to warm the JIT cache, then {data['repeats']} more identical times, and "
-             f"the median is reported (cold = the first solve). Whole study: {data['study_wall_time_s']:.0f} s "
-             "(serial, 1 process). Slopes: least squares of log(error) against log(h_c) and log(ndofs) over "
-             f"the finest {data['n_finest']} levels.", ""]
-    for case in sorted({r["case"] for r in data["rows"]}):
+             f"Levels h_c/a = {', '.join(f'{v:g}' for v in data['levels'])}. Times are WARM solver times: "
+             f"each run was solved once to warm the JIT cache, then {data['repeats']} more identical times; "
+             "the median is reported (cold = the first solve in the process). Whole study: "
+             f"{data['study_wall_time_s']:.0f} s (serial, one process). Slopes: least squares of log(error) "
+             f"against log(h_c) / log(ndofs) over the finest {data['n_finest']} levels.", ""]
+    for (case, series), sel in _group(data["rows"], "case", "series").items():
         mets = data["metrics"][case]
-        lines += [f"## {case}", "", "| method | P | h_c/a | ndofs | warm s | cold s | "
-                  + " | ".join(mets) + " | Newton its |", "|---" * (6 + len(mets) + 1) + "|"]
-        for r in (r for r in data["rows"] if r["case"] == case):
-            t = r["time_pair_s"] if case.startswith("wedge") else r["time_s"]
-            lines.append(f"| {r['method']} | {r['degree']} | {r['h_contact']:g} | {r['ndofs']} | {t:.3f} | "
-                         f"{r['cold_s']:.2f} | " + " | ".join(_e(r[m]) for m in mets)
-                         + f" | {r['newton_iterations']} |")
+        tcol = "time_pair_s" if case.startswith("wedge") else "time_s"
+        overrides = data["series"][case][series] or "none"
+        lines += [f"## {case}, series `{series}` (geometry overrides {overrides})", "",
+                  "| method | P | h_c/a | ndofs | warm s | cold s | " + " | ".join(mets) + " | Newton its |",
+                  "|---" * (7 + len(mets)) + "|"]
+        for r in sel:
+            lines.append(f"| {r['method']} | {r['degree']} | {r['h_contact']:g} | {r['ndofs']} | "
+                         f"{_t(r[tcol])} | {_t(r['cold_s'])} | " + " | ".join(_e(r[m]) for m in mets)
+                         + f" | {r['newton_iterations']} |"
+                         + (f" {_status(r)}" if r["failed"] else ""))
         if case.startswith("wedge"):
-            lines += ["", "Wedge times are those of the small + convective pair (b/b0 needs both); "
-                      "half_width, rms and l2 are of the small run alone (relative to the mean pressure P/(2b))."]
-        lines += ["", f"Fitted slopes (finest {data['n_finest']} levels): vs h_c / vs ndofs", "",
+            lines += ["", "Wedge times: the small + convective pair (b/b0 needs both); half_width, rms and "
+                      "l2: the small run against the classical wedge (p_ref = P/(2b))."]
+        lines += ["", f"Fitted slopes, finest {data['n_finest']} levels (vs h_c / vs ndofs):", "",
                   "| method | P | " + " | ".join(mets) + " |", "|---" * (2 + len(mets)) + "|"]
-        for method, degree in sorted({(r["method"], r["degree"]) for r in data["rows"] if r["case"] == case}):
-            cells = []
-            for m in mets:
-                f = next(x for x in data["rates"] if (x["case"], x["method"], x["degree"], x["metric"])
-                         == (case, method, degree, m))
-                cells.append(f"{_s(f['slope_h'])} / {_s(f['slope_ndofs'])}")
+        rates = {(x["method"], x["degree"], x["metric"]): x for x in data["rates"]
+                 if (x["case"], x["series"]) == (case, series)}
+        for method, degree in sorted({(r["method"], r["degree"]) for r in sel}):
+            fits = [rates[method, degree, m] for m in mets]
+            cells = [f"{_s(f['slope_h'])} / {_s(f['slope_ndofs'])}" for f in fits]
             lines.append(f"| {method} | {degree} | " + " | ".join(cells) + " |")
-        best = data["cheapest_rms"].get(case)
+        best = data["cheapest_rms"].get(f"{case}/{series}")
         found = (f"{best['method']} P{best['degree']} h_c/a = {best['h_contact']:g} ({best['ndofs']} dofs, "
                  f"warm {best['time_s']:.3f} s, rms {best['rms']:.2e})" if best else "none reached it")
         lines += ["", f"Cheapest configuration with rms <= {data['rms_target']:.1%}: {found}", ""]
     if data.get("floors"):
-        lines += ["## Model floors (Nitsche, finest level)", "",
-                  "| case | variant | P | ndofs | p_max | half_width | rms | l2 |", "|---" * 8 + "|"]
+        lines += ["## Model floors (Nitsche P2, finest level)", "",
+                  "| case | variant | ndofs | p_max | half_width | rms | l2 | b_over_b0 | rms_convective |",
+                  "|---" * 9 + "|"]
         for f in data["floors"]:
-            lines.append(f"| {f['case']} | {f['variant']} | {f['degree']} | {f['ndofs']} | "
-                         f"{_e(f['p_max'])} | {_e(f['half_width'])} | {_e(f['rms'])} | {_e(f['l2'])} |")
+            lines.append(f"| {f['case']} | {f['series']} | {f['ndofs']} | " + " | ".join(
+                _e(f[k]) for k in ("p_max", "half_width", "rms", "l2", "b_over_b0", "rms_convective")) + " |")
+        lines.append("")
+    if data.get("kappa0_sweep"):
+        lines += [f"## Penalty factor sweep (case geometry, h_c/a = {KAPPA0_LEVEL:g})", "",
+                  "| case | P | kappa0 | p_max | half_width | rms | b_over_b0 | Newton its | status |",
+                  "|---" * 9 + "|"]
+        for f in data["kappa0_sweep"]:
+            lines.append(f"| {f['case']} | {f['degree']} | {f['kappa0']:g} | " + " | ".join(
+                _e(f[k]) for k in ("p_max", "half_width", "rms", "b_over_b0"))
+                + f" | {f['newton_iterations']} | {_status(f)} |")
         lines.append("")
     if discussion:
         lines += [discussion.strip(), ""]
     return "\n".join(lines)
+
+
+def discussion(data: dict) -> str:
+    """Discussion section of the report (placeholder until measured)."""
+    return ""
 
 
 def _finite_or_none(obj: Any) -> Any:
@@ -394,11 +436,6 @@ def _finite_or_none(obj: Any) -> Any:
     if isinstance(obj, list | tuple):
         return [_finite_or_none(v) for v in obj]
     return obj
-
-
-def discussion(data: dict) -> str:
-    """Discussion section of the report (placeholder until measured)."""
-    return ""
 
 
 def write_outputs(data: dict, *, out_dir: Path = OUT_DIR, plot: bool = True) -> None:
@@ -420,25 +457,23 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--levels", nargs="+", type=float, default=list(DEFAULT_LEVELS),
                    help="h_c fractions, coarse to fine (default: %(default)s)")
     p.add_argument("--repeats", type=int, default=3, help="timed warm solves per run (default: 3)")
-    p.add_argument("--no-floors", action="store_true", help="skip the model-floor diagnostics")
+    p.add_argument("--no-diagnostics", action="store_true", help="skip the model floors and the kappa0 sweep")
     p.add_argument("--no-plot", action="store_true", help="skip the plots")
     p.add_argument("--out", type=Path, default=OUT_DIR, help="output folder (default: %(default)s)")
-    p.add_argument("--replot", action="store_true", help="only rewrite report.md and plots from the JSON")
+    p.add_argument("--rewrite", action="store_true", help="only rewrite report.md and plots from the JSON")
     args = p.parse_args(argv)
     try:
-        if args.replot:
-            import json
-
+        if args.rewrite:
             data = json.loads((args.out / "convergence.json").read_text())
         else:
             data = run_study(cases=args.cases, levels=args.levels, repeats=args.repeats,
-                             floors=not args.no_floors, progress=lambda s: print(s, flush=True))
-        write_outputs(data, out_dir=args.out, plot=not args.no_plot)
-    except ValueError as exc:  # includes cases.CaseError
+                             diagnostics=not args.no_diagnostics, progress=lambda s: print(s, flush=True))
+    except (ValueError, FileNotFoundError) as exc:  # includes cases.CaseError
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    print(f"wrote {args.out}/convergence.json, convergence.csv, report.md" + ("" if args.no_plot else
-                                                                             ", error_vs_time.png"))
+    write_outputs(data, out_dir=args.out, plot=not args.no_plot)
+    print(f"wrote {args.out}/convergence.json, convergence.csv, report.md"
+          + ("" if args.no_plot else ", error_vs_time.png, error_vs_ndofs.png"))
     return 0
 
 

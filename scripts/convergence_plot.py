@@ -1,7 +1,8 @@
 """Plots of the convergence study (reads ``results/convergence/convergence.json``; files only, Agg backend).
 
 Run: ``python -m scripts.convergence_plot [JSON]`` -> ``error_vs_time.png`` and ``error_vs_ndofs.png`` next to
-the JSON. One panel per case x error metric, one line per method x degree, log-log axes.
+the JSON. One row of panels per case x series, one panel per error metric, one line per method x degree,
+log-log axes.
 """
 
 from __future__ import annotations
@@ -23,7 +24,8 @@ DEFAULT_JSON = Path("results") / "convergence" / "convergence.json"
 STYLE = {("penalty", 1): ("tab:orange", "s", "--"), ("penalty", 2): ("tab:red", "s", "-"),
          ("nitsche", 1): ("tab:cyan", "o", "--"), ("nitsche", 2): ("tab:blue", "o", "-")}
 LABELS = {"p_max": "peak pressure error", "half_width": "half-width error", "rms": "RMS(p - p_th) / p_ref",
-          "l2": "Gauss L2(p - p_th) / p_ref", "b_over_b0": "b/b0 error (vs converged theory)"}
+          "l2": "Gauss L2(p - p_th) / p_ref", "b_over_b0": "b/b0 error (vs converged theory)",
+          "rms_convective": "RMS(p - p_conv) / p_ref, convective run"}
 
 
 def _panel(ax, rows: list[dict], *, metric: str, xkey: str) -> None:
@@ -40,34 +42,38 @@ def _panel(ax, rows: list[dict], *, metric: str, xkey: str) -> None:
 def plot_study(data: dict, *, out_dir: Path) -> list[Path]:
     """Write ``error_vs_time.png`` (warm solver time) and ``error_vs_ndofs.png``; returns the paths.
 
+    One row of panels per case x series, one panel per error metric, one line per method x degree.
+
     Args:
         data: The JSON written by :mod:`scripts.convergence` (``rows``, ``metrics``, ``time_of``).
         out_dir: Output folder.
     """
-    cases = [c for c in data["metrics"] if any(r["case"] == c for r in data["rows"])]
-    ncol = max(len(data["metrics"][c]) for c in cases)
+    groups: dict[tuple, list[dict]] = {}
+    for r in data["rows"]:
+        groups.setdefault((r["case"], r["series"]), []).append(r)
+    ncol = max(len(data["metrics"][case]) for case, _ in groups)
     paths = []
     for stem, xlabel in (("error_vs_time", "warm solver wall time (s)"), ("error_vs_ndofs", "ndofs")):
-        fig, axes = plt.subplots(len(cases), ncol, figsize=(4.0 * ncol, 3.4 * len(cases)), squeeze=False)
-        for i, case in enumerate(cases):
-            rows = [r for r in data["rows"] if r["case"] == case]
-            for j, metric in enumerate(data["metrics"][case]):
+        fig, axes = plt.subplots(len(groups), ncol, figsize=(3.9 * ncol, 3.3 * len(groups)), squeeze=False)
+        for i, ((case, series), rows) in enumerate(groups.items()):
+            metrics = data["metrics"][case]
+            for j, metric in enumerate(metrics):
                 ax = axes[i, j]
                 xkey = data.get("time_of", {}).get(metric, "time_s") if stem == "error_vs_time" else "ndofs"
                 _panel(ax, rows, metric=metric, xkey=xkey)
-                ax.set_title(f"{case}: {metric}", fontsize=9)
+                ax.set_title(f"{case} [{series}]: {metric}", fontsize=9)
                 pair = " (small + convective pair)" if xkey == "time_pair_s" else ""
                 ax.set_xlabel(xlabel + pair, fontsize=8)
-                if i == 0 and j == 0:
+                if j == 0:
                     ax.legend(fontsize=7)
-            for ax in axes[i, len(data["metrics"][case]):]:
+            for ax in axes[i, len(metrics):]:
                 ax.set_visible(False)
-        fig.suptitle(f"Error against {'run time' if stem == 'error_vs_time' else 'ndofs'} "
-                     "(each line: one method x degree over the h_c levels)", fontsize=10)
+        fig.suptitle(f"Error against {'warm run time' if stem == 'error_vs_time' else 'ndofs'} "
+                     "(one line per method x degree over the h_c levels)", fontsize=10)
         fig.tight_layout()
         path = Path(out_dir) / f"{stem}.png"
         with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=120)
+            fig.savefig(tmp, dpi=110)
         plt.close(fig)
         paths.append(path)
     return paths

@@ -121,6 +121,7 @@ def run_case(case: Case, *, out_root: Path, h_contact: float | None = None, ci: 
             metrics["mpi_processes"] = comm.size
             if comm.rank == 0:
                 write_case_outputs(case, outcomes, metrics, stage)
+                write_json(stage / "mesh.json", {o.label: o.metrics.get("mesh") for o in outcomes})
                 verdict = "PASS" if metrics["pass"] else "FAIL"
                 progress(f"case {case.name}: {verdict} in {metrics['wall_time_s']:.1f} s -> {out}")
                 write_text(stage / "run.log", "\n".join(log) + "\n")

@@ -15,7 +15,7 @@ from cases.schema import Run
 from scripts.compare import BlockTheory, block_theory, compare_block
 from scripts.outcome import Outcome, Series, step_printer
 
-__all__ = ["obstacle_for", "run_block"]
+__all__ = ["block_mesh", "obstacle_for", "run_block"]
 
 MESH_CACHE = Path("results/mesh_cache")
 
@@ -32,6 +32,26 @@ def obstacle_for(run: Run, theory: BlockTheory):
     return WedgeObstacle(slope=theory.m)
 
 
+def block_mesh(run: Run, *, name: str, comm, stats_dir: Path | None = None):
+    """The (cached) mesh of a block run, sized from the classical estimate of its contact half-width.
+
+    Returns:
+        ``(MeshFiles, BlockTheory)``: the mesh files and the classical prediction at the target load.
+    """
+    from meshes.block import build_block_mesh
+
+    g, ld, disc = run.geometry, run.loading, run.discretisation
+    target = block_theory(g, run.material, P=ld.P, half_width=ld.half_width)
+    a0 = target.half_width
+    files = build_block_mesh(
+        width=g.width_factor * a0, height=g.height_factor * a0, contact_half_width=a0,
+        h_contact=disc.h_contact * a0, half_model=g.half_model, apex_refinement=g.indenter == "wedge",
+        out_dir=MESH_CACHE, name=f"{name}_{run.label}".replace("/", "_").replace("=", "_"),
+        stats_dir=stats_dir, comm=comm,
+    )
+    return files, target
+
+
 def run_block(run: Run, *, name: str, stage: Path | None, comm, progress) -> Outcome:
     """Run one block scene and compare it with its classical prediction.
 
@@ -43,18 +63,11 @@ def run_block(run: Run, *, name: str, stage: Path | None, comm, progress) -> Out
         progress: ``progress(str)`` for one-line status output.
     """
     from fem.solver import solve_contact
-    from meshes.block import build_block_mesh
     from scripts.mesh_io import read_mesh
 
     g, ld, disc, sol = run.geometry, run.loading, run.discretisation, run.solver
-    target = block_theory(g, run.material, P=ld.P, half_width=ld.half_width)
+    files, target = block_mesh(run, name=name, comm=comm)
     a0 = target.half_width
-    files = build_block_mesh(
-        width=g.width_factor * a0, height=g.height_factor * a0, contact_half_width=a0,
-        h_contact=disc.h_contact * a0, half_model=g.half_model, apex_refinement=g.indenter == "wedge",
-        out_dir=MESH_CACHE, name=f"{name}_{run.label}".replace("/", "_").replace("=", "_"),
-        stats_dir=None, comm=comm,
-    )
     progress(f"[{run.label}] mesh {files.stats.get('cells', '?')} cells ({'cached' if files.cached else 'built'}), "
              f"a0 = {a0:.4g} mm, P target = {target.P:.6g} N/mm")
     mesh_data = read_mesh(files.msh, comm)

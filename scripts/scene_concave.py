@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any, NamedTuple
 
 import numpy as np
 from scipy import optimize
@@ -31,7 +32,7 @@ from cases.schema import Run
 from scripts.case_checks import CaseComparison
 from scripts.outcome import Outcome, Series, step_printer
 
-__all__ = ["run_concave", "concave_case_comparison"]
+__all__ = ["ConcaveMesh", "concave_mesh", "run_concave", "concave_case_comparison"]
 
 MESH_CACHE = Path("results/mesh_cache")
 _SAMPLES_LCP = 300
@@ -145,17 +146,31 @@ def _step_metrics(snap, *, curve, lcp, E_star, label):
     return metrics, series
 
 
-def run_concave(run: Run, *, name: str, stage: Path | None, comm, progress) -> Outcome:
-    """Run a concave scene through its displacement steps and compare each step with Hertz theory."""
-    from analytic.designs import design
-    from fem.obstacles import CurveObstacle
-    from fem.solver import solve_contact
-    from meshes.concave import build_concave_mesh
-    from scripts.mesh_io import read_mesh
+class ConcaveMesh(NamedTuple):
+    """Mesh of a concave run and the geometry it was sized from.
 
-    g, ld, disc, sol = run.geometry, run.loading, run.discretisation, run.solver
-    des = design(g.design)
-    E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
+    Attributes:
+        files: The (cached) mesh files.
+        design: The :class:`analytic.designs.ConcaveDesign`.
+        lcps: LCP result at every displacement of the run.
+        a_est: Estimated smallest patch half-width sqrt(R delta) (mm) at the first step with an overlap.
+        h_contact: Element size on the refined contact zone (mm).
+    """
+
+    files: Any
+    design: Any
+    lcps: list
+    a_est: float
+    h_contact: float
+
+
+def concave_mesh(run: Run, *, name: str, comm, stats_dir: Path | None = None) -> ConcaveMesh:
+    """The (cached) mesh of a concave run, refined where the LCP predicts contact over the whole path."""
+    from analytic.designs import design
+    from meshes.concave import build_concave_mesh
+
+    ld, disc = run.loading, run.discretisation
+    des = design(run.geometry.design)
     lcps = [_lcp_at(des, d) for d in ld.d]
     # Mesh size from the smallest expected patch: a ~ sqrt(R delta) at the first step with an overlap.
     a_est = math.inf
@@ -169,7 +184,20 @@ def run_concave(run: Run, *, name: str, stage: Path | None, comm, progress) -> O
         raise ValueError(f"{name}: loading.d = {list(ld.d)} never brings the particle into contact "
                          "(no overlapping plausible LCP pair); allowed: displacements that reach the body")
     h_c = disc.h_contact * a_est
-    files = build_concave_mesh(design=des, h_contact=h_c, out_dir=MESH_CACHE, name=f"{name}", comm=comm)
+    files = build_concave_mesh(design=des, h_contact=h_c, out_dir=MESH_CACHE, name=f"{name}", comm=comm,
+                               stats_dir=stats_dir)
+    return ConcaveMesh(files, des, lcps, a_est, h_c)
+
+
+def run_concave(run: Run, *, name: str, stage: Path | None, comm, progress) -> Outcome:
+    """Run a concave scene through its displacement steps and compare each step with Hertz theory."""
+    from fem.obstacles import CurveObstacle
+    from fem.solver import solve_contact
+    from scripts.mesh_io import read_mesh
+
+    ld, disc, sol = run.loading, run.discretisation, run.solver
+    files, des, lcps, a_est, h_c = concave_mesh(run, name=name, comm=comm)
+    E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
     progress(f"[{run.label}] mesh {files.stats.get('cells', '?')} cells ({'cached' if files.cached else 'built'}), "
              f"h_c = {h_c:.4g} mm (a_est = {a_est:.4g} mm)")
     mesh_data = read_mesh(files.msh, comm)

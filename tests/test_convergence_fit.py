@@ -64,7 +64,7 @@ def _rows(case, method, degree, rate, nan_last=False):
     rows = []
     for h in H:
         e = 0.1 * h**rate
-        rows.append({"case": case, "method": method, "degree": degree, "h_contact": float(h),
+        rows.append({"case": case, "series": "case", "method": method, "degree": degree, "h_contact": float(h),
                      "ndofs": 100.0 / h**2, "rms": e, "time_s": 1.0 / h,
                      "p_max": math.nan if nan_last and h == H[-1] else e})
     return rows
@@ -86,8 +86,8 @@ def test_cheapest_picks_fastest_row_below_target():
     rows = _rows("c", "nitsche", 2, 2.0) + _rows("c", "penalty", 1, 1.0)
     best = cheapest(rows, metric="rms", target=5e-4)
     # nitsche P2: 0.1 h^2 <= 5e-4 from h = 0.05 (2.5e-4); penalty P1 never (0.1 h >= 1.25e-3)
-    assert best["c"]["method"] == "nitsche" and best["c"]["h_contact"] == 0.05
-    assert cheapest(rows, metric="rms", target=1e-9)["c"] is None
+    assert best["c/case"]["method"] == "nitsche" and best["c/case"]["h_contact"] == 0.05
+    assert cheapest(rows, metric="rms", target=1e-9)["c/case"] is None
 
 
 class _Theory:
