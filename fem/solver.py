@@ -53,10 +53,12 @@ from mpi4py import MPI
 from fem.contact_forms import build_contact_forms
 from fem.elasticity import lame, mixed_constraint, plane_strain_modulus, sigma, sigma_mixed
 from fem.postprocess import (
+    LOCKING_NU,
     Patch,
     SurfaceSamples,
     contact_edges,
     find_patches,
+    oscillation_warnings,
     penetration_warning,
     resolution_warnings,
     sample_surface,
@@ -492,7 +494,10 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
     warns = resolution_warnings(samples, quadrature_degree=sdeg, half=symmetric_half,
                                 min_facets_across=min_facets_across)
     pen = penetration_warning(samples, d=states[-1][0])
-    warns += [pen] if pen else []
+    warns += ([pen] if pen else []) + oscillation_warnings(samples)
+    if not mixed and nu >= LOCKING_NU:
+        warns.append(f"near-incompressible: nu = {nu:g} >= {LOCKING_NU} with the displacement formulation "
+                     "(volumetric locking); use formulation='mixed'")
     P, Pp = measure()
     options = dict(E=E, nu=nu, degree=degree, method=method, kinematics=kinematics, traction=traction,
                    kappa0=kappa0, gamma0=gamma0, theta=theta, control=control, target=target, n_steps=n_steps,

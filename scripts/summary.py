@@ -48,7 +48,7 @@ def summary_markdown(results: Path) -> str:
         "(virtual-work reaction). Times are wall-clock seconds of the whole case (meshing, JIT if cold, solve).",
         "",
         "| case | runs | method | kinematics | ndofs | time (s) | P (N/mm) | "
-        + " | ".join(_HEADLINE) + " | pass | report |",
+        + " | ".join(_HEADLINE) + " | other checks | pass | report |",
         "|" + "---|" * (10 + len(_HEADLINE)),
     ]
     for name, m in metrics.items():
@@ -61,6 +61,9 @@ def summary_markdown(results: Path) -> str:
                 cells.append(f"{_fmt(errs[k])}{mark}")
             else:
                 cells.append("-")
+        others = [f"{k} {_fmt(errs.get(k))}{' ✓' if ok else ' ✗'}" for k, ok in m.get("checks", {}).items()
+                  if k not in _HEADLINE]
+        cells.append(", ".join(others) or "-")
         lines.append(
             f"| {name} | {len(m.get('runs', [])) or 1} | {m.get('method')} | {m.get('kinematics')} | "
             f"{_fmt(m.get('ndofs'))} | {_fmt(m.get('wall_time_s'))} | {_fmt(m.get('P'))} | "

@@ -1,0 +1,138 @@
+"""Faults: Newton cut-back, unrecoverable solves, interrupted and crashed runs, bad CLI input.
+
+Requirement: a diverging Newton step is cut back automatically; if recovery is impossible the run stops with an
+error naming the cause (SNES reason), writes ``results/logs/<case>.log`` and leaves no corrupt results; SIGINT
+leaves the previous results intact; a rerun after a crash works. The CLI runs are subprocesses in ``tmp_path``
+(their mesh cache too) on a coarse mesh (``--h-contact 0.1``, the ci_level), so the whole file takes well under 60 s warm.
+"""
+
+import dolfinx_solver  # noqa: F401
+
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from mpi4py import MPI
+
+from analytic.hertz import hertz
+from fem.elasticity import plane_strain_modulus
+from fem.obstacles import CircleObstacle
+from fem.solver import ContactSolveError, solve_contact
+from meshes.block import build_block_mesh
+from scripts.mesh_io import read_mesh
+
+ROOT = Path(__file__).resolve().parents[1]
+R, E, NU, A = 10.0, 2.0e5, 0.3, 0.5
+E_STAR = plane_strain_modulus(E=E, nu=NU)
+
+
+@pytest.fixture(scope="module")
+def mesh10(tmp_path_factory):
+    mf = build_block_mesh(width=40 * A, height=40 * A, contact_half_width=A, h_contact=A / 10, half_model=True,
+                          out_dir=tmp_path_factory.mktemp("faults_mesh"), name="faults")
+    return read_mesh(mf.msh, MPI.COMM_WORLD)
+
+
+def _cli(args, cwd, **kw):
+    env = dict(os.environ, PYTHONPATH=str(ROOT), OMP_NUM_THREADS="1")
+    return subprocess.Popen([sys.executable, "-m", "scripts", *args], cwd=cwd, env=env, text=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, **kw)
+
+
+def _run(args, cwd):
+    proc = _cli(args, cwd)
+    out, err = proc.communicate(timeout=120)
+    return proc.returncode, out, err
+
+
+def _snapshot(folder: Path) -> dict:
+    return {p.relative_to(folder): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def _no_staging(root: Path) -> bool:
+    return not [p for p in root.iterdir() if ".staging." in p.name or ".old." in p.name]
+
+
+def test_cutback_recovers_a_huge_single_step(mesh10):
+    """One displacement step to d = 0.06 mm (a ~ 0.5 mm), no active-set predictor, 4 Newton iterations allowed:
+    the full step diverges, the solver halves it (cut-backs) and reaches the target; the result still meets
+    Hertz within the 2 % band of the stability sweep (P2, h = a/10) at the measured load."""
+    res = solve_contact(mesh10, CircleObstacle(center=(0.0, R), radius=R), E=E, nu=NU, traction="halfplane",
+                        control="displacement", target=0.06, n_steps=1, symmetric_half=True, max_it=4,
+                        active_set_predictor=False, first_step_fraction=1.0)
+    kinds = [r["kind"] for r in res.load_steps]
+    assert kinds.count("cutback") >= 1, kinds
+    assert res.d == pytest.approx(0.06, rel=1e-14)
+    h = hertz(res.P, R, E_STAR)
+    assert abs(res.patches[0].half_width / h.half_width - 1.0) <= 0.02
+    assert abs(res.patches[0].p_max / h.p0 - 1.0) <= 0.02
+    assert res.warnings == []
+
+
+def test_unrecoverable_step_names_the_snes_reason(mesh10):
+    """One Newton iteration and one cut-back cannot reach the target: ContactSolveError with the PETSc name."""
+    with pytest.raises(ContactSolveError, match=r"faulty: load step 1 .*SNES reason -5 \(DIVERGED_MAX_IT\)"):
+        solve_contact(mesh10, CircleObstacle(center=(0.0, R), radius=R), E=E, nu=NU, traction="halfplane",
+                      control="displacement", target=0.06, n_steps=1, symmetric_half=True, max_it=1,
+                      active_set_predictor=False, first_step_fraction=1.0, max_cutbacks=1, case="faulty")
+
+
+GOOD = (ROOT / "cases" / "hertz_cylinder.toml").read_text().replace('name = "hertz_cylinder"', 'name = "fault_probe"')
+# kappa0 = 1e12: the penalty stiffness (1e12 E / h) swamps the elastic one by ~1e13; measured in the stability
+# sweep, every kappa0 >= 1e6 ends with SNES DIVERGED_MAX_IT after the cut-backs.
+BAD = GOOD.replace('method = "nitsche"', 'method = "penalty"\nkappa0 = 1e12')
+
+
+def test_cli_failed_run_keeps_previous_results_and_rerun_works(tmp_path):
+    case = tmp_path / "fault_probe.toml"
+    out = tmp_path / "results"
+    case.write_text(GOOD)
+    code, _, err = _run(["run", str(case), "--h-contact", "0.1", "--out", str(out)], tmp_path)
+    assert code == 0, err
+    before = _snapshot(out / "fault_probe")
+    assert (out / "fault_probe" / "metrics.json").is_file()
+
+    case.write_text(BAD)  # same case name: a failure must not touch the previous results
+    code, _, err = _run(["run", str(case), "--h-contact", "0.1", "--out", str(out)], tmp_path)
+    assert code == 1, err
+    assert "DIVERGED_MAX_IT" in err and "previous results left intact" in err, err
+    log = out / "logs" / "fault_probe.log"
+    assert log.is_file() and "ContactSolveError" in log.read_text()
+    assert _snapshot(out / "fault_probe") == before
+    assert _no_staging(out)
+
+    case.write_text(GOOD)  # rerun after the crash
+    code, _, err = _run(["run", str(case), "--h-contact", "0.1", "--out", str(out)], tmp_path)
+    assert code == 0, err
+    assert (out / "fault_probe" / "metrics.json").is_file() and _no_staging(out)
+
+
+def test_sigint_leaves_previous_results_intact(tmp_path):
+    out = tmp_path / "results"
+    code, _, err = _run(["run", "hertz_cylinder", "--h-contact", "0.1", "--out", str(out)], tmp_path)
+    assert code == 0, err
+    before = _snapshot(out / "hertz_cylinder")
+    # finer mesh, so the run is still solving when the first load step is printed and SIGINT arrives
+    proc = _cli(["run", "hertz_cylinder", "--h-contact", "0.025", "--out", str(out)], tmp_path)
+    for line in proc.stdout:
+        if "step:" in line:
+            proc.send_signal(signal.SIGINT)
+            break
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode in (130, -signal.SIGINT), (proc.returncode, err)
+    assert _snapshot(out / "hertz_cylinder") == before
+    assert _no_staging(out)
+    code, _, err = _run(["run", "hertz_cylinder", "--h-contact", "0.1", "--out", str(out)], tmp_path)
+    assert code == 0 and _no_staging(out), err
+
+
+@pytest.mark.parametrize("args, word", [(["run"], "CASE"), (["run", "hertz_cylinder", "--h-contact", "abc"],
+                                                               "--h-contact")])
+def test_cli_bad_arguments_exit_2(tmp_path, args, word):
+    """No case, or a non-numeric --h-contact: exit 2, one line on stderr naming the argument, nothing written."""
+    code, _, err = _run([*args, "--out", str(tmp_path / "r")], tmp_path)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and word in err, err
+    assert not (tmp_path / "r").exists()
