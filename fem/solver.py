@@ -24,7 +24,11 @@ Reported ``iterations`` count that predictor iteration too (1 = the prescribed a
   ``force-correction``).
 
 Divergence (SNES converged reason <= 0) restores the last converged state and halves the increment, up to
-``max_cutbacks`` times per step, then raises :class:`ContactSolveError`.
+``max_cutbacks`` times per step, then raises :class:`ContactSolveError` naming the reason (e.g. ``-5
+(DIVERGED_MAX_IT)``). A converged result carries named ``warnings`` instead of silently wrong numbers:
+"contact unresolved" (< ``min_facets_across`` facets across a patch), "contact truncated", "no contact",
+"penetration", "pressure oscillation" (:mod:`fem.postprocess`) and "near-incompressible" (displacement
+formulation at nu >= 0.45; ``formulation="mixed"`` is the locking-free Taylor-Hood u-p option).
 
 Measured load ``P`` (virtual work): ``P = -a(u, w)`` with ``w`` equal to the loading direction at every
 Dirichlet-constrained component dof and 0 elsewhere, i.e. the support reaction along the direction; it
@@ -129,7 +133,8 @@ class ContactResult:
 
 class Snapshot(NamedTuple):
     """Surface state at one recorded displacement (``record_at``): d (mm), P and P_pressure (N/mm, full
-    body), surface samples, patches, and the Newton iterations of the solve that reached it."""
+    body), surface samples, patches, the Newton iterations of the solve that reached it, and the named
+    warnings of that state (as :attr:`ContactResult.warnings`)."""
 
     d: float
     P: float
@@ -137,6 +142,7 @@ class Snapshot(NamedTuple):
     samples: SurfaceSamples
     patches: list[Patch]
     iterations: int
+    warnings: tuple = ()
 
 
 def snes_reason_name(reason: int) -> str:
@@ -438,6 +444,17 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
                                         f"{reason} ({snes_reason_name(reason)}) after {its} iterations and "
                                         f"{max_cutbacks} cut-backs")
 
+    def quality_warnings(smp, d_now):
+        """Named warnings of a converged state: resolution, penetration, oscillation, locking risk."""
+        out = resolution_warnings(smp, quadrature_degree=sdeg, half=symmetric_half,
+                                  min_facets_across=min_facets_across)
+        pen = penetration_warning(smp, d=d_now)
+        out += ([pen] if pen else []) + oscillation_warnings(smp)
+        if not mixed and nu >= LOCKING_NU:
+            out.append(f"near-incompressible: nu = {nu:g} >= {LOCKING_NU} with the displacement formulation "
+                       "(volumetric locking); use formulation='mixed'")
+        return out
+
     if not 0.0 < first_step_fraction <= 1.0:
         raise ValueError(f"first_step_fraction must be in (0, 1], got {first_step_fraction}")
     snapshots: list[Snapshot] = []
@@ -456,7 +473,8 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
             P_k, Pp_k = measure()
             snapshots.append(Snapshot(d=level, P=float(P_k), P_pressure=float(Pp_k), samples=smp,
                                       patches=find_patches(smp, half=symmetric_half),
-                                      iterations=int(records[-1]["iterations"]) if records else 0))
+                                      iterations=int(records[-1]["iterations"]) if records else 0,
+                                      warnings=tuple(quality_warnings(smp, level))))
     elif control == "displacement":
         if first_step_fraction < 1.0:
             reach(first_step_fraction * target / n_steps, 0, "first")
@@ -491,13 +509,7 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
 
     samples = sample_surface(u=u, forms=forms, facets=contact_facets, quadrature_degree=sdeg)
     patches = find_patches(samples, half=symmetric_half)
-    warns = resolution_warnings(samples, quadrature_degree=sdeg, half=symmetric_half,
-                                min_facets_across=min_facets_across)
-    pen = penetration_warning(samples, d=states[-1][0])
-    warns += ([pen] if pen else []) + oscillation_warnings(samples)
-    if not mixed and nu >= LOCKING_NU:
-        warns.append(f"near-incompressible: nu = {nu:g} >= {LOCKING_NU} with the displacement formulation "
-                     "(volumetric locking); use formulation='mixed'")
+    warns = quality_warnings(samples, states[-1][0])
     P, Pp = measure()
     options = dict(E=E, nu=nu, degree=degree, method=method, kinematics=kinematics, traction=traction,
                    kappa0=kappa0, gamma0=gamma0, theta=theta, control=control, target=target, n_steps=n_steps,

@@ -50,6 +50,9 @@ def case_report_markdown(case, outcomes, metrics) -> str:
              "(includes meshing, and form compilation when the JIT cache is cold).", ""]
     if metrics.get("headline"):
         lines += [metrics["headline"], ""]
+    warns = [(r["label"], w) for r in metrics["runs"] for w in r.get("warnings", [])]
+    if warns:
+        lines += ["## Warnings", "", *[f"- {label}: {w}" for label, w in warns], ""]
     lines += ["![pressure](pressure.png)", "",
               "Data: [pressure.csv](pressure.csv) · metrics: [metrics.json](metrics.json) · ParaView: `vtk/` "
               "(open the `.pvd` files) · log: [run.log](run.log)", "", "## Runs", "",

@@ -2,7 +2,7 @@
 
 Run: ``python -m scripts.convergence_plot [JSON]`` -> ``error_vs_time.png`` and ``error_vs_ndofs.png`` next to
 the JSON. One row of panels per case x series, one panel per error metric, one line per method x degree,
-log-log axes.
+log-log axes; each line joins the h_c levels in refinement order.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import NullFormatter  # noqa: E402
 
 from scripts.atomic import atomic_path  # noqa: E402
 
@@ -31,10 +32,13 @@ LABELS = {"p_max": "peak pressure error", "half_width": "half-width error", "rms
 def _panel(ax, rows: list[dict], *, metric: str, xkey: str) -> None:
     for (method, degree), (color, marker, ls) in STYLE.items():
         sel = [r for r in rows if r["method"] == method and r["degree"] == degree]
-        pts = sorted((r[xkey], r[metric]) for r in sel if r[metric] is not None and r[metric] > 0)
+        sel = sorted(sel, key=lambda r: -r["h_contact"])  # refinement order: the line follows h_c
+        pts = [(r[xkey], r[metric]) for r in sel if r[metric] is not None and r[metric] > 0
+               and r[xkey] is not None and r[xkey] > 0]
         if pts:
             xs, ys = zip(*pts, strict=True)
             ax.loglog(xs, ys, ls=ls, marker=marker, color=color, ms=4, lw=1.2, label=f"{method} P{degree}")
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.grid(which="both", alpha=0.3)
     ax.set_ylabel(LABELS.get(metric, metric), fontsize=8)
 

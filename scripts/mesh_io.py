@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dolfinx_solver  # noqa: F401
 
+import signal
 from pathlib import Path
 
 __all__ = ["read_mesh"]
@@ -21,4 +22,8 @@ def read_mesh(path: str | Path, comm):
     if not gmsh.isInitialized():
         gmsh.initialize(interruptible=False)
     gmsh.option.setNumber("General.Terminal", 0)
-    return gmsh_io.read_from_msh(str(path), comm, 0, gdim=2)
+    data = gmsh_io.read_from_msh(str(path), comm, 0, gdim=2)
+    # gmsh.initialize() installs the default SIGINT action; restore Python's, so Ctrl-C raises
+    # KeyboardInterrupt and the case runner can clean its staging folder (previous results stay intact).
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    return data

@@ -78,6 +78,8 @@ def run_block(run: Run, *, name: str, stage: Path | None, comm, progress) -> Out
         gamma0=sol.gamma0, theta=sol.theta, control="force", target=target.P, n_steps=ld.steps,
         symmetric_half=g.half_model, on_step=step_printer(progress, run.label), case=f"{name}[{run.label}]",
     )
+    for w in result.warnings:
+        progress(f"[{run.label}] WARNING: {w}")
     smp = result.samples
     x, p, snn = smp.s, smp.p, smp.sigma_nn
     if result.half:  # mirror the half model (x >= 0) to the full body for plots and errors
@@ -111,6 +113,7 @@ def run_block(run: Run, *, name: str, stage: Path | None, comm, progress) -> Out
         "P": result.P,
         "P_pressure": result.P_pressure,
         "patches": [pt._asdict() for pt in result.patches],
+        "warnings": list(result.warnings),
         "patch_half_width": half_width,
         "p_max": p_max,
         "mesh": files.stats,

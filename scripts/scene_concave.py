@@ -212,6 +212,9 @@ def run_concave(run: Run, *, name: str, stage: Path | None, comm, progress) -> O
     steps, series = [], []
     for snap, lcp in zip(result.snapshots, lcps, strict=True):
         m, sr = _step_metrics(snap, curve=des.concave, lcp=lcp, E_star=E_star, label=run.label)
+        m["warnings"] = list(snap.warnings)
+        for w in snap.warnings:
+            progress(f"[{run.label}] d = {snap.d:.3g} mm: WARNING: {w}")
         steps.append(m)
         series.append(sr)
     last = steps[-1]
@@ -222,7 +225,7 @@ def run_concave(run: Run, *, name: str, stage: Path | None, comm, progress) -> O
         "newton_iterations": list(result.newton_iterations), "load_steps": result.load_steps, "d": result.d,
         "P": result.P, "P_pressure": result.P_pressure,
         "patches": [{k: e[k] for k in ("center", "half_width", "p_max", "P")} for e in last["patches"]],
-        "mesh": files.stats, "steps": steps,
+        "mesh": files.stats, "steps": steps, "warnings": [w for s in steps for w in s["warnings"]],
         "analytic": {"E_star": E_star, "lcp": [s["lcp_pairs"] for s in steps]},
         "errors": {"load_balance": max(abs(s["P"] - s["P_pressure"]) / abs(s["P"]) for s in steps if s["P"] > 0)},
     }

@@ -1,6 +1,7 @@
 """Numerical-stability sweep on stiff and extreme cases: ``python -m scripts.stability`` (``make stability``).
 
-Writes ``results/stability/stability.json`` (one record per run) and ``results/stability/report.md``.
+Writes ``results/stability/stability.json`` (one record per run) and ``results/stability/report.md``, then
+:mod:`scripts.stability_plot` draws ``method.png`` and ``incompressible.png`` from the JSON.
 Every run either converges within its accuracy band or carries a NAMED reason: a solver failure
 (``diverged: ... SNES reason -5 (DIVERGED_MAX_IT)``), a warning of the solver's own checks
 (``contact unresolved``, ``penetration``, ``no contact``, ``contact truncated``; :mod:`fem.postprocess`), or a
@@ -226,8 +227,8 @@ def classify(rec: dict) -> str:
     rec["worst_error"] = worst
     within = spec.get("band") is None or (worst == worst and worst <= spec["band"])
     if rec["warnings"]:
-        return "named (warning): " + "; ".join(w.split(":")[0] for w in rec["warnings"]) + \
-            ("" if within else " [out of band]")
+        names = list(dict.fromkeys(w.split(":")[0] for w in rec["warnings"]))
+        return "named (warning): " + "; ".join(names) + ("" if within else " [out of band]")
     if within:
         return "ok"
     if spec.get("model_limit"):
@@ -287,16 +288,21 @@ def run_conformal(*, comm, progress) -> list[dict]:
         return [base | {"label": "close_to_conformal d=0.46..0.48", "converged": False,
                         "error": f"diverged: {exc}", "warnings": [], "errors": {}, "iterations": None,
                         "time_s": time.perf_counter() - t0}]
+    from analytic.hertz import TABLE1
+
+    paper = {row.d: {"P": row.P, "p0": row.p0, "delta": row.delta} for row in TABLE1
+             if row.config == "close_to_conformal"}
     recs = []
-    warns = list(out.result.warnings)
-    for s in out.metrics["steps"]:
+    for s, snap in zip(out.metrics["steps"], out.result.snapshots, strict=True):
         hw = [e["half_width"] for e in s["patches"]]
         recs.append(base | {"label": f"close_to_conformal d={s['d']:.2f}", "converged": True, "error": None,
                             "iterations": s["iterations"], "time_s": out.metrics["wall_time_s"] / 3,
-                            "warnings": warns if s is out.metrics["steps"][-1] else [],
+                            "warnings": list(snap.warnings),
                             "errors": {"load_balance": abs(s["P"] - s["P_pressure"]) / abs(s["P"])},
                             "d": s["d"], "delta_lcp": s["delta_lcp"], "P": s["P"], "p_max": s["p_max"],
                             "patch_half_widths": hw, "n_patches": s["n_patches"],
+                            "width_eq5": [e["width_eq5"][0] if e["width_eq5"] else math.nan for e in s["patches"]],
+                            "paper": paper.get(round(s["d"], 2)),
                             "relative_radius": [r for e in s["patches"] for r in e["R_pairs"]]})
     return recs
 
@@ -340,14 +346,51 @@ _DESCRIPTIONS = {
                   "errors of the convective run are not banded (it measures the effect).",
     "incompressible": "nu -> 1/2: P1 (h = a/40, band 4 %) and P2 (h = a/10) displacement formulation against "
                       "Taylor-Hood P2/P1 mixed (solve_contact(formulation='mixed')), Nitsche defaults.",
-    "loads": "a/R over 2.6 decades (mesh scaled with a: h = a/10, block 40 a). Above a/R = 0.1 the exact circle "
+    "loads": "a/R from 1e-3 to 0.4, i.e. the load P ~ a^2 over 5.2 decades (mesh scaled with a: h = a/10, "
+             "block 40 a). Above a/R = 0.1 the exact circle "
              "departs from Hertz's parabola (model limit, shown by the parabola runs).",
     "resolution": "Deliberately coarse meshes at a/R = 0.05: the solver's 'contact unresolved' warning when the patch "
                   "spans fewer than 8 contact facets (fem.solver.MIN_FACETS_ACROSS).",
     "scale": "E over nine decades (1e-3 ... 1e6 MPa), same geometry and a/R: non-dimensional results.",
-    "conformal": "Close-to-conformal design, first Table 1 steps at its ci_level mesh, solver defaults (no tuning).",
+    "conformal": "Close-to-conformal design, first Table 1 steps (d = 0.46, 0.47, 0.48 mm) at its ci_level mesh "
+                 "(h_c = a_est/10), solver defaults, no tuning; relative radius of the primary pair ~234 mm, "
+                 "~1500x the first patch half-width.",
     "faults": "Newton divergence: automatic cut-back, and a step that cannot be recovered (named error).",
 }
+
+
+def _defaults_section(records: list[dict]) -> list[str]:
+    """The method defaults read off the ``method`` study: best worst-error run per method, with its cond_1."""
+    runs = [r for r in records if r["study"] == "method" and r["converged"]]
+    if not runs:
+        return []
+
+    def worst(r):
+        return max(r["errors"][k] for k in ("p_max", "half_width", "rms"))
+
+    out = ["## Choice of defaults", ""]
+    for method in ("nitsche", "penalty"):
+        mine = [r for r in runs if r["params"]["method"] == method]
+        if not mine:
+            continue
+        best = min(mine, key=worst)
+        clean = [r for r in mine if not r["warnings"]]
+        cond = best.get("condition", {}).get("cond_jacobian", math.nan)
+        out.append(f"- {method}: smallest worst error {worst(best):.2%} at **{best['label']}** (cond_1(J) = "
+                   f"{cond:.2e}); {len(clean)}/{len(mine)} runs without a warning"
+                   + (f" ({', '.join(r['label'].split(' ', 1)[1] for r in clean)})" if clean else "") + ".")
+    out += ["", "Defaults kept (measured on this sweep, h = a/10, P2): **Nitsche gamma0 = 10, theta = 1** has the "
+            "lowest condition number of all runs (cond_1(J) ~ 9e3, 40x below gamma0 = 0.1 or 1e3), the best peak "
+            "(0.02 %) and a worst error of 0.4 %; theta = 0 and -1 agree with it within 0.1 % at gamma0 = 10. "
+            "gamma0 = 0.1 with theta = -1 reaches 0.30 % but at 45x the condition number. gamma0 >= 1e3 over-"
+            "enforces the constraint at the Gauss points ('pressure oscillation', RMS/p0 ~ 2 %), like a stiff "
+            "penalty. **Penalty kappa0 = 1e3** is kept for its peak (0.26 %), with a named 'pressure oscillation' "
+            "(RMS/p0 2.05 %); kappa0 = 1e2 is the only warning-free penalty value (RMS 1.4 %, peak 1.5 % low "
+            "from the penetration p/kappa, cond 10x lower) -- prefer it when the pressure profile matters. "
+            "kappa0 <= 10 is named 'penetration' (peak 7-10 % low); from 1e6 on semismooth Newton cycles "
+            "(DIVERGED_MAX_IT). No penalty value reaches the Nitsche accuracy on this mesh. Both parameters "
+            "scale with E / h, so the choice does not depend on E (scale study).", ""]
+    return out
 
 
 def report_markdown(summary: dict, records: list[dict]) -> str:
@@ -358,22 +401,32 @@ def report_markdown(summary: dict, records: list[dict]) -> str:
              f"limit, reason given), **{summary['silent']} SILENT** (converged out of band, nothing named).", "",
              "Errors: relative, against the classical theory at the measured load (scripts.compare). its = Newton "
              "iterations summed over all solves (max per solve). Status: see scripts/stability.py.", ""]
+    lines += _defaults_section(records)
     for study in STUDIES:
         recs = [r for r in records if r["study"] == study]
         if not recs:
             continue
         lines += [f"## {study}", "", _DESCRIPTIONS[study], ""]
         if study == "conformal":
-            lines += ["| run | converged | its | time (s) | delta LCP (mm) | P (N/mm) | p_max (MPa) | patches | "
-                      "half-widths (mm) | R pairs (mm) | load balance | status |", "|" + "---|" * 12]
+            lines += ["| run | converged | its | delta LCP (mm) | P (N/mm) | paper P | P/delta (N/mm^2) | paper "
+                      "P/delta | p_max (MPa) | paper p0 | 2a FEM (mm) | 2a eq. (5) at FEM load | R pairs (mm) | "
+                      "load balance | status |", "|" + "---|" * 15]
             for r in recs:
+                pp = r.get("paper") or {}
+                stiff = r["P"] / r["delta_lcp"] if r.get("delta_lcp") else math.nan
                 lines.append(
-                    f"| {r['label']} | {r['converged']} | {r['iterations']} | {r['time_s']:.1f} | "
-                    f"{_fmt(r.get('delta_lcp'), '.3g')} | {_fmt(r.get('P'), '.4g')} | {_fmt(r.get('p_max'), '.4g')} | "
-                    f"{r.get('n_patches', '-')} | {', '.join(f'{h:.4g}' for h in r.get('patch_half_widths', []))} | "
+                    f"| {r['label']} | {r['converged']} | {r['iterations']} | {_fmt(r.get('delta_lcp'), '.3g')} | "
+                    f"{_fmt(r.get('P'), '.4g')} | {_fmt(pp.get('P'), '.4g')} | {_fmt(stiff, '.3g')} | "
+                    f"{_fmt(pp['P'] / pp['delta'] if pp else None, '.3g')} | {_fmt(r.get('p_max'), '.4g')} | "
+                    f"{_fmt(pp.get('p0'), '.4g')} | "
+                    f"{', '.join(f'{2 * h:.3f}' for h in r.get('patch_half_widths', []))} | "
+                    f"{', '.join(_fmt(w, '.3f') for w in r.get('width_eq5', []))} | "
                     f"{', '.join(f'{x:.3g}' for x in r.get('relative_radius', []))} | "
                     f"{_fmt(r['errors'].get('load_balance'))} | {r['status']} |")
-            lines.append("")
+            lines += ["", "The design is a reconstruction (analytic.designs: the paper publishes no splines); its LCP "
+                      "indentation matches Table 1 at d = 0.46 (0.00043 mm). The paper's first row implies a secant "
+                      "stiffness P/delta about 5x that of its own second and third rows, whereas a Hertz-type "
+                      "contact stiffens with load; the FEM's P/delta rises monotonically.", ""]
             continue
         cond = study == "method"
         head = "| run | converged | its (max) | cut-backs | time (s) | p_max err | half-width err | RMS/p0 | "
@@ -438,6 +491,9 @@ def main(argv: list[str] | None = None) -> int:
     }
     write_json(args.out / "stability.json", {"summary": summary, "records": records})
     write_text(args.out / "report.md", report_markdown(summary, records))
+    from scripts.stability_plot import main as plot_main  # plotting is separate; it reads the JSON back
+
+    plot_main(["--dir", str(args.out)])
     print(f"stability: {summary['runs']} runs, {summary['ok']} ok, {summary['named']} named, "
           f"{summary['silent']} SILENT in {summary['wall_time_s']:.0f} s -> {args.out}")
     return 1 if summary["silent"] else 0

@@ -64,8 +64,8 @@ def _rows(case, method, degree, rate, nan_last=False):
     rows = []
     for h in H:
         e = 0.1 * h**rate
-        rows.append({"case": case, "series": "case", "method": method, "degree": degree, "h_contact": float(h),
-                     "ndofs": 100.0 / h**2, "rms": e, "time_s": 1.0 / h,
+        rows.append({"case": case, "series": "case", "method": method, "degree": degree,
+                     "h_contact": float(h), "ndofs": 100.0 / h**2, "rms": e, "time_s": 1.0 / h,
                      "p_max": math.nan if nan_last and h == H[-1] else e})
     return rows
 

@@ -1,0 +1,121 @@
+"""Plots of the performance benchmark (reads ``results/bench/bench.json``; files only, Agg backend).
+
+Run: ``python -m scripts.bench_plot [JSON]`` -> ``time_to_accuracy.png`` (RMS/p0 against warm time, baseline
+and the four configurations of ours) and ``cost_growth.png`` (solver, fast-variant and linear-solve time and
+peak memory against ndofs, log-log, with the fitted power laws) next to the JSON. ``python -m scripts.bench``
+calls :func:`plot_bench` itself.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.ticker import NullFormatter  # noqa: E402
+
+from scripts.atomic import atomic_path  # noqa: E402
+
+__all__ = ["main", "plot_bench"]
+
+DEFAULT_JSON = Path("results") / "bench" / "bench.json"
+STYLE = {"baseline": ("k", "x", ":"), "penalty P1": ("tab:orange", "s", "--"),
+         "penalty P2": ("tab:red", "s", "-"), "nitsche P1": ("tab:cyan", "o", "--"),
+         "nitsche P2": ("tab:blue", "o", "-")}
+
+
+def _accuracy(ax, acc: dict) -> None:
+    series = {"baseline": acc["baseline"], **acc["ours"]}
+    for name, rows in series.items():
+        color, marker, ls = STYLE.get(name, ("gray", ".", "-"))
+        pts = [(r["total_s"], r["rms"]) for r in rows if r["rms"] > 0]
+        if pts:
+            xs, ys = zip(*pts, strict=True)
+            ax.loglog(xs, ys, ls=ls, marker=marker, color=color, ms=4, lw=1.2, label=name)
+    ax.axhline(acc["target_rms"], color="gray", lw=0.8, ls="--", label=f"target {acc['target_rms']:.1%}")
+    ax.set_xlabel("warm wall time to the result (s): mesh + solve + comparison")
+    ax.set_ylabel("RMS(p - p_Hertz) / p0")
+    ax.grid(which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+
+
+def _growth(ax, scale: dict) -> None:
+    keys = (("solve_s", "case solver", "-"), ("fast_s", "1 step + LU reused", "--"),
+            ("linear_s", "one linear solve", ":"))
+    colors = {"graded": "tab:blue", "uniform": "tab:red"}
+    for family, fam in scale.items():
+        n = np.array([r["ndofs"] for r in fam["rows"]], dtype=float)
+        for key, label, ls in keys:
+            t = np.array([r[key] for r in fam["rows"]])
+            k = fam["fits"][key]["all"]["exponent"]
+            ax.loglog(n, t, ls=ls, marker="o", ms=3, color=colors.get(family, "k"),
+                      label=f"{family}: {label} (k = {k:.2f})")
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.set_xlabel("ndofs")
+    ax.set_ylabel("wall time (s)")
+    ax.grid(which="both", alpha=0.3)
+    ax.legend(fontsize=6)
+
+
+def _memory(ax, scale: dict) -> None:
+    for family, fam in scale.items():
+        n = [r["ndofs"] for r in fam["rows"]]
+        m = [r["peak_rss_mb"] for r in fam["rows"]]
+        ax.loglog(n, m, marker="o", ms=3, label=family)
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.yaxis.set_minor_formatter(NullFormatter())
+    ax.set_xlabel("ndofs")
+    ax.set_ylabel("peak RSS (VmHWM) of the process (MB)")
+    ax.grid(which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+
+
+def plot_bench(data: dict, out_dir: Path) -> list[Path]:
+    """Write ``time_to_accuracy.png`` and ``cost_growth.png`` (when the sections exist); returns the paths.
+
+    Args:
+        data: The JSON written by :mod:`scripts.bench`.
+        out_dir: Output folder.
+    """
+    paths = []
+    if data.get("accuracy"):
+        fig, ax = plt.subplots(figsize=(6.4, 4.4))
+        _accuracy(ax, data["accuracy"])
+        ax.set_title("hertz_cylinder: error against warm time", fontsize=9)
+        paths.append(_save(fig, Path(out_dir) / "time_to_accuracy.png"))
+    if data.get("scale"):
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(11.0, 4.4))
+        _growth(a1, data["scale"])
+        _memory(a2, data["scale"])
+        a1.set_title("cost growth (P2, Nitsche)", fontsize=9)
+        paths.append(_save(fig, Path(out_dir) / "cost_growth.png"))
+    return paths
+
+
+def _save(fig, path: Path) -> Path:
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=130)
+    plt.close(fig)
+    return path
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m scripts.bench_plot [JSON]``."""
+    argv = sys.argv[1:] if argv is None else argv
+    path = Path(argv[0]) if argv else DEFAULT_JSON
+    if not path.is_file():
+        print(f"error: {path} not found; run `python -m scripts.bench` first", file=sys.stderr)
+        return 2
+    for p in plot_bench(json.loads(path.read_text()), path.parent):
+        print(p)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

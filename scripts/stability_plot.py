@@ -1,0 +1,96 @@
+"""Plots of the stability sweep from ``results/stability/stability.json`` (no computation here).
+
+``python -m scripts.stability_plot [--dir results/stability]`` writes ``method.png`` (errors and the Jacobian's
+condition estimate against kappa0 / gamma0) and ``incompressible.png`` (peak error against nu, P1/P2
+displacement vs mixed).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from scripts.atomic import atomic_path  # noqa: E402
+
+__all__ = ["plot_method", "plot_incompressible", "main"]
+
+
+def _err(r, key):
+    return r["errors"].get(key) if r.get("converged") else None
+
+
+def plot_method(records: list[dict], path: Path) -> Path:
+    """Worst relative error and cond_1(J) against the method parameter (penalty kappa0, Nitsche gamma0 x theta)."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    groups = {"penalty": [r for r in records if r["study"] == "method" and r["params"]["method"] == "penalty"]}
+    for theta in (1, 0, -1):
+        groups[f"nitsche theta={theta}"] = [r for r in records if r["study"] == "method"
+                                            and r["params"]["method"] == "nitsche" and r["params"]["theta"] == theta]
+    for name, recs in groups.items():
+        par = "kappa0" if name == "penalty" else "gamma0"
+        ok = [r for r in recs if r["converged"]]
+        x = [r["params"][par] for r in ok]
+        ax1.loglog(x, [max(_err(r, k) for k in ("p_max", "half_width", "rms")) for r in ok], "o-", label=name)
+        ax2.loglog(x, [r["condition"]["cond_jacobian"] for r in ok], "o-", label=name)
+        bad = [r["params"][par] for r in recs if not r["converged"]]
+        if bad:
+            ax1.loglog(bad, [1.0] * len(bad), "kx", label=f"{name}: diverged")
+    ax1.axhline(0.02, color="grey", ls=":", label="2 % band")
+    ax1.set(xlabel="kappa0 / gamma0", ylabel="worst of p_max, half-width, RMS/p0 errors")
+    ax2.set(xlabel="kappa0 / gamma0", ylabel="cond_1(J) estimate (free dofs)")
+    for ax in (ax1, ax2):
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle("Method parameters, Hertz scene (P2, h = a/10)")
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_incompressible(records: list[dict], path: Path) -> Path:
+    """Peak-pressure and RMS errors against nu for P1/P2 displacement and P2/P1 mixed (diverged runs at 1)."""
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    recs = [r for r in records if r["study"] == "incompressible"]
+    for label in ("P1 displacement", "P2 displacement", "P2 mixed"):
+        mine = [r for r in recs if r["label"].endswith(label)]
+        x = [0.5 - r["params"]["nu"] for r in mine]
+        y = [max(_err(r, "p_max"), _err(r, "rms")) if r["converged"] else 1.0 for r in mine]
+        ax.loglog(x, y, "o-", label=label)
+    ax.axhline(0.02, color="grey", ls=":", label="2 % band")
+    ax.set(xlabel="0.5 - nu", ylabel="max(p_max error, RMS/p0)  (1 = diverged)",
+           title="Near-incompressibility, Hertz scene")
+    ax.invert_xaxis()
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def main(argv: list[str] | None = None) -> int:
+    """CLI: read ``<dir>/stability.json``, write the PNGs next to it."""
+    ap = argparse.ArgumentParser(prog="python -m scripts.stability_plot", description=__doc__.splitlines()[0])
+    ap.add_argument("--dir", type=Path, default=Path("results/stability"))
+    args = ap.parse_args(argv)
+    data = json.loads((args.dir / "stability.json").read_text())
+    recs = data["records"]
+    if any(r["study"] == "method" for r in recs):
+        plot_method(recs, args.dir / "method.png")
+    if any(r["study"] == "incompressible" for r in recs):
+        plot_incompressible(recs, args.dir / "incompressible.png")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

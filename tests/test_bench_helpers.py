@@ -1,0 +1,77 @@
+"""Fast checks of the benchmark helpers (scripts/bench.py): exponent fit, ladder selection, report text.
+
+No timing is asserted: the benchmark reports times, it does not test them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from scripts.bench import (
+    LOG_EVENTS,
+    RMS_TARGET,
+    ExponentFit,
+    first_reaching,
+    fit_exponent,
+    rel_diff,
+    to_markdown,
+)
+
+# An exact power law is fitted to round-off: the only error is floating point in polyfit on ~5 points,
+# so 1e-10 on the exponent is ~1e5 eps of headroom.
+EXACT = 1e-10
+
+
+@pytest.mark.parametrize("k", [1.0, 1.3, 1.5])
+def test_fit_exponent_recovers_exact_power_law(k):
+    n = np.array([2.5e3, 1e4, 4e4, 1.6e5, 1e6])
+    t = 3e-6 * n**k
+    fit = fit_exponent(n, t)
+    assert isinstance(fit, ExponentFit)
+    assert abs(fit.exponent - k) < EXACT
+    assert abs(fit.prefactor / 3e-6 - 1.0) < 1e-8  # exp of the intercept: a few ulps amplified by log(1e6)
+    assert fit.n_points == 5 and fit.max_residual < EXACT
+
+
+def test_fit_exponent_largest_sizes_only():
+    # overhead-dominated small sizes (constant 1 s) then t ~ n: the last three give exponent ~1 exactly
+    # only if the fit really ignores the first two points.
+    n = np.array([1e2, 1e3, 1e4, 1e5, 1e6])
+    t = np.array([1.0, 1.0, 1e-3 * 1e4, 1e-3 * 1e5, 1e-3 * 1e6])
+    assert abs(fit_exponent(n, t, n_last=3).exponent - 1.0) < EXACT
+    assert fit_exponent(n, t).exponent < 0.9  # all points: pulled down by the flat start
+
+
+@pytest.mark.parametrize(
+    ("n", "t", "msg"),
+    [([1e3], [1.0], "ndofs must hold"), ([1e4, 1e3], [1.0, 2.0], "strictly increasing"),
+     ([1e3, 1e4], [1.0, 0.0], "err must be")],
+)
+def test_fit_exponent_rejects_bad_input(n, t, msg):
+    with pytest.raises(ValueError, match=msg):
+        fit_exponent(n, t)
+
+
+def test_first_reaching_takes_the_first_row_in_ladder_order():
+    rows = [{"rms": 0.02}, {"rms": math.nan}, {"rms": 0.004, "id": 2}, {"rms": 0.001, "id": 3}]
+    assert first_reaching(rows)["id"] == 2  # not the most accurate one: the first (cheapest) that reaches
+    assert first_reaching(rows, target=0.002)["id"] == 3
+    assert first_reaching(rows[:2]) is None
+    assert RMS_TARGET == 0.005  # the issue's 0.5 %
+
+
+def test_rel_diff():
+    assert rel_diff(0.0, 0.0) == 0.0
+    assert rel_diff(1.0, 1.0 + 1e-9) == pytest.approx(1e-9, rel=1e-6)
+    assert rel_diff(-2.0, 2.0) == 2.0
+
+
+def test_report_states_unmet_targets():
+    lin = {"ndofs": 2568, "solve_s": 0.07, "linear_s": 0.01, "linear_resolve_s": 0.004,
+           "linear_solves_equivalent": 7.0, "newton_iterations": [1, 1], "newton_per_step": 1.0,
+           "events": {n: {"count": 1, "time_s": 0.0} for n in LOG_EVENTS}}
+    text = to_markdown({"load_avg_start": (1.0, 1.0, 1.0), "cpu_count": 2, "linear": lin})
+    assert "| contact solve <= 4 linear solves (default case) | 7 | NOT met |" in text
