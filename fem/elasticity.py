@@ -20,6 +20,8 @@ from typing import NamedTuple
 
 import ufl
 
+from analytic import materials
+
 __all__ = ["Lame", "lame", "epsilon", "sigma", "sigma_mixed", "mixed_constraint", "von_mises",
            "plane_strain_modulus"]
 
@@ -41,8 +43,8 @@ def lame(*, E: float, nu: float) -> Lame:
 
 
 def plane_strain_modulus(*, E: float, nu: float) -> float:
-    """``E' = E / (1 - nu^2)`` (MPa): the contact modulus E* of an elastic body against a rigid one."""
-    return E / (1.0 - nu * nu)
+    """E* = E / (1 - nu^2) (MPa): the one formula lives in :func:`analytic.materials.plane_strain_modulus`."""
+    return materials.plane_strain_modulus(E, nu)
 
 
 def epsilon(u):
