@@ -18,7 +18,7 @@ from __future__ import annotations
 import copy
 import math
 import tomllib
-from dataclasses import MISSING, dataclass, field, fields
+from dataclasses import MISSING, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -121,10 +121,12 @@ class Discretisation:
         h_contact: Element size in the contact zone as a fraction of the contact half-width, in (0, 1].
         levels: Refinement levels for studies, as h_contact fractions, coarse to fine.
         ci_level: Fraction used by ``make ci`` (the coarsest that still meets the tolerances).
+        growth: Element-to-element size ratio of the mesh grading away from the contact, in [1.05, 2].
     """
 
     degree: int = 2
     h_contact: float = 0.05
+    growth: float = 1.3
     levels: tuple[float, ...] = ()
     ci_level: float | None = None
 
@@ -208,9 +210,7 @@ class Case:
                 sections[name] = _build(cls, merged, f"{where}: {name}", partial_ok=False)
             if h_contact is not None:
                 d = sections["discretisation"]
-                sections["discretisation"] = Discretisation(
-                    degree=d.degree, h_contact=h_contact, levels=d.levels, ci_level=d.ci_level
-                )
+                sections["discretisation"] = replace(d, h_contact=h_contact)
             run = Run(label=str(var.get("label", f"variant{i}")), **sections)
             _check_run(run, where)
             out.append(run)
@@ -253,6 +253,7 @@ _RANGES = {
     ("loading", "steps"): (1, 1000, True, True, "1 <= steps <= 1000"),
     ("discretisation", "h_contact"): (0.0, 1.0, False, True, "0 < h_contact <= 1 (fraction of half-width)"),
     ("discretisation", "ci_level"): (0.0, 1.0, False, True, "0 < ci_level <= 1"),
+    ("discretisation", "growth"): (1.05, 2.0, True, True, "1.05 <= growth <= 2"),
     ("solver", "kappa0"): (0.0, math.inf, False, False, "kappa0 > 0"),
     ("solver", "gamma0"): (0.0, math.inf, False, False, "gamma0 > 0"),
 }

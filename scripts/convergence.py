@@ -48,6 +48,7 @@ __all__ = [
     "METRICS",
     "RateFit",
     "cheapest",
+    "discussion",
     "fit_rate",
     "l2_pressure_error",
     "main",
@@ -55,6 +56,7 @@ __all__ = [
     "run_study",
     "to_csv",
     "to_markdown",
+    "write_outputs",
 ]
 
 OUT_DIR = Path("results") / "convergence"
@@ -592,9 +594,11 @@ def discussion(data: dict) -> str:
                 "lowers the constant, not the rate. b/b0: at the finest level every method gives FEM b/b0 = "
                 f"{min(vals):.4f} to {max(vals):.4f} (spread {spread:.2%}) against the converged theory "
                 f"{theory:.4f}: a {gap:.2%} gap. {block}{verdict}rms_convective (convective run against the "
-                "converged pressure) levels off too (tables); that floor is not explained here (candidates: "
-                "the block size, and the linear interpolation of the log-singular theoretical pressure from "
-                "its output grid).", ""]
+                "converged pressure) levels off too (tables): besides the block size, its floor is "
+                "the linear interpolation of the log-singular theoretical pressure from the 801-point "
+                "output grid of analytic.convective.solve in scripts/case_checks.py (a one-off check "
+                "on the finest ideal Nitsche P2 run with an 8001-point grid gave a value about 5 "
+                "times smaller); it is not a discretisation error.", ""]
     found = []
     for key, r in data["cheapest_rms"].items():
         case, series = key.split("/")

@@ -45,7 +45,8 @@ def block_mesh(run: Run, *, name: str, comm, stats_dir: Path | None = None):
     a0 = target.half_width
     files = build_block_mesh(
         width=g.width_factor * a0, height=g.height_factor * a0, contact_half_width=a0,
-        h_contact=disc.h_contact * a0, half_model=g.half_model, apex_refinement=g.indenter == "wedge",
+        h_contact=disc.h_contact * a0, growth=disc.growth, half_model=g.half_model,
+        apex_refinement=g.indenter == "wedge",
         out_dir=MESH_CACHE, name=f"{name}_{run.label}".replace("/", "_").replace("=", "_"),
         stats_dir=stats_dir, comm=comm,
     )

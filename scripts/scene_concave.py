@@ -184,8 +184,8 @@ def concave_mesh(run: Run, *, name: str, comm, stats_dir: Path | None = None) ->
         raise ValueError(f"{name}: loading.d = {list(ld.d)} never brings the particle into contact "
                          "(no overlapping plausible LCP pair); allowed: displacements that reach the body")
     h_c = disc.h_contact * a_est
-    files = build_concave_mesh(design=des, h_contact=h_c, out_dir=MESH_CACHE, name=f"{name}", comm=comm,
-                               stats_dir=stats_dir)
+    files = build_concave_mesh(design=des, h_contact=h_c, growth=disc.growth, out_dir=MESH_CACHE, name=name,
+                               comm=comm, stats_dir=stats_dir)
     return ConcaveMesh(files, des, lcps, a_est, h_c)
 
 
