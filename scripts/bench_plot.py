@@ -24,9 +24,13 @@ from scripts.atomic import atomic_path  # noqa: E402
 __all__ = ["main", "plot_bench"]
 
 DEFAULT_JSON = Path("results") / "bench" / "bench.json"
-STYLE = {"baseline": ("k", "x", ":"), "penalty P1": ("tab:orange", "s", "--"),
-         "penalty P2": ("tab:red", "s", "-"), "nitsche P1": ("tab:cyan", "o", "--"),
-         "nitsche P2": ("tab:blue", "o", "-")}
+STYLE = {
+    "baseline": ("k", "x", ":"),
+    "penalty P1": ("tab:orange", "s", "--"),
+    "penalty P2": ("tab:red", "s", "-"),
+    "nitsche P1": ("tab:cyan", "o", "--"),
+    "nitsche P2": ("tab:blue", "o", "-"),
+}
 
 
 def _accuracy(ax, acc: dict) -> None:
@@ -45,16 +49,26 @@ def _accuracy(ax, acc: dict) -> None:
 
 
 def _growth(ax, scale: dict) -> None:
-    keys = (("solve_s", "case solver", "-"), ("fast_s", "1 step + LU reused", "--"),
-            ("linear_s", "one linear solve", ":"))
+    keys = (
+        ("solve_s", "case solver", "-"),
+        ("fast_s", "1 load step", "--"),
+        ("linear_s", "one linear solve", ":"),
+    )
     colors = {"graded": "tab:blue", "uniform": "tab:red"}
     for family, fam in scale.items():
         n = np.array([r["ndofs"] for r in fam["rows"]], dtype=float)
         for key, label, ls in keys:
             t = np.array([r[key] for r in fam["rows"]])
             k = fam["fits"][key]["all"]["exponent"]
-            ax.loglog(n, t, ls=ls, marker="o", ms=3, color=colors.get(family, "k"),
-                      label=f"{family}: {label} (k = {k:.2f})")
+            ax.loglog(
+                n,
+                t,
+                ls=ls,
+                marker="o",
+                ms=3,
+                color=colors.get(family, "k"),
+                label=f"{family}: {label} (k = {k:.2f})",
+            )
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("ndofs")
     ax.set_ylabel("wall time (s)")
@@ -63,10 +77,15 @@ def _growth(ax, scale: dict) -> None:
 
 
 def _memory(ax, scale: dict) -> None:
+    colors = {"graded": "tab:blue", "uniform": "tab:red"}
     for family, fam in scale.items():
         n = [r["ndofs"] for r in fam["rows"]]
-        m = [r["peak_rss_mb"] for r in fam["rows"]]
-        ax.loglog(n, m, marker="o", ms=3, label=family)
+        for key, ls, what in (
+            ("peak_rss_first_solve_mb", "-", "after the first solve"),
+            ("peak_rss_mb", ":", "end"),
+        ):
+            m = [r.get(key, float("nan")) for r in fam["rows"]]
+            ax.loglog(n, m, marker="o", ms=3, ls=ls, color=colors.get(family, "k"), label=f"{family}, {what}")
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.yaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("ndofs")

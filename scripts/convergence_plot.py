@@ -25,7 +25,8 @@ DEFAULT_JSON = Path("results") / "convergence" / "convergence.json"
 STYLE = {("penalty", 1): ("tab:orange", "s", "--"), ("penalty", 2): ("tab:red", "s", "-"),
          ("nitsche", 1): ("tab:cyan", "o", "--"), ("nitsche", 2): ("tab:blue", "o", "-")}
 LABELS = {"p_max": "peak pressure error", "half_width": "half-width error", "rms": "RMS(p - p_th) / p_ref",
-          "l2": "Gauss L2(p - p_th) / p_ref", "b_over_b0": "b/b0 error (vs converged theory)",
+          "l2": "Gauss L2(p - p_th) / p_ref", "l2_inner": "Gauss L2 on |x| <= 0.8 a / p_ref",
+          "b_over_b0": "b/b0 error (vs converged theory)",
           "rms_convective": "RMS(p - p_conv) / p_ref, convective run"}
 
 
@@ -41,6 +42,19 @@ def _panel(ax, rows: list[dict], *, metric: str, xkey: str) -> None:
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.grid(which="both", alpha=0.3)
     ax.set_ylabel(LABELS.get(metric, metric), fontsize=8)
+
+
+def _guide(ax, rows: list[dict], *, metric: str, rate: float) -> None:
+    """Dotted reference slope ndofs^(-rate/2) (= h^rate for the ideal series, whose size field scales with
+    h_c, so ndofs ~ h^-2), anchored at the finest Nitsche P2 point."""
+    sel = [r for r in rows if (r["method"], r["degree"]) == ("nitsche", 2) and r[metric] is not None
+           and r[metric] > 0 and not r["failed"]]
+    if len(sel) < 2:
+        return
+    ref = min(sel, key=lambda r: r["h_contact"])
+    n = [min(r["ndofs"] for r in sel), ref["ndofs"]]
+    ax.loglog(n, [ref[metric] * (x / ref["ndofs"]) ** (-rate / 2.0) for x in n], ls=":", color="grey",
+              lw=1.5, label=f"expected h^{rate:g}")
 
 
 def plot_study(data: dict, *, out_dir: Path) -> list[Path]:
@@ -65,6 +79,11 @@ def plot_study(data: dict, *, out_dir: Path) -> list[Path]:
                 ax = axes[i, j]
                 xkey = data.get("time_of", {}).get(metric, "time_s") if stem == "error_vs_time" else "ndofs"
                 _panel(ax, rows, metric=metric, xkey=xkey)
+                rate = data.get("expected_rates", {}).get(f"{case}/{series}", {}).get(metric)
+                if stem == "error_vs_ndofs" and series == "ideal" and rate is not None:
+                    _guide(ax, rows, metric=metric, rate=rate)
+                    ax.legend(fontsize=6)
+                    ax.xaxis.set_minor_formatter(NullFormatter())
                 ax.set_title(f"{case} [{series}]: {metric}", fontsize=9)
                 pair = " (small + convective pair)" if xkey == "time_pair_s" else ""
                 ax.set_xlabel(xlabel + pair, fontsize=8)

@@ -47,8 +47,11 @@ def test_fit_exponent_largest_sizes_only():
 
 @pytest.mark.parametrize(
     ("n", "t", "msg"),
-    [([1e3], [1.0], "ndofs must hold"), ([1e4, 1e3], [1.0, 2.0], "strictly increasing"),
-     ([1e3, 1e4], [1.0, 0.0], "err must be")],
+    [
+        ([1e3], [1.0], "ndofs must hold"),
+        ([1e4, 1e3], [1.0, 2.0], "strictly increasing"),
+        ([1e3, 1e4], [1.0, 0.0], "err must be"),
+    ],
 )
 def test_fit_exponent_rejects_bad_input(n, t, msg):
     with pytest.raises(ValueError, match=msg):
@@ -70,8 +73,15 @@ def test_rel_diff():
 
 
 def test_report_states_unmet_targets():
-    lin = {"ndofs": 2568, "solve_s": 0.07, "linear_s": 0.01, "linear_resolve_s": 0.004,
-           "linear_solves_equivalent": 7.0, "newton_iterations": [1, 1], "newton_per_step": 1.0,
-           "events": {n: {"count": 1, "time_s": 0.0} for n in LOG_EVENTS}}
+    lin = {
+        "ndofs": 2568,
+        "solve_s": 0.07,
+        "linear_s": 0.01,
+        "linear_resolve_s": 0.004,
+        "linear_solves_equivalent": 7.0,
+        "newton_iterations": [1, 1],
+        "newton_per_step": 1.0,
+        "events": {n: {"count": 1, "time_s": 0.0} for n in LOG_EVENTS},
+    }
     text = to_markdown({"load_avg_start": (1.0, 1.0, 1.0), "cpu_count": 2, "linear": lin})
     assert "| contact solve <= 4 linear solves (default case) | 7 | NOT met |" in text

@@ -1,4 +1,5 @@
-"""Rate fitting of the convergence study (scripts.convergence) on synthetic data; no dolfinx, < 1 s.
+"""Rate fitting and reporting of the convergence study (scripts.convergence, scripts.convergence_report) on
+synthetic data; no dolfinx, < 1 s.
 
 The fit is a least-squares line in log-log over the finest three levels, so an exact power law must come out
 to round-off (tolerance 1e-10: a few ulps of log amplified by the 3-point fit), and pre-asymptotic coarse
@@ -10,7 +11,19 @@ import math
 import numpy as np
 import pytest
 
-from scripts.convergence import RateFit, cheapest, fit_rate, l2_pressure_error, observed_rates
+from scripts.convergence import (
+    EXPECTED_RATES,
+    GROWTH_RANGE,
+    RATE_BAND,
+    RateFit,
+    cheapest,
+    fit_rate,
+    ideal_growth,
+    judge_rates,
+    l2_pressure_error,
+    observed_rates,
+)
+from scripts.convergence_report import to_markdown
 
 H = np.array([0.2, 0.1, 0.05, 0.025, 0.0125])
 
@@ -113,3 +126,75 @@ def test_l2_pressure_error_of_a_constant_offset():
     th = _Theory()
     assert abs(l2_pressure_error(_Samples(s, th.pressure(s) + 0.2, w), th, half_width_fem=1.0) - 0.1) < 1e-12
     assert l2_pressure_error(_Samples(s, th.pressure(s), w), th, half_width_fem=1.0) == 0.0
+
+
+def test_l2_pressure_error_inner_band():
+    """x_max restricts the band: an offset of 0.2 p_ref on |x| <= 0.5 only, zero elsewhere, gives exactly 0.1
+    on |x| <= 0.5 (round-off) and less on the default band; a non-positive x_max is a ValueError."""
+    pts, wts = np.polynomial.legendre.leggauss(2)
+    edges = np.linspace(0.0, 1.2, 25)
+    s = (0.5 * (edges[:-1] + edges[1:])[:, None] + 0.5 * np.diff(edges)[:, None] * pts).ravel()
+    w = (0.5 * np.diff(edges)[:, None] * wts).ravel()
+    th = _Theory()
+    p = th.pressure(s) + np.where(s <= 0.5, 0.2, 0.0)
+    assert abs(l2_pressure_error(_Samples(s, p, w), th, half_width_fem=1.0, x_max=0.5) - 0.1) < 1e-12
+    assert l2_pressure_error(_Samples(s, p, w), th, half_width_fem=1.0) < 0.1
+    with pytest.raises(ValueError, match="x_max"):
+        l2_pressure_error(_Samples(s, p, w), th, half_width_fem=1.0, x_max=0.0)
+
+
+def test_ideal_growth_scales_with_h_and_stays_in_the_schema_range():
+    """growth - 1 proportional to h_c (the whole size field scales with h_c), inside [1.05, 2]."""
+    levels = [0.4, 0.2, 0.1, 0.05, 0.025]
+    g = [ideal_growth(h) for h in levels]
+    ratios = [(gi - 1.0) / h for gi, h in zip(g, levels, strict=True)]
+    assert max(ratios) - min(ratios) < 1e-12
+    assert g[0] <= GROWTH_RANGE[1] and abs(g[-1] - GROWTH_RANGE[0]) < 1e-12
+    for bad in (0.0125, 0.6):
+        with pytest.raises(ValueError, match="h_contact"):
+            ideal_growth(bad)
+
+
+def test_judge_rates_band():
+    """|slope - expected| <= 0.15 is 'within'; Hertz ideal expects 1.0, wedge 0.5; no expectation: ''."""
+    assert EXPECTED_RATES["hertz_cylinder/ideal"]["rms"] == 1.0 and RATE_BAND == 0.15
+    base = {"series": "ideal", "method": "nitsche", "degree": 2}
+    rates = [{**base, "case": "hertz_cylinder", "metric": "rms", "slope_h": 1.14},
+             {**base, "case": "hertz_cylinder", "metric": "l2", "slope_h": 0.84},
+             {**base, "case": "wedge_convective", "metric": "rms", "slope_h": None},
+             {**base, "case": "hertz_cylinder", "metric": "p_max", "slope_h": 3.0}]
+    got = [r["verdict"] for r in judge_rates(rates)]
+    assert got == ["within", "outside", "no fit", ""]
+    with pytest.raises(ValueError, match="band"):
+        judge_rates(rates, band=0.0)
+
+
+def _study(rate: float) -> dict:
+    """A minimal study JSON (Hertz ideal series only): every error = 0.1 h^rate, rms target never met."""
+    levels = [0.2, 0.1, 0.05]
+    rows = []
+    for method in ("penalty", "nitsche"):
+        for degree in (1, 2):
+            for h in levels:
+                e = 0.1 * h**rate
+                rows.append({"case": "hertz_cylinder", "series": "ideal", "method": method, "degree": degree,
+                             "h_contact": h, "growth": 1.0 + 2.0 * h, "ndofs": int(100 / h**2),
+                             "time_s": 1.0 / h, "cold_s": 1.0 / h, "newton_iterations": 5, "warnings": "",
+                             "failed": "", "repeat_spread": 0.0,
+                             **{m: e for m in ("p_max", "half_width", "rms", "l2", "l2_inner")}})
+    rates = judge_rates(observed_rates(rows))
+    return {"levels": {"case": [], "ideal": levels}, "repeats": 3, "n_finest": 3, "growth_per_h": 2.0,
+            "metrics": {"hertz_cylinder": ("p_max", "half_width", "rms", "l2", "l2_inner")},
+            "series": {"hertz_cylinder": {"ideal": {"width_factor": 640.0}}}, "rms_target": 1e-9,
+            "rate_band": RATE_BAND, "rows": rows, "rates": rates, "cheapest_rms": cheapest(rows, target=1e-9),
+            "study_wall_time_s": 1.0, "kappa0_level": 0.0125}
+
+
+def test_report_states_observed_against_expected():
+    """An exact h^1 law is reported as +1.00 'within' for rms and l2 (1.0 expected); h^2 as 'outside'."""
+    md = to_markdown(_study(1.0))
+    assert "| hertz_cylinder | ideal | nitsche | 2 | rms | 1.00 | +1.00 | within |" in md
+    assert "| hertz_cylinder | ideal | penalty | 1 | l2 | 1.00 | +1.00 | within |" in md
+    md2 = to_markdown(_study(2.0))
+    assert "| hertz_cylinder | ideal | nitsche | 2 | rms | 1.00 | +2.00 | outside |" in md2
+    assert "hertz_cylinder/ideal: none within the levels; Nitsche P2 reaches rms" in md2
