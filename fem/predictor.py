@@ -7,6 +7,9 @@ loaded by ``t = -p_H(X1) e_y`` on Gamma_c with ``p_H = p0 sqrt(1 - (X1 - x_c)^2 
 ``X_c = (x_c, y_c)`` (a dof of Gamma_c nearest to the obstacle's lowest point) is
 ``d = (y_lowest - X_c2) - u_y(X_c)`` (mm). Both are the Newton starting point; the active set then starts
 within about one quadrature point of the converged one.
+
+Only the right-hand side depends on the load level: the stiffness K is assembled and LU-factored (MUMPS) at
+the first call and reused by later calls of the same predictor (one per :func:`fem.solver.solve_contact`).
 """
 
 from __future__ import annotations
@@ -15,9 +18,11 @@ import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
 
 import dolfinx
 import dolfinx.fem.petsc
+import dolfinx.la.petsc
 import numpy as np
 import ufl
 from mpi4py import MPI
+from petsc4py import PETSc
 
 from analytic.hertz import hertz, hertz_pressure
 from fem.elasticity import sigma
@@ -56,13 +61,31 @@ class HertzPredictor:
         self.dof = int(dofs[i]) if (dofs.size and mesh.comm.rank == self.owner) else -1
         self.y_c = mesh.comm.bcast(float(xyz[i, 1]) if mesh.comm.rank == self.owner else None, root=self.owner)
         self.comm = mesh.comm
+        self._factored = False
+
+    def _solve(self):
+        """``problem.solve()`` with K assembled (and so factored by the KSP) at the first call only."""
+        pb = self.problem
+        if not self._factored:
+            pb.solve()
+            self._factored = True
+            return
+        dolfinx.la.petsc._zero_vector(pb.b)
+        dolfinx.fem.petsc.assemble_vector(pb.b, pb.L)
+        dolfinx.fem.petsc.apply_lifting(pb.b, [pb.a], bcs=[pb.bcs])
+        dolfinx.la.petsc._ghost_update(pb.b, PETSc.InsertMode.ADD, PETSc.ScatterMode.REVERSE)
+        for bc in pb.bcs:
+            bc.set(pb.b.array_w)
+        pb.solver.solve(pb.b, pb.x)  # unchanged operator: PETSc keeps the LU factors
+        dolfinx.la.petsc._ghost_update(pb.x, PETSc.InsertMode.INSERT, PETSc.ScatterMode.FORWARD)
+        dolfinx.fem.petsc.assign(pb.x, pb.u)
 
     def __call__(self, P: float, *, half: bool = False) -> tuple[float, np.ndarray, tuple[float, float]]:
         """Return (d, u array, Hertz zone (lo, hi) in X1) for the full-body load P (N/mm)."""
         h = hertz(P, self.R, self.E_star)
         self.a.value = h.half_width
         self.p0.value = h.p0
-        self.problem.solve()
+        self._solve()
         uy = float(self.uh.x.array[2 * self.dof + 1]) if self.comm.rank == self.owner else None
         uy = self.comm.bcast(uy, root=self.owner)
         zone = (-np.inf if half else self.x_c - h.half_width, self.x_c + h.half_width)

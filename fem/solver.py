@@ -19,9 +19,16 @@ Reported ``iterations`` count that predictor iteration too (1 = the prescribed a
 
 * ``control="displacement"``: the obstacle moves by ``d_k = target k / n_steps`` along its direction.
 * ``control="force"``: load levels ``P_k = target k / n_steps``; d from the Hertz predictor or the secant
-  through the last two (d, P) states (the first from a stiffness guess 0.3 E'); the last level is corrected by
-  secant iterations on d until ``|P - target| <= force_rtol target`` (each a separate record, kind
-  ``force-correction``).
+  through the last two (d, P) states (the first from a stiffness guess 0.3 E'); the last level is corrected on
+  d until ``|P - target| <= force_rtol target`` (each a separate record, kind ``force-correction``). For a
+  fixed active set the small-strain equations are linear in (u, d), so a correction first tries the tangent
+  of the last converged state with the LU factors the Newton solve already holds: ``J t = -dF/dd`` (dF/dd by
+  a central difference in d of the residual), ``dP/dd = P(t)``, ``Delta d = (target - P) / (dP/dd)``,
+  ``u + Delta d t``; that state then goes through the same SNES solve (true law, same tolerances and
+  converged-reason checks), which accepts it without iterating (0 iterations recorded) when the active set
+  did not change, and iterates from it otherwise (a stale J, e.g. convective kinematics, only costs those
+  iterations). When the tangent does not apply (mixed formulation, curve obstacles) or its solve diverges, the
+  correction is the secant through the last two (d, P) states.
 
 Divergence (SNES converged reason <= 0) restores the last converged state and halves the increment, up to
 ``max_cutbacks`` times per step, then raises :class:`ContactSolveError` naming the reason (e.g. ``-5
@@ -50,6 +57,7 @@ from typing import Any, NamedTuple
 
 import dolfinx
 import dolfinx.fem.petsc
+import dolfinx.la.petsc
 import numpy as np
 import ufl
 from mpi4py import MPI
@@ -59,13 +67,13 @@ from fem.elasticity import lame, mixed_constraint, plane_strain_modulus, sigma, 
 from fem.postprocess import (
     LOCKING_NU,
     Patch,
+    SurfaceSampler,
     SurfaceSamples,
     contact_edges,
     find_patches,
     oscillation_warnings,
     penetration_warning,
     resolution_warnings,
-    sample_surface,
 )
 from fem.predictor import HertzPredictor as _HertzPredictor
 
@@ -368,10 +376,17 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
             return u2
         return u2 + (d_new - d2) / (d2 - d1) * (u2 - u1)
 
+    samplers: dict[int, SurfaceSampler] = {}  # Gauss degree -> sampler (one Expression per solve and degree)
+
+    def sample(degree):
+        if degree not in samplers:
+            samplers[degree] = SurfaceSampler(u=u, forms=forms, facets=contact_facets, quadrature_degree=degree)
+        return samplers[degree]()
+
     def edges_now():
         if not active_set_predictor:
             return None
-        smp = sample_surface(u=u, forms=forms, facets=contact_facets, quadrature_degree=qdeg)
+        smp = sample(qdeg)
         runs = contact_edges(smp.s, smp.q)
         if len(runs) != 1:
             return None
@@ -393,16 +408,16 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
         lo = -np.inf if np.isinf(e2[0]) else e2[0] + f * (e2[0] - e1[0])
         return lo, e2[1] + f * (e2[1] - e1[1])
 
-    def attempt(d_new, u_pred, kind, zone=None):
+    def attempt(d_new, u_pred, kind, zone=None, predict_active_set=True):
         t0 = time.perf_counter()
         d.value = d_new
         set_state(u_pred)
         if forms.update is not None:
             forms.update(u)
         pre = 0
-        if zone is None:
+        if zone is None and predict_active_set:
             zone = predicted_edges(d_new)
-        if zone is not None and active_set_predictor:
+        if zone is not None and active_set_predictor and predict_active_set:
             # One Newton iteration with the predicted active set lo < X1 < hi, then the true law.
             mask[0].value, mask[1].value, mask[2].value = 1.0, max(zone[0], -1e300), zone[1]
             snes.setTolerances(max_it=1)
@@ -412,6 +427,7 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
             pre = 1
         problem.solve()
         reason, its = snes.getConvergedReason(), snes.getIterationNumber() + pre
+        factored[0] = factored[0] or its > 0
         if reason <= 0:
             return reason, its
         P, Pp = measure()
@@ -423,6 +439,55 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
         if on_step is not None:
             on_step(rec)
         return reason, its
+
+    factored = [False]  # the SNES's KSP holds LU factors of a Jacobian of this problem
+    tangent_ok = not mixed and forms.update is None
+
+    def tangent_correction(P_goal) -> bool:
+        """One force correction along the tangent of the last converged state (module docstring).
+
+        Returns True when it produced a converged state; False (state restored) when the tangent does not
+        apply or its SNES solve diverged, so the caller falls back to the secant.
+        """
+        if not (tangent_ok and factored[0]):
+            return False
+        d0, P0, u0 = states[-1]
+        x = problem.x
+        set_state(u0)
+        dolfinx.fem.petsc.assign(u, x)
+        dolfinx.la.petsc._ghost_update(x, dolfinx.fem.petsc.PETSc.InsertMode.INSERT,
+                                       dolfinx.fem.petsc.PETSc.ScatterMode.FORWARD)
+        f_plus, f_minus, t = x.duplicate(), x.duplicate(), x.duplicate()
+        try:
+            delta = 1e-6 * max(abs(d0), 1e-300)
+            d.value = d0 + delta
+            snes.computeFunction(x, f_plus)
+            d.value = d0 - delta
+            snes.computeFunction(x, f_minus)
+            d.value = d0
+            f_plus.axpy(-1.0, f_minus)
+            f_plus.scale(-1.0 / (2.0 * delta))  # -dF/dd
+            snes.getKSP().solve(f_plus, t)  # the Jacobian already factored: no new LU
+            dolfinx.la.petsc._ghost_update(t, dolfinx.fem.petsc.PETSc.InsertMode.INSERT,
+                                           dolfinx.fem.petsc.PETSc.ScatterMode.FORWARD)
+            dolfinx.fem.petsc.assign(t, u)
+            t_arr = u.x.array.copy()
+        finally:
+            for vec in (f_plus, f_minus, t):
+                vec.destroy()
+        dP = measure()[0]  # P is linear in u: the load of the tangent field t
+        set_state(u0)
+        if not (np.isfinite(dP) and dP > 0 and np.all(np.isfinite(t_arr))):
+            return False
+        dd = (P_goal - P0) / dP
+        if not abs(dd) <= 0.5 * abs(d0):
+            return False
+        reason, _ = attempt(d0 + dd, u0 + dd * t_arr, "force-correction", predict_active_set=False)
+        if reason > 0:
+            return True
+        d.value = d0
+        set_state(u0)
+        return False
 
     def reach(d_target, step, kind, u_pred=None, zone=None):
         """Reach d_target from the last converged state, halving the increment on divergence."""
@@ -469,7 +534,7 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
         for k, level in enumerate(levels):
             if k > 0:
                 reach(level, n_steps + k, "step")
-            smp = sample_surface(u=u, forms=forms, facets=contact_facets, quadrature_degree=sdeg)
+            smp = sample(sdeg)
             P_k, Pp_k = measure()
             snapshots.append(Snapshot(d=level, P=float(P_k), P_pressure=float(Pp_k), samples=smp,
                                       patches=find_patches(smp, half=symmetric_half),
@@ -501,13 +566,14 @@ def solve_contact(mesh_data, obstacle, *, E: float, nu: float, degree: int = 2, 
         for _ in range(30):
             if abs(states[-1][1] - target) <= force_rtol * target:
                 break
-            reach(secant(target), n_steps, "force-correction")
+            if not tangent_correction(target):
+                reach(secant(target), n_steps, "force-correction")
         else:
             raise ContactSolveError(f"{case}: force control did not reach P = {target} N/mm (last P = "
                                     f"{states[-1][1]:.10g}) in 30 secant corrections")
     wall = time.perf_counter() - t_start
 
-    samples = sample_surface(u=u, forms=forms, facets=contact_facets, quadrature_degree=sdeg)
+    samples = sample(sdeg)
     patches = find_patches(samples, half=symmetric_half)
     warns = quality_warnings(samples, states[-1][0])
     P, Pp = measure()

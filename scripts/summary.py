@@ -93,6 +93,11 @@ def write_summary(results: Path) -> None:
     results = Path(results)
     md = summary_markdown(results)
     write_text(results / "report.md", md)
-    html = markdown_to_html(md.replace("/report.md)", "/report.html)"), title="Contact workbench summary")
+    html = markdown_to_html(md.replace("/report.md)", "/report.html)").replace("/convective.md)", "/convective.html)"),
+                            title="Contact workbench summary")
     write_text(results / "report.html", html)
+    for study in ("convergence/report.md", "stability/report.md", "bench/report.md", "analytic/convective.md"):
+        f = results / study
+        if f.is_file():  # an HTML twin of each study report, so the summary's links work in a browser
+            write_text(f.with_suffix(".html"), markdown_to_html(f.read_text(), title=f.parent.name))
     print(f"wrote {results / 'report.md'} and {results / 'report.html'}")
