@@ -12,7 +12,7 @@ __all__ = ["fmt", "markdown_to_html"]
 
 _CSS = """body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}
 table{border-collapse:collapse;margin:1em 0;font-size:90%}th,td{border:1px solid #bbb;padding:3px 7px}
-th{background:#eee}td{text-align:right}td:first-child{text-align:left}code{background:#f4f4f4;padding:0 3px}
+th{background:#eee}td{text-align:left;vertical-align:top}code{background:#f4f4f4;padding:0 3px}
 img{max-width:100%}.pass{color:#070;font-weight:bold}.fail{color:#b00;font-weight:bold}"""
 
 
