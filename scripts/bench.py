@@ -12,8 +12,9 @@ Sections:
 
 1. Time to accuracy. Baseline = the common tutorial set-up: a uniform mesh of right triangles over the whole
    box (half model, W = H = ``box`` a, no grading), P2, penalty with a FIXED stiffness
-   ``kappa = BASELINE_KAPPA E / (1 mm)`` (not scaled by E/h), force control by plain secant from zero
-   (``predictor="extrapolate"``, no active-set predictor, one full load step, ``first_step_fraction=1``).
+   ``kappa = BASELINE_KAPPA E / (1 mm)`` (not scaled by E/h), force control from zero to
+   ``BASELINE_FORCE_RTOL`` (``predictor="extrapolate"``, no active-set predictor, one full load step,
+   ``first_step_fraction=1``; the solver's force corrections: tangent of the last state, else secant).
    Ours = the case (Nitsche or penalty ``kappa0 E/h``, P1 or P2, graded mesh of :mod:`meshes.block`, Hertz
    predictor). Each ladder is run coarse to fine until ``rms <= RMS_TARGET``; the time to accuracy is the
    warm time of the first configuration that reaches it (mesh + solve + comparison; solver only also kept).
@@ -27,7 +28,7 @@ Sections:
    1e-8 relative) and the speed-up (default size and a larger one).
 5. Repeated work: cold (fresh FFCx cache via ``XDG_CACHE_HOME`` and a fresh mesh cache, in a subprocess)
    against warm; symbolic against numeric factorisations (PETSc log events); MUMPS ordering, PETSc LU and
-   one load step (:data:`SOLVER_VARIANTS`); reuse of the first LU through GMRES and a lagged
+   three load steps (:data:`SOLVER_VARIANTS`); reuse of the first LU through GMRES and a lagged
    preconditioner (:data:`REUSE_LU`), all through ``solve_contact(..., petsc_options=...)``.
 
 Internal worker modes (``--worker scale|cold``) run one measurement in a subprocess and print one line
@@ -65,7 +66,6 @@ __all__ = [
     "main",
     "rel_diff",
     "run_bench",
-    "to_markdown",
     "uniform_box_mesh",
 ]
 
@@ -74,7 +74,7 @@ ROOT = Path(__file__).resolve().parent.parent
 CASE = "hertz_cylinder"
 RMS_TARGET = 0.005
 BASELINE_KAPPA = 1e3  # kappa = 1e3 E / mm (N/mm^3): fixed, not scaled by 1/h
-BASELINE_FORCE_RTOL = 1e-3  # plain secant to 0.1 % of the load (ours: the case default 1e-10)
+BASELINE_FORCE_RTOL = 1e-3  # force to 0.1 % of the load (ours: the case default 1e-10)
 # (W = H in units of a, uniform h in units of a), ordered by ndofs (half model, P2: 41k, 161k, 642k dofs).
 # W = H = 20 a is the smallest box whose size error alone stays below the target (graded Nitsche P2 at
 # W = H = 5, 10, 20, 40 a: rms 3.7 %, 1.1 %, 0.45 %, 0.23 %); 40 a at h = a/20 would be 2.6M dofs.
@@ -83,10 +83,7 @@ OUR_LEVELS = (0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.0015625)
 # Cost growth, two mesh families (P2, the case's Nitsche solver):
 #   graded: meshes.block at h_c / a (ndofs ~ 1/h_c: the grading keeps the fine zone one layer thick);
 #   uniform: the baseline's uniform W = H = 20 a half box at h / a (ndofs ~ 1/h^2), up to ~1e6 dofs.
-SCALE = {
-    "graded": (0.05, 0.0125, 0.003125, 0.00078125, 0.000390625),
-    "uniform": (0.2, 0.1, 1.0 / 15.0, 0.05, 0.04),
-}
+SCALE = {"graded": (0.05, 0.0125, 0.003125, 0.00078125, 0.000390625), "uniform": (0.2, 0.1, 1.0 / 15.0, 0.05, 0.04)}
 SCALE_BOX = 20.0
 SMALL_NDOFS = 50_000  # below this a size is timed 3 times in its process (best kept)
 MPI_LEVELS = (None, 0.00078125)  # None: the case default h_c
@@ -110,19 +107,14 @@ REUSE_LU = {
 REUSE_MESHES = (("uniform", 0.2), ("graded", 0.003125))  # (family, h/a) of section 5c
 # label -> (petsc_options, solve_contact overrides)
 SOLVER_VARIANTS = {
-    "case (MUMPS LU per Newton iteration, 3 steps)": ({}, {}),
+    "case (MUMPS LU per Newton iteration)": ({}, {}),
     "MUMPS ICNTL(7)=5 (METIS ordering)": ({"mat_mumps_icntl_7": 5}, {}),
     "PETSc LU, nd ordering, reuse_ordering": (
-        {
-            "pc_factor_mat_solver_type": "petsc",
-            "pc_factor_mat_ordering_type": "nd",
-            "pc_factor_reuse_ordering": True,
-        },
+        {"pc_factor_mat_solver_type": "petsc", "pc_factor_mat_ordering_type": "nd", "pc_factor_reuse_ordering": True},
         {},
     ),
-    "1 load step (n_steps=1)": ({}, {"n_steps": 1}),
+    "3 load steps (n_steps=3, the previous case default)": ({}, {"n_steps": 3}),
 }
-FAST = "1 load step (n_steps=1)"  # also timed at every size of section 3
 TARGETS = {"speedup_vs_baseline": 10.0, "default_warm_s": 3.0, "linear_solves": 4.0, "exponent": 1.3}
 LOG_EVENTS = ("MatLUFactorSym", "MatLUFactorNum", "MatSolve", "SNESJacobianEval", "SNESFunctionEval")
 PY = str(ROOT / ".venv" / "bin" / "python")
@@ -210,10 +202,7 @@ def _log_counts() -> dict[str, dict]:
 
 def _log_delta(before: dict, after: dict) -> dict[str, dict]:
     return {
-        n: {
-            "count": int(after[n]["count"] - before[n]["count"]),
-            "time_s": float(after[n]["time"] - before[n]["time"]),
-        }
+        n: {"count": int(after[n]["count"] - before[n]["count"]), "time_s": float(after[n]["time"] - before[n]["time"])}
         for n in LOG_EVENTS
     }
 
@@ -246,9 +235,7 @@ def _case_run(h_contact: float | None = None):
 
 def _configure(run, *, method: str, degree: int):
     return replace(
-        run,
-        solver=replace(run.solver, method=method),
-        discretisation=replace(run.discretisation, degree=degree),
+        run, solver=replace(run.solver, method=method), discretisation=replace(run.discretisation, degree=degree)
     )
 
 
@@ -301,9 +288,7 @@ def uniform_box_mesh(*, width: float, height: float, h: float, comm):
     order = np.argsort(idx, kind="stable")
     ft = dolfinx.mesh.meshtags(mesh, fdim, idx[order], vals[order])
     groups = {name: PhysicalGroup(1, tag) for name, (tag, _) in sides.items()}
-    return MeshData(
-        mesh=mesh, cell_tags=None, facet_tags=ft, ridge_tags=None, peak_tags=None, physical_groups=groups
-    )
+    return MeshData(mesh=mesh, cell_tags=None, facet_tags=ft, ridge_tags=None, peak_tags=None, physical_groups=groups)
 
 
 def _hertz_errors(result, run) -> dict:
@@ -430,9 +415,7 @@ def time_to_accuracy(*, repeats: int, comm, progress, ladder: Sequence = BASELIN
     # warm the JIT of the baseline forms on a tiny box (the JIT does not depend on the mesh)
     _baseline_once(run, box=10.0, h=0.5, comm=comm)
     for box, h in ladder:
-        row = _timed(
-            lambda box=box, h=h: _baseline_once(run, box=box, h=h, comm=comm), repeats=repeats, budget_s=3.0
-        )
+        row = _timed(lambda box=box, h=h: _baseline_once(run, box=box, h=h, comm=comm), repeats=repeats, budget_s=3.0)
         out["baseline"].append(row)
         progress(
             f"baseline W=H={box:g}a h=a*{h:g}: ndofs {row['ndofs']}, warm {row['total_s']:.2f} s "
@@ -456,6 +439,7 @@ def time_to_accuracy(*, repeats: int, comm, progress, ladder: Sequence = BASELIN
                 if row["rms"] <= RMS_TARGET:
                     break
             out["ours"][f"{method} P{degree}"] = rows
+    out["case_steps"] = run.loading.steps
     base = first_reaching(out["baseline"])
     last = out["baseline"][-1]
     summary = {}
@@ -502,26 +486,11 @@ def time_to_accuracy(*, repeats: int, comm, progress, ladder: Sequence = BASELIN
 
 
 def _block_mesh_data(run, *, comm):
-    """The cached graded mesh of a block run (the same parameters as scripts.scene_block.run_block)."""
-    from meshes.block import build_block_mesh
-    from scripts.compare import block_theory
+    """The cached graded mesh of a block run: :func:`scripts.scene_block.block_mesh` (as run_block builds it)."""
     from scripts.mesh_io import read_mesh
-    from scripts.scene_block import MESH_CACHE
+    from scripts.scene_block import block_mesh
 
-    g, disc = run.geometry, run.discretisation
-    a0 = block_theory(g, run.material, P=run.loading.P, half_width=run.loading.half_width).half_width
-    files = build_block_mesh(
-        width=g.width_factor * a0,
-        height=g.height_factor * a0,
-        contact_half_width=a0,
-        h_contact=disc.h_contact * a0,
-        half_model=g.half_model,
-        apex_refinement=g.indenter == "wedge",
-        out_dir=MESH_CACHE,
-        name=f"bench_{CASE}_{run.label}",
-        stats_dir=None,
-        comm=comm,
-    )
+    files, _ = block_mesh(run, name=f"bench_{CASE}", comm=comm)
     return read_mesh(files.msh, comm)
 
 
@@ -672,10 +641,7 @@ def _worker_scale(family: str, level: float) -> dict:
     peak_first = _peak_rss_mb()  # mesh + one contact solve (its two MUMPS factors alive)
     times = [res.wall_time_s]
     small = res.ndofs < SMALL_NDOFS
-    if small:
-        times += [_solve_case(run, md).wall_time_s for _ in range(2)]
-    fast_opts, fast_over = SOLVER_VARIANTS[FAST]
-    fast = [_solve_case(run, md, petsc_options=fast_opts, **fast_over) for _ in range(3 if small else 1)]
+    times += [_solve_case(run, md).wall_time_s for _ in range(2 if small else 1)]  # warm: forms loaded
     lin = linear_solve(md, run, repeats=3 if small else 1)
     its = list(res.newton_iterations)
     return {
@@ -688,10 +654,6 @@ def _worker_scale(family: str, level: float) -> dict:
         "linear_s": lin["linear_s"],
         "linear_resolve_s": lin["linear_resolve_s"],
         "linear_solves_equivalent": min(times) / lin["linear_s"],
-        "fast_s": min(f.wall_time_s for f in fast),
-        "fast_iterations": list(fast[0].newton_iterations),
-        "fast_rel_diff_P": rel_diff(fast[0].P, res.P),
-        "fast_linear_solves_equivalent": min(f.wall_time_s for f in fast) / lin["linear_s"],
         "newton_iterations": its,
         "newton_per_step": sum(its) / len(its),
         "events": events,
@@ -738,12 +700,7 @@ def _subprocess_json(
     e.update(env or {})
     t0 = time.perf_counter()
     cp = subprocess.run(
-        [PY, "-m", "scripts.bench", *args],
-        env=e,
-        cwd=str(cwd or ROOT),
-        capture_output=True,
-        text=True,
-        timeout=timeout,
+        [PY, "-m", "scripts.bench", *args], env=e, cwd=str(cwd or ROOT), capture_output=True, text=True, timeout=timeout
     )
     dt = time.perf_counter() - t0
     if cp.returncode != 0:
@@ -760,9 +717,7 @@ def cost_growth(*, families: dict[str, Sequence[float]], progress) -> dict:
     for family, levels in families.items():
         rows = []
         for level in levels:
-            row = _subprocess_json(
-                ["--worker", "scale", "--family", family, "--h-contact", repr(float(level))]
-            )
+            row = _subprocess_json(["--worker", "scale", "--family", family, "--h-contact", repr(float(level))])
             rows.append(row)
             progress(
                 f"scale {family} h=a*{level:.4g}: ndofs {row['ndofs']}, solver {row['solve_s']:.2f} s, "
@@ -771,7 +726,7 @@ def cost_growth(*, families: dict[str, Sequence[float]], progress) -> dict:
             )
         n = [r["ndofs"] for r in rows]
         fits = {}
-        for key in ("solve_s", "fast_s", "linear_s", "peak_rss_mb", "peak_rss_first_solve_mb"):
+        for key in ("solve_s", "linear_s", "peak_rss_mb", "peak_rss_first_solve_mb"):
             t = [r[key] for r in rows]
             fits[key] = {
                 "all": fit_exponent(n, t)._asdict(),
@@ -849,12 +804,7 @@ def cold_warm(*, progress) -> dict:
         timeout=600,
     )
     cli_s = time.perf_counter() - t0
-    out = {
-        "cold_process": cold,
-        "disk_warm_process": disk_warm,
-        "cli_warm_process_s": cli_s,
-        "cli_exit": cp.returncode,
-    }
+    out = {"cold_process": cold, "disk_warm_process": disk_warm, "cli_warm_process_s": cli_s, "cli_exit": cp.returncode}
     progress(
         f"cold: process {cold['process_s']:.1f} s (first run {cold['first_total_s']:.2f} s, mesh "
         f"{cold['mesh_s']:.2f} s); disk-warm process {disk_warm['process_s']:.1f} s (first run "
@@ -938,8 +888,7 @@ def lu_reuse(*, comm, progress) -> dict:
         rows.append(row)
         brief = {
             k: (
-                f"{row[k]['solve_s']:.3f} s, LU {row[k]['lu_numeric']}, "
-                f"MatSolve {row[k]['triangular_solves']}"
+                f"{row[k]['solve_s']:.3f} s, LU {row[k]['lu_numeric']}, MatSolve {row[k]['triangular_solves']}"
                 if "solve_s" in row.get(k, {})
                 else row.get(k)
             )
@@ -985,9 +934,7 @@ def run_bench(
         if family not in SCALE:
             raise ValueError(f"scale family must be one of {sorted(SCALE)}, got {family!r}")
         if any(not 0 < v <= 1 for v in levels) or np.any(np.diff(levels) >= 0):
-            raise ValueError(
-                f"scale[{family!r}] must be strictly decreasing values in (0, 1], got {list(levels)}"
-            )
+            raise ValueError(f"scale[{family!r}] must be strictly decreasing values in (0, 1], got {list(levels)}")
     known = {"accuracy", "linear", "scale", "mpi", "cache", "options"}
     if not set(sections) <= known:
         raise ValueError(f"sections must be a subset of {sorted(known)}, got {list(sections)}")
@@ -1029,333 +976,24 @@ def run_bench(
     return out
 
 
-# ------------------------------------------------------------------------------------------- report
-
-
-def _f(v, fmt=".3g") -> str:
-    if v is None or (isinstance(v, float) and not math.isfinite(v)):
-        return "-"
-    if isinstance(v, int) and not isinstance(v, bool):
-        return str(v)
-    return format(v, fmt)
-
-
-def _met(ok: bool | None) -> str:
-    return "n/a" if ok is None else ("met" if ok else "NOT met")
-
-
-def _events(ev: dict) -> str:
-    return f"{ev['MatLUFactorSym']['count']}/{ev['MatLUFactorNum']['count']}"
-
-
-def _md_accuracy(acc: dict, targets: list) -> list[str]:
-    base = acc["baseline_reached"]
-    L = [
-        "## 1. Time to accuracy",
-        "",
-        f"Baseline: uniform right triangles over the whole half box (W = H = box a, no grading), P2, penalty "
-        f"with fixed kappa = {BASELINE_KAPPA:g} E/mm (not scaled by 1/h), force control by plain secant to "
-        f"{BASELINE_FORCE_RTOL:g} P, full-step semismooth Newton from zero, no predictor. Ours: the case "
-        "settings (Hertz predictor, active-set predictor, 3 load steps, force to 1e-10 P) on the graded mesh "
-        "of meshes.block (W = H = 40 a). Warm total = mesh (cached) + solve + comparison.",
-        "",
-        "| config | box/a | h/a | ndofs | warm total (s) | solver (s) | Newton its | rms | p_max err |",
-        "|---|---|---|---|---|---|---|---|---|",
-    ]
-    rows = [("baseline", r) for r in acc["baseline"]]
-    rows += [(name, r) for name, rs in acc["ours"].items() for r in rs]
-    for name, r in rows:
-        L.append(
-            f"| {name} | {r['box_over_a']:g} | {r['h_over_a']:g} | {r['ndofs']} | {_f(r['total_s'])} | "
-            f"{_f(r['solve_s'])} | {r['newton_iterations']} | {_f(r['rms'])} | {_f(r.get('p_max'))} |"
-        )
-    L += [
-        "",
-        "| ours | reaches | h/a | ndofs | warm total (s) | baseline/ours total | baseline/ours solver | "
-        "lower bound |",
-        "|---|---|---|---|---|---|---|---|",
-    ]
-    best = None
-    for name, s in acc["summary"].items():
-        L.append(
-            f"| {name} | {s['reached']} | {_f(s['h_over_a'])} | {_f(s['ndofs'])} | {_f(s['total_s'])} | "
-            f"{_f(s['ratio_total'])} | {_f(s['ratio_solve'])} | {_f(s['ratio_total_lower_bound'])} |"
-        )
-        r = s["ratio_total"] if s["ratio_total"] is not None else s["ratio_total_lower_bound"]
-        if r is not None:
-            best = max(best or 0.0, r)
-    L.append("")
-    if base is None:
-        last = acc["baseline"][-1]
-        L.append(
-            f"The baseline did NOT reach rms <= {RMS_TARGET:.1%} on its ladder (finest rung {last['ndofs']} "
-            f"dofs: rms {_f(last['rms'])} in {_f(last['total_s'])} s). 'lower bound' = that time / ours "
-            "to the target: the baseline needs more than that."
-        )
-    else:
-        L.append(
-            f"The baseline reaches the target at box {base['box_over_a']:g} a, h = a*{base['h_over_a']:g} "
-            f"({base['ndofs']} dofs) in {_f(base['total_s'])} s warm."
-        )
-    if acc.get("same_accuracy"):
-        L += [
-            "",
-            "At the baseline's own accuracy (first rung of each configuration of ours with rms <= the "
-            "baseline's):",
-            "",
-            "| baseline h/a | ndofs | rms | baseline (s) | ours | h/a | ndofs | ours (s) | ratio total | "
-            "ratio solver |",
-            "|---|---|---|---|---|---|---|---|---|---|",
-        ]
-        for r in acc["same_accuracy"]:
-            L.append(
-                f"| {r['baseline_h_over_a']:g} | {r['baseline_ndofs']} | {_f(r['rms'])} | "
-                f"{_f(r['baseline_total_s'])} | {r['ours']} | {r['ours_h_over_a']:g} | {r['ours_ndofs']} | "
-                f"{_f(r['ours_total_s'])} | {_f(r['ratio_total'])} | {_f(r['ratio_solve'])} |"
-            )
-    L.append("")
-    label = ">= 10x faster than the baseline to rms <= 0.5 % (best configuration, warm total)"
-    if base is None:
-        label += " [lower bound]"
-    targets.append((label, _f(best), None if best is None else best >= TARGETS["speedup_vs_baseline"]))
-    return L
-
-
-def _md_linear(lin: dict, targets: list) -> list[str]:
-    ev = lin["events"]
-    targets.append(
-        (
-            "contact solve <= 4 linear solves (default case)",
-            _f(lin["linear_solves_equivalent"]),
-            lin["linear_solves_equivalent"] <= TARGETS["linear_solves"],
-        )
-    )
-    return [
-        "## 2. Contact solve against one linear solve",
-        "",
-        f"Default case ({lin['ndofs']} dofs): contact solver {_f(lin['solve_s'])} s warm; one linear elastic "
-        f"solve on the same mesh (new problem: assembly, MUMPS symbolic + numeric LU, solve) "
-        f"{_f(lin['linear_s'])} s (re-solve of the same problem {_f(lin['linear_resolve_s'])} s): "
-        f"**{_f(lin['linear_solves_equivalent'])} linear solves**. Newton iterations "
-        f"{lin['newton_iterations']} ({_f(lin['newton_per_step'])} per solve, predictor iteration included). "
-        f"PETSc events in one contact solve: LU symbolic/numeric {_events(ev)}, Jacobian assemblies "
-        f"{ev['SNESJacobianEval']['count']}, residuals {ev['SNESFunctionEval']['count']}. At this size the "
-        "fixed per-step costs (surface sampling, load measurement, Python) dominate; see section 3 for "
-        "larger sizes.",
-        "",
-    ]
-
-
-def _md_scale(sc: dict, targets: list) -> list[str]:
-    L = [
-        "## 3. Cost growth (P2, the case's Nitsche solver, one process per size)",
-        "",
-        f"graded: meshes.block at decreasing h_c (W = H = 40 a); uniform: the baseline's half box W = H = "
-        f"{SCALE_BOX:g} a. 'solver' = case settings; 'fast' = {FAST!r} (same answer). Times: fresh process "
-        f"with warm JIT cache (best of 3 below {SMALL_NDOFS} dofs). Peak RSS = VmHWM of that process "
-        "(ru_maxrss is inherited from the parent on Linux): after mesh + the first contact solve, and at the "
-        "end (case, fast variant and linear solves, whose factors may all still be alive).",
-        "",
-        "| mesh | h/a | ndofs | its | solver (s) | fast (s) | linear (s) | solver/linear | fast/linear | "
-        "LU sym/num | peak RSS 1st solve / end (MB) | rms |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
-    for family, fam in sc.items():
-        for r in fam["rows"]:
-            L.append(
-                f"| {family} | {r['h_over_a']:.4g} | {r['ndofs']} | {r['newton_iterations']} | "
-                f"{_f(r['solve_s'])} | {_f(r['fast_s'])} | {_f(r['linear_s'])} | "
-                f"{_f(r['linear_solves_equivalent'])} | {_f(r['fast_linear_solves_equivalent'])} | "
-                f"{_events(r['events'])} | {_f(r.get('peak_rss_first_solve_mb'), '.0f')} / "
-                f"{_f(r['peak_rss_mb'], '.0f')} | {_f(r['rms'])} |"
-            )
-    L.append("")
-    for family, fam in sc.items():
-        f = fam["fits"]
-        k = {
-            key: (_f(f[key]["all"]["exponent"]), _f((f[key]["largest3"] or {}).get("exponent"))) for key in f
-        }
-        mem = k.get("peak_rss_first_solve_mb", ("-", "-"))
-        L.append(
-            f"- {family}: t ~ ndofs^k (all sizes / largest 3): solver {k['solve_s'][0]} / {k['solve_s'][1]}, "
-            f"fast {k['fast_s'][0]} / {k['fast_s'][1]}, one linear solve {k['linear_s'][0]} / "
-            f"{k['linear_s'][1]}; peak memory after the first solve {mem[0]} / {mem[1]}."
-        )
-        for fit in ("all", "largest3"):
-            if f["solve_s"][fit] is None:
-                continue
-            k = f["solve_s"][fit]["exponent"]
-            what = "all sizes" if fit == "all" else "largest 3 sizes"
-            targets.append(
-                (f"cost exponent <= 1.3 ({family}, case solver, {what})", _f(k), k <= TARGETS["exponent"])
-            )
-        big = fam["rows"][-1]
-        for key, what in (
-            ("linear_solves_equivalent", "case solver"),
-            ("fast_linear_solves_equivalent", "fast"),
-        ):
-            targets.append(
-                (
-                    f"contact solve <= 4 linear solves ({family}, {big['ndofs']} dofs, {what})",
-                    _f(big[key]),
-                    big[key] <= TARGETS["linear_solves"],
-                )
-            )
-    L.append("")
-    return L
-
-
-def _md_mpi(mp: dict) -> list[str]:
-    L = [
-        "## 4. MPI (`mpiexec -n 2 python -m scripts run hertz_cylinder`)",
-        "",
-        "| h/a | ndofs | rel diff P | rel diff p0 | rel diff a | <= 1e-8 | solver 1 / 2 procs (s) | speed-up "
-        "solver | speed-up process |",
-        "|---|---|---|---|---|---|---|---|---|",
-    ]
-    for r in mp["rows"]:
-        d = r["rel_diff"]
-        L.append(
-            f"| {r['h_over_a'] if r['h_over_a'] is not None else 'case'} | {r['serial']['ndofs']} | "
-            f"{d['P']:.1e} | {d['p0']:.1e} | {d['half_width']:.1e} | {r['reproduces_1e-8']} | "
-            f"{_f(r['serial']['solve_s'])} / {_f(r['np2']['solve_s'])} | {_f(r['speedup_solve'])} | "
-            f"{_f(r['speedup_process'])} |"
-        )
-    return L + [""]
-
-
-def _md_cache(ca: dict, op: dict | None, targets: list) -> list[str]:
-    L = ["## 5. Repeated work", ""]
-    if ca:
-        c, w = ca["cold_process"], ca["disk_warm_process"]
-        L += [
-            "| | process (s) | imports (s) | mesh (s) | first run (s) | second run, same process (s) |",
-            "|---|---|---|---|---|---|",
-            f"| cold: fresh FFCx cache (XDG_CACHE_HOME) and mesh cache | {_f(c['process_s'])} | "
-            f"{_f(c['import_s'])} | {_f(c['mesh_s'])} | {_f(c['first_total_s'])} | {_f(c['warm_total_s'])} |",
-            f"| same caches, new process | {_f(w['process_s'])} | {_f(w['import_s'])} | {_f(w['mesh_s'])} | "
-            f"{_f(w['first_total_s'])} | {_f(w['warm_total_s'])} |",
-            "",
-            f"Whole CLI `python -m scripts run hertz_cylinder` with warm caches (imports, run, plots, VTK, "
-            f"report): {_f(ca['cli_warm_process_s'])} s (exit {ca['cli_exit']}).",
-            "",
-        ]
-        targets.append(
-            (
-                "default hertz_cylinder (rms <= 0.5 %) in <= 3 s warm (whole CLI process)",
-                _f(ca["cli_warm_process_s"]),
-                ca["cli_warm_process_s"] <= TARGETS["default_warm_s"],
-            )
-        )
-    if op:
-        L += [
-            f"Solver options at h_c = a*{op['h_over_a']:g} (graded, {op['rows'][0]['ndofs']} dofs; one "
-            "linear "
-            f"solve {_f(op['linear']['linear_s'])} s). PETSc options go through "
-            "`solve_contact(..., petsc_options=...)` and reach the Newton solve only (the Hertz predictor's "
-            "MUMPS solve keeps its defaults).",
-            "",
-            "| variant | solver (s) | linear solves | Newton its | LU sym/num | symbolic (s) | numeric (s) | "
-            "rms |",
-            "|---|---|---|---|---|---|---|---|",
-        ]
-        for r in op["rows"]:
-            ev = r["events"]
-            L.append(
-                f"| {r['variant']} | {_f(r['solve_s'])} | {_f(r['linear_solves_equivalent'])} | "
-                f"{r['newton_iterations']} | {_events(ev)} | {_f(ev['MatLUFactorSym']['time_s'])} | "
-                f"{_f(ev['MatLUFactorNum']['time_s'])} | {_f(r['rms'])} |"
-            )
-        L.append("")
-    return L
-
-
-def _md_reuse(lr: dict) -> list[str]:
-    L = [
-        "Reuse of the LU across Newton solves through PETSc options only (GMRES preconditioned by the LU of "
-        "the first Jacobian, `snes_lag_preconditioner -2`, `snes_lag_preconditioner_persists`):",
-        "",
-        "| mesh | h/a | ndofs | case (s) | reuse (s) | LU numeric case / reuse | triangular solves (reuse) | "
-        "rel diff P |",
-        "|---|---|---|---|---|---|---|---|",
-    ]
-    for r in lr["rows"]:
-        c, u = r.get("case", {}), r.get("reuse", {})
-        if "failed" in c or "failed" in u:
-            L.append(
-                f"| {r['family']} | {r['h_over_a']:g} | - | failed: {c.get('failed', u.get('failed'))} "
-                "| | | | |"
-            )
-            continue
-        L.append(
-            f"| {r['family']} | {r['h_over_a']:g} | {r.get('ndofs')} | {_f(c['solve_s'])} | "
-            f"{_f(u['solve_s'])} | {c['lu_numeric']} / {u['lu_numeric']} | {u['triangular_solves']} | "
-            f"{_f(r.get('rel_diff_P'), '.1e')} |"
-        )
-    return L + [
-        "",
-        "GMRES needs about one triangular solve per contact dof whose state differs from the first "
-        "Jacobian, so this wins only when the contact zone holds few dofs (see the comment at "
-        "REUSE_LU in scripts/bench.py).",
-        "",
-    ]
-
-
-def to_markdown(data: dict) -> str:
-    """The benchmark report (Markdown) from :func:`run_bench` data."""
-    L = [
-        "# Performance benchmark (hertz_cylinder)",
-        "",
-        f"`python -m scripts.bench` (`make bench`): {_f(data.get('bench_wall_time_s'), '.0f')} s on "
-        f"{data.get('cpu_count')} cores, load average {_f(data['load_avg_start'][0], '.2f')} at start and "
-        f"{_f(data.get('load_avg_end', [math.nan])[0], '.2f')} at the end (the CPU is shared: times are the "
-        "best "
-        f"of the repeats and carry that noise). Error: RMS(p - p_H)/p0 at the measured load; target "
-        f"{RMS_TARGET:.1%}. Warm: JIT and mesh caches filled, forms loaded once in the process.",
-        "",
-    ]
-    targets: list = []
-    if data.get("accuracy"):
-        L += _md_accuracy(data["accuracy"], targets)
-    if data.get("linear"):
-        L += _md_linear(data["linear"], targets)
-    if data.get("scale"):
-        L += _md_scale(data["scale"], targets)
-    if data.get("mpi"):
-        L += _md_mpi(data["mpi"])
-    if data.get("cache") or data.get("options"):
-        L += _md_cache(data.get("cache"), data.get("options"), targets)
-    if data.get("lu_reuse"):
-        L += _md_reuse(data["lu_reuse"])
-    L += ["## Targets", "", "| target | measured | status |", "|---|---|---|"]
-    L += [f"| {t} | {v} | {_met(ok)} |" for t, v, ok in targets]
-    return "\n".join(L) + "\n"
-
-
 # --------------------------------------------------------------------------------------------- CLI
 
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m scripts.bench [--repeats N] [--quick] [--sections ...]``; writes results/bench/."""
     p = argparse.ArgumentParser(
-        prog="python -m scripts.bench",
-        description=__doc__,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        prog="python -m scripts.bench", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     p.add_argument("--repeats", type=int, default=3, help="warm repetitions per timing (best kept)")
     p.add_argument("--quick", action="store_true", help="small sizes only (development)")
-    p.add_argument(
-        "--sections", nargs="+", default=["accuracy", "linear", "scale", "mpi", "cache", "options"]
-    )
+    p.add_argument("--sections", nargs="+", default=["accuracy", "linear", "scale", "mpi", "cache", "options"])
     p.add_argument("--out", type=Path, default=OUT_DIR)
     p.add_argument("--worker", choices=("scale", "cold"), help=argparse.SUPPRESS)
     p.add_argument("--h-contact", type=float, default=None, help=argparse.SUPPRESS)
     p.add_argument("--family", choices=tuple(SCALE), default="graded", help=argparse.SUPPRESS)
     args = p.parse_args(argv)
     if args.worker == "scale":
-        print(
-            "BENCH_JSON " + json.dumps(_worker_scale(args.family, args.h_contact), default=float), flush=True
-        )
+        print("BENCH_JSON " + json.dumps(_worker_scale(args.family, args.h_contact), default=float), flush=True)
         return 0
     if args.worker == "cold":
         print("BENCH_JSON " + json.dumps(_worker_cold(), default=float), flush=True)
@@ -1370,14 +1008,13 @@ def main(argv: list[str] | None = None) -> int:
         }
     try:
         data = run_bench(
-            repeats=args.repeats,
-            sections=args.sections,
-            progress=lambda s: print(f"[bench] {s}", flush=True),
-            **kw,
+            repeats=args.repeats, sections=args.sections, progress=lambda s: print(f"[bench] {s}", flush=True), **kw
         )
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    from scripts.bench_report import to_markdown
+
     write_json(args.out / "bench.json", data)
     write_text(args.out / "report.md", to_markdown(data))
     try:

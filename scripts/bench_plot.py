@@ -49,11 +49,7 @@ def _accuracy(ax, acc: dict) -> None:
 
 
 def _growth(ax, scale: dict) -> None:
-    keys = (
-        ("solve_s", "case solver", "-"),
-        ("fast_s", "1 load step", "--"),
-        ("linear_s", "one linear solve", ":"),
-    )
+    keys = (("solve_s", "case solver", "-"), ("linear_s", "one linear solve", ":"))
     colors = {"graded": "tab:blue", "uniform": "tab:red"}
     for family, fam in scale.items():
         n = np.array([r["ndofs"] for r in fam["rows"]], dtype=float)
@@ -61,13 +57,7 @@ def _growth(ax, scale: dict) -> None:
             t = np.array([r[key] for r in fam["rows"]])
             k = fam["fits"][key]["all"]["exponent"]
             ax.loglog(
-                n,
-                t,
-                ls=ls,
-                marker="o",
-                ms=3,
-                color=colors.get(family, "k"),
-                label=f"{family}: {label} (k = {k:.2f})",
+                n, t, ls=ls, marker="o", ms=3, color=colors.get(family, "k"), label=f"{family}: {label} (k = {k:.2f})"
             )
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("ndofs")
@@ -80,10 +70,7 @@ def _memory(ax, scale: dict) -> None:
     colors = {"graded": "tab:blue", "uniform": "tab:red"}
     for family, fam in scale.items():
         n = [r["ndofs"] for r in fam["rows"]]
-        for key, ls, what in (
-            ("peak_rss_first_solve_mb", "-", "after the first solve"),
-            ("peak_rss_mb", ":", "end"),
-        ):
+        for key, ls, what in (("peak_rss_first_solve_mb", "-", "after the first solve"), ("peak_rss_mb", ":", "end")):
             m = [r.get(key, float("nan")) for r in fam["rows"]]
             ax.loglog(n, m, marker="o", ms=3, ls=ls, color=colors.get(family, "k"), label=f"{family}, {what}")
     ax.xaxis.set_minor_formatter(NullFormatter())

@@ -1,0 +1,299 @@
+"""Markdown report of the performance benchmark (:mod:`scripts.bench`): formatting only, no computing.
+
+:func:`to_markdown` turns the data of :func:`scripts.bench.run_bench` (also ``results/bench/bench.json``) into
+``results/bench/report.md``, with a final table of the targets, each met / not met with its measured value.
+"""
+
+from __future__ import annotations
+
+import math
+
+from scripts.bench import BASELINE_FORCE_RTOL, BASELINE_KAPPA, RMS_TARGET, SCALE_BOX, SMALL_NDOFS, TARGETS
+
+__all__ = ["to_markdown"]
+
+
+def _f(v, fmt=".3g") -> str:
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "-"
+    if isinstance(v, int) and not isinstance(v, bool):
+        return str(v)
+    return format(v, fmt)
+
+
+def _met(ok: bool | None) -> str:
+    return "n/a" if ok is None else ("met" if ok else "NOT met")
+
+
+def _events(ev: dict) -> str:
+    return f"{ev['MatLUFactorSym']['count']}/{ev['MatLUFactorNum']['count']}"
+
+
+def _md_accuracy(acc: dict, targets: list) -> list[str]:
+    base = acc["baseline_reached"]
+    L = [
+        "## 1. Time to accuracy",
+        "",
+        f"Baseline: uniform right triangles over the whole half box (W = H = box a, no grading), P2, penalty "
+        f"with fixed kappa = {BASELINE_KAPPA:g} E/mm (not scaled by 1/h), force control to "
+        f"{BASELINE_FORCE_RTOL:g} P (the solver's force corrections: tangent of the last state, else secant), "
+        "full-step semismooth Newton from zero, no predictor. Ours: the case settings (Hertz predictor, "
+        f"active-set predictor, {acc.get('case_steps', '?')} load step(s), force to 1e-10 P) on the graded mesh "
+        "of meshes.block (W = H = 40 a). Warm total = mesh (cached) + solve + comparison.",
+        "",
+        "| config | box/a | h/a | ndofs | warm total (s) | solver (s) | Newton its | rms | p_max err |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    rows = [("baseline", r) for r in acc["baseline"]]
+    rows += [(name, r) for name, rs in acc["ours"].items() for r in rs]
+    for name, r in rows:
+        L.append(
+            f"| {name} | {r['box_over_a']:g} | {r['h_over_a']:g} | {r['ndofs']} | {_f(r['total_s'])} | "
+            f"{_f(r['solve_s'])} | {r['newton_iterations']} | {_f(r['rms'])} | {_f(r.get('p_max'))} |"
+        )
+    L += [
+        "",
+        "| ours | reaches | h/a | ndofs | warm total (s) | baseline/ours total | baseline/ours solver | lower bound |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    best = None
+    for name, s in acc["summary"].items():
+        L.append(
+            f"| {name} | {s['reached']} | {_f(s['h_over_a'])} | {_f(s['ndofs'])} | {_f(s['total_s'])} | "
+            f"{_f(s['ratio_total'])} | {_f(s['ratio_solve'])} | {_f(s['ratio_total_lower_bound'])} |"
+        )
+        r = s["ratio_total"] if s["ratio_total"] is not None else s["ratio_total_lower_bound"]
+        if r is not None:
+            best = max(best or 0.0, r)
+    L.append("")
+    if base is None:
+        last = acc["baseline"][-1]
+        L.append(
+            f"The baseline did NOT reach rms <= {RMS_TARGET:.1%} on its ladder (finest rung {last['ndofs']} "
+            f"dofs: rms {_f(last['rms'])} in {_f(last['total_s'])} s). 'lower bound' = that time / ours "
+            "to the target: the baseline needs more than that."
+        )
+    else:
+        L.append(
+            f"The baseline reaches the target at box {base['box_over_a']:g} a, h = a*{base['h_over_a']:g} "
+            f"({base['ndofs']} dofs) in {_f(base['total_s'])} s warm."
+        )
+    if acc.get("same_accuracy"):
+        L += [
+            "",
+            "At the baseline's own accuracy (first rung of each configuration of ours with rms <= the baseline's):",
+            "",
+            "| baseline h/a | ndofs | rms | baseline (s) | ours | h/a | ndofs | ours (s) | ratio total | "
+            "ratio solver |",
+            "|---|---|---|---|---|---|---|---|---|---|",
+        ]
+        for r in acc["same_accuracy"]:
+            L.append(
+                f"| {r['baseline_h_over_a']:g} | {r['baseline_ndofs']} | {_f(r['rms'])} | "
+                f"{_f(r['baseline_total_s'])} | {r['ours']} | {r['ours_h_over_a']:g} | {r['ours_ndofs']} | "
+                f"{_f(r['ours_total_s'])} | {_f(r['ratio_total'])} | {_f(r['ratio_solve'])} |"
+            )
+    L.append("")
+    label = ">= 10x faster than the baseline to rms <= 0.5 % (best configuration, warm total)"
+    if base is None:
+        label += " [lower bound]"
+    targets.append((label, _f(best), None if best is None else best >= TARGETS["speedup_vs_baseline"]))
+    return L
+
+
+def _md_linear(lin: dict, targets: list) -> list[str]:
+    ev = lin["events"]
+    targets.append(
+        (
+            "contact solve <= 4 linear solves (default case)",
+            _f(lin["linear_solves_equivalent"]),
+            lin["linear_solves_equivalent"] <= TARGETS["linear_solves"],
+        )
+    )
+    return [
+        "## 2. Contact solve against one linear solve",
+        "",
+        f"Default case ({lin['ndofs']} dofs): contact solver {_f(lin['solve_s'])} s warm; one linear elastic "
+        f"solve on the same mesh (new problem: assembly, MUMPS symbolic + numeric LU, solve) "
+        f"{_f(lin['linear_s'])} s (re-solve of the same problem {_f(lin['linear_resolve_s'])} s): "
+        f"**{_f(lin['linear_solves_equivalent'])} linear solves**. Newton iterations "
+        f"{lin['newton_iterations']} ({_f(lin['newton_per_step'])} per solve, predictor iteration included). "
+        f"PETSc events in one contact solve: LU symbolic/numeric {_events(ev)} (the Hertz predictor's linear "
+        f"solve included), Jacobian assemblies {ev['SNESJacobianEval']['count']}, residuals "
+        f"{ev['SNESFunctionEval']['count']}; see section 3 for larger sizes.",
+        "",
+    ]
+
+
+def _md_scale(sc: dict, targets: list) -> list[str]:
+    L = [
+        "## 3. Cost growth (P2, the case's Nitsche solver, one process per size)",
+        "",
+        f"graded: meshes.block at decreasing h_c (W = H = 40 a); uniform: the baseline's half box W = H = "
+        f"{SCALE_BOX:g} a. 'solver' = case settings. Times: fresh process with warm JIT cache, best of 3 "
+        f"in-process solves below {SMALL_NDOFS} dofs, else of 2. Peak RSS = VmHWM of that process "
+        "(ru_maxrss is inherited from the parent on Linux): after mesh + the first contact solve, and at the "
+        "end (contact solves and linear solves, whose factors may all still be alive).",
+        "",
+        "| mesh | h/a | ndofs | its | solver (s) | linear (s) | solver/linear | "
+        "LU sym/num | peak RSS 1st solve / end (MB) | rms |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for family, fam in sc.items():
+        for r in fam["rows"]:
+            L.append(
+                f"| {family} | {r['h_over_a']:.4g} | {r['ndofs']} | {r['newton_iterations']} | "
+                f"{_f(r['solve_s'])} | {_f(r['linear_s'])} | {_f(r['linear_solves_equivalent'])} | "
+                f"{_events(r['events'])} | {_f(r.get('peak_rss_first_solve_mb'), '.0f')} / "
+                f"{_f(r['peak_rss_mb'], '.0f')} | {_f(r['rms'])} |"
+            )
+    L.append("")
+    for family, fam in sc.items():
+        f = fam["fits"]
+        k = {key: (_f(f[key]["all"]["exponent"]), _f((f[key]["largest3"] or {}).get("exponent"))) for key in f}
+        mem = k.get("peak_rss_first_solve_mb", ("-", "-"))
+        L.append(
+            f"- {family}: t ~ ndofs^k (all sizes / largest 3): solver {k['solve_s'][0]} / {k['solve_s'][1]}, "
+            f"one linear solve {k['linear_s'][0]} / "
+            f"{k['linear_s'][1]}; peak memory after the first solve {mem[0]} / {mem[1]}."
+        )
+        for fit in ("all", "largest3"):
+            if f["solve_s"][fit] is None:
+                continue
+            k = f["solve_s"][fit]["exponent"]
+            what = "all sizes" if fit == "all" else "largest 3 sizes"
+            targets.append((f"cost exponent <= 1.3 ({family}, case solver, {what})", _f(k), k <= TARGETS["exponent"]))
+        big = fam["rows"][-1]
+        for key, what in (("linear_solves_equivalent", "case solver"),):
+            targets.append(
+                (
+                    f"contact solve <= 4 linear solves ({family}, {big['ndofs']} dofs, {what})",
+                    _f(big[key]),
+                    big[key] <= TARGETS["linear_solves"],
+                )
+            )
+    L.append("")
+    return L
+
+
+def _md_mpi(mp: dict) -> list[str]:
+    L = [
+        "## 4. MPI (`mpiexec -n 2 python -m scripts run hertz_cylinder`)",
+        "",
+        "| h/a | ndofs | rel diff P | rel diff p0 | rel diff a | <= 1e-8 | solver 1 / 2 procs (s) | speed-up "
+        "solver | speed-up process |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in mp["rows"]:
+        d = r["rel_diff"]
+        L.append(
+            f"| {r['h_over_a'] if r['h_over_a'] is not None else 'case'} | {r['serial']['ndofs']} | "
+            f"{d['P']:.1e} | {d['p0']:.1e} | {d['half_width']:.1e} | {r['reproduces_1e-8']} | "
+            f"{_f(r['serial']['solve_s'])} / {_f(r['np2']['solve_s'])} | {_f(r['speedup_solve'])} | "
+            f"{_f(r['speedup_process'])} |"
+        )
+    return L + [""]
+
+
+def _md_cache(ca: dict, op: dict | None, targets: list) -> list[str]:
+    L = ["## 5. Repeated work", ""]
+    if ca:
+        c, w = ca["cold_process"], ca["disk_warm_process"]
+        L += [
+            "| | process (s) | imports (s) | mesh (s) | first run (s) | second run, same process (s) |",
+            "|---|---|---|---|---|---|",
+            f"| cold: fresh FFCx cache (XDG_CACHE_HOME) and mesh cache | {_f(c['process_s'])} | "
+            f"{_f(c['import_s'])} | {_f(c['mesh_s'])} | {_f(c['first_total_s'])} | {_f(c['warm_total_s'])} |",
+            f"| same caches, new process | {_f(w['process_s'])} | {_f(w['import_s'])} | {_f(w['mesh_s'])} | "
+            f"{_f(w['first_total_s'])} | {_f(w['warm_total_s'])} |",
+            "",
+            f"Whole CLI `python -m scripts run hertz_cylinder` with warm caches (imports, run, plots, VTK, "
+            f"report): {_f(ca['cli_warm_process_s'])} s (exit {ca['cli_exit']}).",
+            "",
+        ]
+        targets.append(
+            (
+                "default hertz_cylinder (rms <= 0.5 %) in <= 3 s warm (whole CLI process)",
+                _f(ca["cli_warm_process_s"]),
+                ca["cli_warm_process_s"] <= TARGETS["default_warm_s"],
+            )
+        )
+    if op:
+        L += [
+            f"Solver options at h_c = a*{op['h_over_a']:g} (graded, {op['rows'][0]['ndofs']} dofs; one "
+            "linear "
+            f"solve {_f(op['linear']['linear_s'])} s). PETSc options go through "
+            "`solve_contact(..., petsc_options=...)` and reach the Newton solve only (the Hertz predictor's "
+            "MUMPS solve keeps its defaults).",
+            "",
+            "| variant | solver (s) | linear solves | Newton its | LU sym/num | symbolic (s) | numeric (s) | rms |",
+            "|---|---|---|---|---|---|---|---|",
+        ]
+        for r in op["rows"]:
+            ev = r["events"]
+            L.append(
+                f"| {r['variant']} | {_f(r['solve_s'])} | {_f(r['linear_solves_equivalent'])} | "
+                f"{r['newton_iterations']} | {_events(ev)} | {_f(ev['MatLUFactorSym']['time_s'])} | "
+                f"{_f(ev['MatLUFactorNum']['time_s'])} | {_f(r['rms'])} |"
+            )
+        L.append("")
+    return L
+
+
+def _md_reuse(lr: dict) -> list[str]:
+    L = [
+        "Reuse of the LU across Newton solves through PETSc options only (GMRES preconditioned by the LU of "
+        "the first Jacobian, `snes_lag_preconditioner -2`, `snes_lag_preconditioner_persists`):",
+        "",
+        "| mesh | h/a | ndofs | case (s) | reuse (s) | LU numeric case / reuse | triangular solves (reuse) | "
+        "rel diff P |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for r in lr["rows"]:
+        c, u = r.get("case", {}), r.get("reuse", {})
+        if "failed" in c or "failed" in u:
+            L.append(f"| {r['family']} | {r['h_over_a']:g} | - | failed: {c.get('failed', u.get('failed'))} | | | | |")
+            continue
+        L.append(
+            f"| {r['family']} | {r['h_over_a']:g} | {r.get('ndofs')} | {_f(c['solve_s'])} | "
+            f"{_f(u['solve_s'])} | {c['lu_numeric']} / {u['lu_numeric']} | {u['triangular_solves']} | "
+            f"{_f(r.get('rel_diff_P'), '.1e')} |"
+        )
+    return L + [
+        "",
+        "GMRES needs about one triangular solve per contact dof whose state differs from the first "
+        "Jacobian, so this wins only when the contact zone holds few dofs (see the comment at "
+        "REUSE_LU in scripts/bench.py).",
+        "",
+    ]
+
+
+def to_markdown(data: dict) -> str:
+    """The benchmark report (Markdown) from :func:`run_bench` data."""
+    L = [
+        "# Performance benchmark (hertz_cylinder)",
+        "",
+        f"`python -m scripts.bench` (`make bench`): {_f(data.get('bench_wall_time_s'), '.0f')} s on "
+        f"{data.get('cpu_count')} cores, load average {_f(data['load_avg_start'][0], '.2f')} at start and "
+        f"{_f(data.get('load_avg_end', [math.nan])[0], '.2f')} at the end (the CPU is shared: times are the "
+        "best "
+        f"of the repeats and carry that noise). Error: RMS(p - p_H)/p0 at the measured load; target "
+        f"{RMS_TARGET:.1%}. Warm: JIT and mesh caches filled, forms loaded once in the process.",
+        "",
+    ]
+    targets: list = []
+    if data.get("accuracy"):
+        L += _md_accuracy(data["accuracy"], targets)
+    if data.get("linear"):
+        L += _md_linear(data["linear"], targets)
+    if data.get("scale"):
+        L += _md_scale(data["scale"], targets)
+    if data.get("mpi"):
+        L += _md_mpi(data["mpi"])
+    if data.get("cache") or data.get("options"):
+        L += _md_cache(data.get("cache"), data.get("options"), targets)
+    if data.get("lu_reuse"):
+        L += _md_reuse(data["lu_reuse"])
+    L += ["## Targets", "", "| target | measured | status |", "|---|---|---|"]
+    L += [f"| {t} | {v} | {_met(ok)} |" for t, v, ok in targets]
+    return "\n".join(L) + "\n"
