@@ -195,6 +195,15 @@ class Curve(abc.ABC):
             done[idx[conv]] = True
         return t
 
+    def _projection(self, x: np.ndarray, t: np.ndarray) -> Projection:
+        """The :class:`Projection` of points ``x`` whose foot parameters are ``t`` (distance signed by the normal)."""
+        foot = self.point(t)
+        nrm = self.normal(t)
+        r = x - foot
+        side = np.einsum("ij,ij->i", r, nrm)
+        dist = np.linalg.norm(r, axis=1) * np.where(side < 0.0, -1.0, 1.0)
+        return Projection(t=t, foot=foot, distance=dist, normal=nrm)
+
     def project(self, points, *, t_guess=None, n_candidates: int = 3) -> Projection:
         """Global closest point on the curve of each point (coarse sampling + safeguarded Newton).
 
@@ -260,12 +269,7 @@ class Curve(abc.ABC):
                 take = dj < best_d
                 best_t[take], best_d[take] = tj[take], dj[take]
             t_out[start : start + m] = best_t
-        foot = self.point(t_out)
-        nrm = self.normal(t_out)
-        r = x_all - foot
-        side = np.einsum("ij,ij->i", r, nrm)
-        dist = np.linalg.norm(r, axis=1) * np.where(side < 0.0, -1.0, 1.0)
-        return Projection(t=t_out, foot=foot, distance=dist, normal=nrm)
+        return self._projection(x_all, t_out)
 
 
 def clamped_uniform_knots(n_control: int, degree: int) -> np.ndarray:
@@ -395,12 +399,7 @@ class CircleArc(Curve):
         t = np.where(inside, t_rad, np.where(d0 <= d1, 0.0, 1.0))
         at_center = np.linalg.norm(rel, axis=1) == 0.0
         t = np.where(at_center, 0.0, np.clip(t, 0.0, 1.0))
-        foot = self.point(t)
-        nrm = self.normal(t)
-        r = x - foot
-        side = np.einsum("ij,ij->i", r, nrm)
-        dist = np.linalg.norm(r, axis=1) * np.where(side < 0.0, -1.0, 1.0)
-        return Projection(t=t, foot=foot, distance=dist, normal=nrm)
+        return self._projection(x, t)
 
 
 class Line(Curve):
@@ -438,12 +437,7 @@ class Line(Curve):
         x = _as_points(points)
         e = self.p1 - self.p0
         t = np.clip((x - self.p0) @ e / (e @ e), 0.0, 1.0)
-        foot = self.point(t)
-        nrm = self.normal(t)
-        r = x - foot
-        side = np.einsum("ij,ij->i", r, nrm)
-        dist = np.linalg.norm(r, axis=1) * np.where(side < 0.0, -1.0, 1.0)
-        return Projection(t=t, foot=foot, distance=dist, normal=nrm)
+        return self._projection(x, t)
 
 
 class Ellipse(Curve):
