@@ -292,26 +292,10 @@ def uniform_box_mesh(*, width: float, height: float, h: float, comm):
 
 
 def _hertz_errors(result, run) -> dict:
-    """Errors of a half-model result against Hertz at the measured load (as scripts.scene_block does)."""
-    from scripts.compare import compare_block
+    """Errors of a result against Hertz at the measured load, exactly as the case runner computes them."""
+    from scripts.scene_block import compare_result
 
-    smp = result.samples
-    x, p = smp.s, smp.p
-    keep = x > 0
-    x, p = np.concatenate([-x[keep][::-1], x]), np.concatenate([p[keep][::-1], p])
-    main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
-    hw, pm = (main.half_width, main.p_max) if main else (math.nan, math.nan)
-    _, errors = compare_block(
-        x=x,
-        p=p,
-        P=result.P,
-        P_pressure=result.P_pressure,
-        half_width_fem=hw,
-        p_max_fem=pm,
-        geometry=run.geometry,
-        material=run.material,
-    )
-    return errors
+    return compare_result(result, run).errors
 
 
 def _baseline_once(run, *, box: float, h: float, comm) -> dict:

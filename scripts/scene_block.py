@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -15,7 +16,7 @@ from cases.schema import Run
 from scripts.compare import BlockTheory, block_theory, compare_block
 from scripts.outcome import Outcome, Series, step_printer
 
-__all__ = ["block_mesh", "obstacle_for", "run_block"]
+__all__ = ["BlockComparison", "block_mesh", "compare_result", "obstacle_for", "run_block"]
 
 MESH_CACHE = Path("results/mesh_cache")
 
@@ -30,6 +31,40 @@ def obstacle_for(run: Run, theory: BlockTheory):
     if g.indenter == "parabola":
         return ParabolaObstacle(radius=g.radius)
     return WedgeObstacle(slope=theory.m)
+
+
+class BlockComparison(NamedTuple):
+    """A block result against its classical theory at the measured load (samples mirrored to the full body)."""
+
+    x: np.ndarray
+    p: np.ndarray
+    sigma_nn: np.ndarray
+    half_width: float
+    p_max: float
+    theory: BlockTheory
+    errors: dict
+
+
+def compare_result(result, run: Run) -> BlockComparison:
+    """Compare a :class:`fem.solver.ContactResult` of a block run with half-plane theory at its measured load.
+
+    A half model's samples (x >= 0) are mirrored to the full body; the main patch is the one carrying the
+    largest load.
+    """
+    smp = result.samples
+    x, p, snn = smp.s, smp.p, smp.sigma_nn
+    if result.half:  # mirror the half model (x >= 0) to the full body for plots and errors
+        keep = x > 0
+        x = np.concatenate([-x[keep][::-1], x])
+        p = np.concatenate([p[keep][::-1], p])
+        snn = np.concatenate([snn[keep][::-1], snn])
+    main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
+    half_width = main.half_width if main else math.nan
+    p_max = main.p_max if main else math.nan
+    theory, errors = compare_block(x=x, p=p, P=result.P, P_pressure=result.P_pressure,
+                                   half_width_fem=half_width, p_max_fem=p_max, geometry=run.geometry,
+                                   material=run.material)
+    return BlockComparison(x, p, snn, half_width, p_max, theory, errors)
 
 
 def block_mesh(run: Run, *, name: str, comm, stats_dir: Path | None = None):
@@ -81,18 +116,9 @@ def run_block(run: Run, *, name: str, stage: Path | None, comm, progress) -> Out
     )
     for w in result.warnings:
         progress(f"[{run.label}] WARNING: {w}")
-    smp = result.samples
-    x, p, snn = smp.s, smp.p, smp.sigma_nn
-    if result.half:  # mirror the half model (x >= 0) to the full body for plots and errors
-        keep = x > 0
-        x = np.concatenate([-x[keep][::-1], x])
-        p = np.concatenate([p[keep][::-1], p])
-        snn = np.concatenate([snn[keep][::-1], snn])
-    main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
-    half_width = main.half_width if main else math.nan
-    p_max = main.p_max if main else math.nan
-    theory, errors = compare_block(x=x, p=p, P=result.P, P_pressure=result.P_pressure,
-                                   half_width_fem=half_width, p_max_fem=p_max, geometry=g, material=run.material)
+    cmp = compare_result(result, run)
+    x, p, snn, theory, errors = cmp.x, cmp.p, cmp.sigma_nn, cmp.theory, cmp.errors
+    half_width, p_max = cmp.half_width, cmp.p_max
     if sol.kinematics == "convective":
         # The classical theory ignores the convective effect this run measures: its errors are kept for
         # information only (the convective comparison is made at case level, scripts/case_checks.py).
