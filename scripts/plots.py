@@ -15,7 +15,7 @@ import numpy as np  # noqa: E402
 
 from scripts.atomic import atomic_path  # noqa: E402
 
-__all__ = ["plot_pressure_panels"]
+__all__ = ["plot_load_indentation", "plot_pressure_panels"]
 
 
 def plot_pressure_panels(panels: list[dict], path: Path, *, title: str) -> None:
@@ -50,6 +50,31 @@ def plot_pressure_panels(panels: list[dict], path: Path, *, title: str) -> None:
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
     fig.suptitle(title)
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+
+
+def plot_load_indentation(curves: dict, path: Path, *, title: str, reference: dict | None = None) -> None:
+    """Load against indentation, one line per configuration, with optional reference points.
+
+    Args:
+        curves: label -> (delta (mm), P (N/mm)) arrays.
+        path: PNG file to write (atomically).
+        title: Figure title.
+        reference: label -> (delta, P) points drawn as hollow markers (e.g. a paper's table).
+    """
+    fig, ax = plt.subplots(figsize=(5.5, 4.0))
+    for (label, (delta, P)), marker in zip(curves.items(), ("o", "s", "^", "d"), strict=False):
+        ax.plot(delta, P, marker=marker, label=label)
+    for (label, (delta, P)), marker in zip((reference or {}).items(), ("o", "s", "^", "d"), strict=False):
+        ax.plot(delta, P, marker=marker, ls=":", mfc="none", color="0.35", label=label)
+    ax.set_xlabel(r"indentation $\delta$ (mm, LCP of the rigid curves)")
+    ax.set_ylabel("P (N/mm, total load per unit thickness)")
+    ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110)

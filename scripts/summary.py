@@ -74,6 +74,14 @@ def summary_markdown(results: Path) -> str:
     for name, m in metrics.items():
         if m.get("headline"):
             lines.append(f"- **{name}**: {m['headline']}")
+    if all(n in metrics and metrics[n].get("steps") for n in ("concave_symmetric", "close_to_conformal")):
+        lines += ["## Load against indentation (close-to-conformal paper, Fig. 3)", "",
+                  "![P against delta](p_delta.png)", "",
+                  "Indentation delta from the LCP of the rigid curves at each displacement step; P is the FEM load of "
+                  "the whole contact (both patches of the symmetric configuration). Hollow markers: the paper's "
+                  "Table 1 as printed (its symmetric P is one patch's load, see the claims table). Its geometry and "
+                  "body size are not published, and in 2D the load at a given indentation "
+                  "depends on the whole body, so only the trend (close-to-conformal stiffer) is comparable.", ""]
     lines += ["", claims_markdown(results), ""]
     studies = [("convergence", "Error against run time"), ("stability", "Numerical stability sweep"),
                ("bench", "Performance benchmark"), ("analytic", "Analytic convective table")]
@@ -91,6 +99,21 @@ def summary_markdown(results: Path) -> str:
 def write_summary(results: Path) -> None:
     """Write ``report.md`` and ``report.html`` in ``results``."""
     results = Path(results)
+    metrics = load_metrics(results)
+    if all(n in metrics and metrics[n].get("steps") for n in ("concave_symmetric", "close_to_conformal")):
+        from scripts.plots import plot_load_indentation
+
+        curves = {n.replace("_", " "): ([st["delta_lcp"] for st in metrics[n]["steps"]],
+                                         [st["P"] for st in metrics[n]["steps"]])
+                  for n in ("concave_symmetric", "close_to_conformal")}
+        from analytic.hertz import TABLE1
+
+        paper = {f"paper Table 1, {label}": ([r.delta for r in TABLE1 if r.config == cfg],
+                                             [r.P for r in TABLE1 if r.config == cfg])
+                 for cfg, label in (("symmetrical", "symmetrical (P as printed: one patch)"),
+                                    ("close_to_conformal", "close to conformal"))}
+        plot_load_indentation(curves, results / "p_delta.png", title="Load against indentation (our designs)",
+                              reference=paper)
     md = summary_markdown(results)
     write_text(results / "report.md", md)
     html = markdown_to_html(md.replace("/report.md)", "/report.html)").replace("/convective.md)", "/convective.html)"),
