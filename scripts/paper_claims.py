@@ -184,6 +184,21 @@ def _fem_claims(results: Path) -> list[Claim]:
     else:
         out.append(Claim(CC, "the close-to-conformal contact is stiffer", "stiffer", "not run yet", "FEM",
                          "run both concave cases"))
+    rows = [r for r in hertz.TABLE1 if r.config == "close_to_conformal"]
+    secant = [r.P / r.delta for r in rows[:3]]
+    ours = ""
+    if ctc and ctc.get("steps") and len(ctc["steps"]) >= 3:
+        st = ctc["steps"][:3]
+        ours = "; our FEM: " + ", ".join(f"{x['P'] / x['delta_lcp']:.3g}" for x in st if x["delta_lcp"] > 0)
+    out.append(Claim(
+        CC, "Table 1, close-to-conformal rows d = 0.46, 0.47, 0.48: P and delta (secant stiffness P/delta)",
+        ", ".join(f"({r.delta:g} mm, {r.P:g} N/mm)" for r in rows[:3]),
+        "P/delta = " + ", ".join(f"{v:.3g}" for v in secant) + " N/mm^2 (paper)" + ours,
+        "the paper's Table 1; FEM on our design",
+        "not consistent: the first row's P/delta is "
+        f"{secant[0] / secant[1]:.1f}x the next rows', while a contact that stiffens with load has a rising P/delta "
+        "(as our FEM does); the three rows cannot lie on one such curve, and the paper does not say why"
+        if secant[0] > 2 * secant[1] else "consistent"))
     if ctc and ctc.get("superposition_rms_over_p0") is not None:
         v = ctc["superposition_rms_over_p0"]
         out.append(Claim(CC, "Hertz superposition fails once the close-to-conformal patches merge",
