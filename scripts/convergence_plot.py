@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402
 
-from scripts.atomic import atomic_path  # noqa: E402
+from scripts.plots import save_figure  # noqa: E402
 
 __all__ = ["main", "plot_study"]
 
@@ -93,12 +93,7 @@ def plot_study(data: dict, *, out_dir: Path) -> list[Path]:
                 ax.set_visible(False)
         fig.suptitle(f"Error against {'warm run time' if stem == 'error_vs_time' else 'ndofs'} "
                      "(one line per method x degree over the h_c levels)", fontsize=10)
-        fig.tight_layout()
-        path = Path(out_dir) / f"{stem}.png"
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=110)
-        plt.close(fig)
-        paths.append(path)
+        paths.append(save_figure(fig, Path(out_dir) / f"{stem}.png"))
     return paths
 
 

@@ -15,7 +15,17 @@ import numpy as np  # noqa: E402
 
 from scripts.atomic import atomic_path  # noqa: E402
 
-__all__ = ["plot_load_indentation", "plot_pressure_panels"]
+__all__ = ["plot_load_indentation", "plot_pressure_panels", "save_figure"]
+
+
+def save_figure(fig, path: Path, *, dpi: int = 110) -> Path:
+    """Lay out ``fig``, write it to ``path`` atomically, close it, and return the path."""
+    path = Path(path)
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=dpi)
+    plt.close(fig)
+    return path
 
 
 def plot_pressure_panels(panels: list[dict], path: Path, *, title: str) -> None:
@@ -50,10 +60,7 @@ def plot_pressure_panels(panels: list[dict], path: Path, *, title: str) -> None:
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
     fig.suptitle(title)
-    fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def plot_load_indentation(curves: dict, path: Path, *, title: str, reference: dict | None = None) -> None:
@@ -75,7 +82,4 @@ def plot_load_indentation(curves: dict, path: Path, *, title: str, reference: di
     ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)

@@ -17,7 +17,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from scripts.atomic import atomic_path  # noqa: E402
+from scripts.plots import save_figure  # noqa: E402
 
 __all__ = ["plot_method", "plot_incompressible", "main"]
 
@@ -49,11 +49,7 @@ def plot_method(records: list[dict], path: Path) -> Path:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
     fig.suptitle("Method parameters, Hertz scene (P2, h = a/10)")
-    fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=120)
 
 
 def plot_incompressible(records: list[dict], path: Path) -> Path:
@@ -71,11 +67,7 @@ def plot_incompressible(records: list[dict], path: Path) -> Path:
     ax.invert_xaxis()
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=120)
 
 
 def main(argv: list[str] | None = None) -> int:
