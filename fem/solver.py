@@ -101,7 +101,7 @@ class ContactResult:
 
     Attributes:
         ndofs: global number of displacement dofs.
-        wall_time_s: wall time of the load stepping (s; includes JIT unless cached).
+        wall_time_s: wall time of the load stepping (s); the forms are compiled before the clock starts.
         newton_iterations: Newton iterations per converged solve (load steps and force corrections), the
             prescribed-active-set predictor iteration included.
         load_steps: one dict per converged solve: d (mm), P (N/mm), iterations, time (s), kind.

@@ -8,7 +8,6 @@ calls :func:`plot_bench` itself.
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
@@ -19,7 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402
 
-from scripts.plots import save_figure  # noqa: E402
+from scripts.plots import load_study_json, save_figure  # noqa: E402
 
 __all__ = ["main", "plot_bench"]
 
@@ -109,12 +108,11 @@ def _save(fig, path: Path) -> Path:
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m scripts.bench_plot [JSON]``."""
-    argv = sys.argv[1:] if argv is None else argv
-    path = Path(argv[0]) if argv else DEFAULT_JSON
-    if not path.is_file():
-        print(f"error: {path} not found; run `python -m scripts.bench` first", file=sys.stderr)
+    loaded = load_study_json(sys.argv[1:] if argv is None else argv, DEFAULT_JSON, producer="scripts.bench")
+    if loaded is None:
         return 2
-    for p in plot_bench(json.loads(path.read_text()), path.parent):
+    path, data = loaded
+    for p in plot_bench(data, path.parent):
         print(p)
     return 0
 

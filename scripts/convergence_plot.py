@@ -7,7 +7,6 @@ log-log axes; each line joins the h_c levels in refinement order.
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
@@ -17,7 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402
 
-from scripts.plots import save_figure  # noqa: E402
+from scripts.plots import load_study_json, save_figure  # noqa: E402
 
 __all__ = ["main", "plot_study"]
 
@@ -99,12 +98,11 @@ def plot_study(data: dict, *, out_dir: Path) -> list[Path]:
 
 def main(argv: list[str] | None = None) -> int:
     """CLI: plot the study JSON (default results/convergence/convergence.json); exit 2 if it is missing."""
-    argv = sys.argv[1:] if argv is None else argv
-    path = Path(argv[0]) if argv else DEFAULT_JSON
-    if not path.is_file():
-        print(f"error: {path} does not exist; run `python -m scripts.convergence` first", file=sys.stderr)
+    loaded = load_study_json(sys.argv[1:] if argv is None else argv, DEFAULT_JSON, producer="scripts.convergence")
+    if loaded is None:
         return 2
-    for p in plot_study(json.loads(path.read_text()), out_dir=path.parent):
+    path, data = loaded
+    for p in plot_study(data, out_dir=path.parent):
         print(f"wrote {p}")
     return 0
 

@@ -15,7 +15,22 @@ import numpy as np  # noqa: E402
 
 from scripts.atomic import atomic_path  # noqa: E402
 
-__all__ = ["plot_load_indentation", "plot_pressure_panels", "save_figure"]
+__all__ = ["load_study_json", "plot_load_indentation", "plot_pressure_panels", "save_figure"]
+
+
+def load_study_json(argv: list[str], default: Path, *, producer: str):
+    """The ``(path, data)`` of a study JSON named on a plot CLI (``argv[0]``, else ``default``).
+
+    Returns ``None`` after one error line on stderr when the file is missing (the caller exits 2).
+    """
+    import json
+    import sys
+
+    path = Path(argv[0]) if argv else Path(default)
+    if not path.is_file():
+        print(f"error: {path} not found; run `python -m {producer}` first", file=sys.stderr)
+        return None
+    return path, json.loads(path.read_text())
 
 
 def save_figure(fig, path: Path, *, dpi: int = 110) -> Path:

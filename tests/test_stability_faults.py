@@ -53,6 +53,18 @@ def _snapshot(folder: Path) -> dict:
     return {p.relative_to(folder): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
 
 
+def _interrupt_at_first_step(out: Path, cwd: Path):
+    """Start ``run hertz_cylinder`` on a fine mesh (still solving when its first load step is printed), send
+    SIGINT at that line, and return the finished process and its stderr."""
+    proc = _cli(["run", "hertz_cylinder", "--h-contact", "0.025", "--out", str(out)], cwd)
+    for line in proc.stdout:
+        if "step:" in line:
+            proc.send_signal(signal.SIGINT)
+            break
+    _, err = proc.communicate(timeout=120)
+    return proc, err
+
+
 def _no_staging(root: Path) -> bool:
     return not [p for p in root.iterdir() if ".staging." in p.name or ".old." in p.name]
 
@@ -116,13 +128,7 @@ def test_sigint_leaves_previous_results_intact(tmp_path):
     code, _, err = _run(["run", "hertz_cylinder", "--h-contact", "0.1", "--out", str(out)], tmp_path)
     assert code == 0, err
     before = _snapshot(out / "hertz_cylinder")
-    # finer mesh, so the run is still solving when the first load step is printed and SIGINT arrives
-    proc = _cli(["run", "hertz_cylinder", "--h-contact", "0.025", "--out", str(out)], tmp_path)
-    for line in proc.stdout:
-        if "step:" in line:
-            proc.send_signal(signal.SIGINT)
-            break
-    _, err = proc.communicate(timeout=120)
+    proc, err = _interrupt_at_first_step(out, tmp_path)
     assert proc.returncode != 0, err
     assert _snapshot(out / "hertz_cylinder") == before
     code, _, err = _run(["run", "hertz_cylinder", "--h-contact", "0.1", "--out", str(out)], tmp_path)
@@ -135,12 +141,7 @@ def test_sigint_exits_130_and_cleans_its_staging_folder(tmp_path):
     SIG_DFL (dolfinx's ``read_from_msh`` calls ``gmsh.initialize()``, whose ``interruptible=True`` default
     resets the handler): the process is then killed by the signal (-2) and ``.<case>.staging.*`` stays behind."""
     out = tmp_path / "results"
-    proc = _cli(["run", "hertz_cylinder", "--h-contact", "0.025", "--out", str(out)], tmp_path)
-    for line in proc.stdout:
-        if "step:" in line:
-            proc.send_signal(signal.SIGINT)
-            break
-    _, err = proc.communicate(timeout=120)
+    proc, err = _interrupt_at_first_step(out, tmp_path)
     assert proc.returncode == 130 and "interrupted" in err, (proc.returncode, err)
     assert not (out / "hertz_cylinder").exists() and _no_staging(out)
 
