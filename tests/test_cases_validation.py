@@ -80,6 +80,8 @@ BAD = {
     "bad_choice": (('control = "force"', 'control = "torque"'), ["loading.control", "allowed values"]),
     "h_contact_above_one": (("P = 100.0", "P = 100.0\n[discretisation]\nh_contact = 2.0"),
                             ["discretisation.h_contact", "h_contact <= 1"]),
+    "growth_too_small": (("P = 100.0", "P = 100.0\n[discretisation]\ngrowth = 1.0"),
+                         ["discretisation.growth", "1.05 <= growth <= 2"]),
     "degree_three": (("P = 100.0", "P = 100.0\n[discretisation]\ndegree = 3"), ["discretisation.degree"]),
     "kappa_negative": (("P = 100.0", "P = 100.0\n[solver]\nkappa0 = -1.0"), ["solver.kappa0", "kappa0 > 0"]),
     "d_with_force": (("P = 100.0", "P = 100.0\nd = [0.1]"), ["loading.d"]),
