@@ -13,7 +13,8 @@ MPIRUN := $(if $(filter-out 1,$(NP)),$(VENV)/bin/mpiexec -n $(NP),)
 
 CASES  := $(basename $(notdir $(wildcard cases/*.toml)))
 METRICS := $(foreach c,$(CASES),results/$(c)/metrics.json)
-SOURCES := $(wildcard analytic/*.py meshes/*.py fem/*.py cases/*.py scripts/*.py)
+SOURCES := $(wildcard analytic/*.py meshes/*.py fem/*.py fem/*/*.py cases/*.py workbench/*.py workbench/*/*.py)
+WB     := $(VENV)/bin/workbench
 # one thread per process: `make -j2` and MPI ranks share the 2 cores instead of oversubscribing them
 export OMP_NUM_THREADS := 1
 export OPENBLAS_NUM_THREADS := 1
@@ -43,12 +44,13 @@ help:
 
 setup: $(STAMP)
 
-$(STAMP): requirements.txt
+$(STAMP): requirements.txt pyproject.toml
 	@py=$$($(find_python)) || { echo "error: need Python >= 3.12 (set PYTHON=/path/to/python3.12; none found on PATH or under pyenv)" >&2; exit 2; }; \
 	 if [ ! -x $(PY) ] || ! $(PY) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 12) else 1)' 2>/dev/null; then \
 	   echo "creating $(VENV) with $$py"; rm -rf $(VENV); "$$py" -m venv $(VENV) || exit 2; fi
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -r requirements.txt
+	$(PY) -m pip install --quiet --no-deps --no-build-isolation -e .
 	$(PY) -c "import dolfinx_solver, dolfinx, gmsh, meshio, scipy; print('dolfinx', dolfinx.__version__, 'gmsh', gmsh.__version__)"
 	@rm -f $(VENV)/.stamp-*; touch $@
 
@@ -59,35 +61,35 @@ lint: setup
 	$(VENV)/bin/ruff check .
 
 list: setup
-	@$(PY) -m scripts list
+	@$(WB) list
 
 $(CASES): %: setup
-	$(MPIRUN) $(PY) -m scripts run $@
+	$(MPIRUN) $(WB) run $@
 
 report: setup
-	$(PY) -m scripts report
+	$(WB) report
 
 # Each case writes results/<case>/metrics.json; the pattern rule lets `make -j2 run` work, and a case
 # reruns when its file or any source changes. `run` always ends with the summary report, even when a
 # case failed (the make exit status still says so).
 results/%/metrics.json: cases/%.toml $(SOURCES) | setup
-	$(MPIRUN) $(PY) -m scripts run $*
+	$(MPIRUN) $(WB) run $*
 
 run: setup
 	@$(MAKE) --no-print-directory -k $(METRICS); status=$$?; \
-	 $(PY) -m scripts.convective_table && $(PY) -m scripts report; exit $$status
+	 $(WB) convective-table && $(WB) report; exit $$status
 
 ci: setup
-	$(PY) -m scripts ci
+	$(WB) ci
 
 convergence: setup
-	$(PY) -m scripts.convergence
+	$(WB) convergence
 
 stability: setup
-	$(PY) -m scripts.stability
+	$(WB) stability
 
 bench: setup
-	$(PY) -m scripts.bench
+	$(WB) bench
 
 clean:
 	rm -rf results .pytest_cache .ruff_cache

@@ -1,12 +1,10 @@
 """``python -m meshes build NAME [--h-contact H] [--half] [--out-dir DIR] [--stats-dir DIR] [--json]``.
 
-NAME is a case (``cases/<NAME>.toml``: every run's mesh is built exactly as the case runs it, sized from the
-analytic contact estimate; ``--h-contact`` is then a FRACTION of the half-width and the statistics go to
-``results/<case>/mesh.json`` unless ``--stats-dir`` says otherwise), or one of the built-in defaults
-(hertz_default: a = 0.5 mm, W = H = 40 a, h_c = a/20;
+NAME is one of the built-in defaults (hertz_default: a = 0.5 mm, W = H = 40 a, h_c = a/20;
 wedge_default: the same block with apex refinement; concave_symmetric / symmetric and close_to_conformal:
-the designs of :mod:`analytic.designs`, h_c = 0.05 mm; a case of the same name takes precedence). Prints the
-mesh statistics. Bad values: one stderr line, exit code 2.
+the designs of :mod:`analytic.designs`, h_c = 0.05 mm). Prints the mesh statistics. Bad values: one stderr
+line, exit code 2. The meshes of a case, exactly as the case runs them, come from ``workbench mesh CASE``
+(this layer knows nothing of cases).
 """
 
 from __future__ import annotations
@@ -40,10 +38,6 @@ def main(argv=None) -> int:
     if args.h_contact is not None and not (math.isfinite(args.h_contact) and args.h_contact > 0):
         print(f"error: --h-contact must be > 0 (mm), got {args.h_contact}", file=sys.stderr)
         return 2
-    from cases import CaseError, case_names, load_case
-
-    if args.name in case_names():
-        return _build_case(args, load_case, CaseError)
     try:
         if args.name in BLOCK_DEFAULTS:
             from meshes.block import build_block_mesh
@@ -75,37 +69,6 @@ def main(argv=None) -> int:
     else:
         for k, v in out.items():
             print(f"{k:28s} {v:.6g}" if isinstance(v, float) else f"{k:28s} {v}")
-    return 0
-
-
-def _build_case(args, load_case, CaseError) -> int:
-    """Build every run's mesh of a case, print and write its statistics."""
-    from pathlib import Path
-
-    from mpi4py import MPI
-
-    from scripts.case_mesh import case_meshes
-
-    if args.h_contact is not None and not args.h_contact <= 1.0:
-        print(f"error: --h-contact is a fraction of the half-width for a case; allowed: 0 < h <= 1, "
-              f"got {args.h_contact}", file=sys.stderr)
-        return 2
-    try:
-        case = load_case(args.name)
-        stats_dir = Path(args.stats_dir) if args.stats_dir else Path("results") / case.name
-        files = case_meshes(case, comm=MPI.COMM_WORLD, h_contact=args.h_contact, stats_dir=stats_dir)
-    except (CaseError, ValueError) as exc:
-        print(f"error: {str(exc).splitlines()[0]}", file=sys.stderr)
-        return 2
-    out = {label: {"msh": str(f.msh), "cached": f.cached, **{k: v for k, v in f.stats.items() if k != "params"}}
-           for label, f in files.items()}
-    if args.json:
-        print(json.dumps(out, indent=2))
-    else:
-        for label, st in out.items():
-            print(f"[{label}]")
-            for k, v in st.items():
-                print(f"  {k:26s} {v:.6g}" if isinstance(v, float) else f"  {k:26s} {v}")
     return 0
 
 

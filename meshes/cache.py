@@ -14,7 +14,9 @@ from typing import NamedTuple
 
 __all__ = ["MeshFiles", "cache_key", "cache_paths", "atomic_write_json", "DEFAULT_CACHE_DIR"]
 
-DEFAULT_CACHE_DIR = Path("results/mesh_cache")
+# The default of the standalone builders and `python -m meshes`: results/mesh_cache of this checkout, whatever the
+# working directory (the workbench passes its own output folder's cache).
+DEFAULT_CACHE_DIR = Path(__file__).resolve().parent.parent / "results" / "mesh_cache"
 
 
 class MeshFiles(NamedTuple):

@@ -1,4 +1,4 @@
-"""Fast checks of the benchmark helpers (scripts/bench.py, scripts/bench_report.py): exponent fit, ladder
+"""Fast checks of the benchmark helpers (workbench/studies/bench.py, workbench/studies/bench_report.py): exponent fit, ladder
 selection, report text.
 
 No timing is asserted: the benchmark reports times, it does not test them.
@@ -11,8 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from scripts.bench import LOG_EVENTS, RMS_TARGET, ExponentFit, first_reaching, fit_exponent, rel_diff
-from scripts.bench_report import to_markdown
+from workbench.studies.bench import LOG_EVENTS, RMS_TARGET, ExponentFit, first_reaching, fit_exponent, rel_diff
+from workbench.studies.bench_report import to_markdown
 
 # An exact power law is fitted to round-off: the only error is floating point in polyfit on ~5 points,
 # so 1e-10 on the exponent is ~1e5 eps of headroom.

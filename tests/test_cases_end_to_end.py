@@ -1,6 +1,6 @@
 """Every case runs end to end at its coarsest (CI) level, fills the results contract and meets its tolerances.
 
-Requirement: no case can rot. Each case is run through the real CLI (``python -m scripts run CASE --ci``)
+Requirement: no case can rot. Each case is run through the real CLI (``workbench run CASE --ci``)
 in a subprocess, into a temporary results folder.
 """
 
@@ -23,7 +23,7 @@ CONTRACT = ("case", "method", "kinematics", "ndofs", "wall_time_s", "newton_iter
 
 @pytest.mark.parametrize("name", case_names())
 def test_case_runs_at_ci_level(name, tmp_path):
-    proc = subprocess.run([sys.executable, "-m", "scripts", "run", name, "--ci", "--out", str(tmp_path)],
+    proc = subprocess.run([sys.executable, "-m", "workbench", "run", name, "--ci", "--out", str(tmp_path)],
                           cwd=ROOT, capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     out = tmp_path / name

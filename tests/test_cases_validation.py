@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from cases import case_names, load_case
-from scripts.__main__ import main
+from workbench.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -134,7 +134,7 @@ def test_cli_subprocess_exit_code(tmp_path):
     """The real process exits with 2 and prints exactly one line on stderr."""
     p = tmp_path / "bad.toml"
     p.write_text(GOOD.replace("nu = 0.3", "nu = 0.5"))
-    proc = subprocess.run([sys.executable, "-m", "scripts", "run", str(p), "--out", str(tmp_path / "r")],
+    proc = subprocess.run([sys.executable, "-m", "workbench", "run", str(p), "--out", str(tmp_path / "r")],
                           cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2
     assert proc.stderr.strip().count("\n") == 0 and "material.nu" in proc.stderr

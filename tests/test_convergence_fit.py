@@ -1,4 +1,4 @@
-"""Rate fitting and reporting of the convergence study (scripts.convergence, scripts.convergence_report) on
+"""Rate fitting and reporting of the convergence study (workbench.studies.convergence, workbench.studies.convergence_report) on
 synthetic data; no dolfinx, < 1 s.
 
 The fit is a least-squares line in log-log over the finest three levels, so an exact power law must come out
@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from scripts.convergence import (
+from workbench.studies.convergence import (
     EXPECTED_RATES,
     GROWTH_RANGE,
     RATE_BAND,
@@ -23,7 +23,7 @@ from scripts.convergence import (
     l2_pressure_error,
     observed_rates,
 )
-from scripts.convergence_report import to_markdown
+from workbench.studies.convergence_report import to_markdown
 
 H = np.array([0.2, 0.1, 0.05, 0.025, 0.0125])
 

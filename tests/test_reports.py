@@ -6,8 +6,8 @@ states the paper's figures that do not follow from its own equations.
 
 from __future__ import annotations
 
-from scripts.paper_claims import collect_claims
-from scripts.summary import write_summary
+from workbench.reports.paper_claims import collect_claims
+from workbench.reports.summary import write_summary
 
 
 def test_summary_with_no_case_run_yet(tmp_path):

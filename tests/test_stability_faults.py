@@ -23,7 +23,7 @@ from fem.elasticity import plane_strain_modulus
 from fem.obstacles import CircleObstacle
 from fem.solver import ContactSolveError, solve_contact
 from meshes.block import build_block_mesh
-from scripts.mesh_io import read_mesh
+from workbench.mesh_io import read_mesh
 
 ROOT = Path(__file__).resolve().parents[1]
 R, E, NU, A = 10.0, 2.0e5, 0.3, 0.5
@@ -39,7 +39,7 @@ def mesh10(tmp_path_factory):
 
 def _cli(args, cwd, **kw):
     env = dict(os.environ, PYTHONPATH=str(ROOT), OMP_NUM_THREADS="1")
-    return subprocess.Popen([sys.executable, "-m", "scripts", *args], cwd=cwd, env=env, text=True,
+    return subprocess.Popen([sys.executable, "-m", "workbench", *args], cwd=cwd, env=env, text=True,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, **kw)
 
 
@@ -137,7 +137,7 @@ def test_sigint_leaves_previous_results_intact(tmp_path):
 
 def test_sigint_exits_130_and_cleans_its_staging_folder(tmp_path):
     """Ctrl-C must reach Python as KeyboardInterrupt: run_case then prints "interrupted: ..." and exits 130,
-    and atomic_dir removes its staging folder. Fails while ``scripts.mesh_io.read_mesh`` leaves SIGINT at
+    and atomic_dir removes its staging folder. Fails while ``workbench.mesh_io.read_mesh`` leaves SIGINT at
     SIG_DFL (dolfinx's ``read_from_msh`` calls ``gmsh.initialize()``, whose ``interruptible=True`` default
     resets the handler): the process is then killed by the signal (-2) and ``.<case>.staging.*`` stays behind."""
     out = tmp_path / "results"

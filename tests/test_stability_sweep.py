@@ -1,8 +1,8 @@
 """Stiff and extreme cases: named warnings, locking-free mixed formulation, scale invariance, conditioning.
 
-Scene (scripts.stability.Spec defaults): rigid circle R = 10 mm on a block 40 a x 40 a (half model), a/R = 0.05,
+Scene (workbench.studies.stability.Spec defaults): rigid circle R = 10 mm on a block 40 a x 40 a (half model), a/R = 0.05,
 E = 200 GPa, P2, h = a/10, Nitsche gamma0 = 10, theta = 1, force control to the Hertz load; errors against
-Hertz at the measured load (scripts.compare). Each solve takes ~0.1 s warm (plus ~1.5 s JIT per new form).
+Hertz at the measured load (workbench.scenes.block_theory). Each solve takes ~0.1 s warm (plus ~1.5 s JIT per new form).
 """
 
 import dolfinx_solver  # noqa: F401
@@ -16,7 +16,7 @@ from mpi4py import MPI
 
 from fem.conditioning import condition_1norm
 from fem.solver import snes_reason_name
-from scripts.stability import BAND, Spec, classify, run_block_spec, run_sweep
+from workbench.studies.stability import BAND, Spec, classify, run_block_spec, run_sweep
 
 COMM = MPI.COMM_WORLD
 

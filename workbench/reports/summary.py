@@ -11,8 +11,8 @@ import json
 from pathlib import Path
 
 from cases import case_names
-from scripts.atomic import write_text
-from scripts.markdown_html import fmt, markdown_to_html
+from workbench.atomic import write_text
+from workbench.reports.markdown import fmt, markdown_to_html
 
 __all__ = ["load_metrics", "summary_markdown", "write_summary"]
 
@@ -35,7 +35,7 @@ def _fmt(v) -> str:
 
 def summary_markdown(results: Path) -> str:
     """The summary report as Markdown."""
-    from scripts.paper_claims import claims_markdown
+    from workbench.reports.paper_claims import claims_markdown
 
     metrics = load_metrics(results)
     lines = ["# Contact verification workbench: summary", ""]
@@ -101,7 +101,7 @@ def write_summary(results: Path) -> None:
     results = Path(results)
     metrics = load_metrics(results)
     if all(n in metrics and metrics[n].get("steps") for n in ("concave_symmetric", "close_to_conformal")):
-        from scripts.plots import plot_load_indentation
+        from workbench.reports.plots import plot_load_indentation
 
         curves = {n.replace("_", " "): ([st["delta_lcp"] for st in metrics[n]["steps"]],
                                          [st["P"] for st in metrics[n]["steps"]])

@@ -1,7 +1,7 @@
-"""Numerical-stability sweep on stiff and extreme cases: ``python -m scripts.stability`` (``make stability``).
+"""Numerical-stability sweep on stiff and extreme cases: ``python -m workbench.studies.stability`` (``make stability``).
 
 Writes ``results/stability/stability.json`` (one record per run) and ``results/stability/report.md``, then
-:mod:`scripts.stability_plot` draws ``method.png`` and ``incompressible.png`` from the JSON.
+:mod:`workbench.studies.stability_plot` draws ``method.png`` and ``incompressible.png`` from the JSON.
 Every run either converges within its accuracy band or carries a NAMED reason: a solver failure
 (``diverged: ... SNES reason -5 (DIVERGED_MAX_IT)``), a warning of the solver's own checks
 (``contact unresolved``, ``penetration``, ``no contact``, ``contact truncated``; :mod:`fem.postprocess`), or a
@@ -11,7 +11,7 @@ outside its band with none of these is counted ``SILENT`` -- the sweep's failure
 Scene (unless a study says otherwise): rigid exact circle R = 10 mm on a block (half model, W = H = 40 a,
 clamped bottom), plane strain, E = 200 GPa, nu = 0.3, a/R = 0.05, force control to the Hertz load of a, P2,
 h_contact = a/10, Nitsche gamma0 = 10, theta = 1, ``small`` kinematics, ``halfplane`` traction. Errors are
-:func:`scripts.compare.compare_block` against Hertz (or the wedge) at the MEASURED load.
+:func:`workbench.scenes.block_theory.compare_block` against Hertz (or the wedge) at the MEASURED load.
 
 Accuracy band: p_max, half-width and RMS/p0 errors <= 2 % (BAND). Why 2 %: at h = a/10 with P2 the edge is
 located within a fraction of one Gauss spacing (a/20 = 5 % of a) by the square-root edge model; the defaults
@@ -41,8 +41,8 @@ import numpy as np
 
 from analytic import convective, materials, wedge
 from cases.schema import Geometry, Material
-from scripts.atomic import write_json, write_text
-from scripts.compare import block_theory, compare_block
+from workbench.atomic import write_json, write_text
+from workbench.scenes.block_theory import block_theory, compare_block
 
 __all__ = ["Spec", "BAND", "BAND_P1", "BAND_WEDGE", "STUDIES", "specs", "run_block_spec", "classify", "run_sweep",
            "report_markdown", "convective_ratios", "scale_invariance", "run_conformal", "main"]
@@ -160,7 +160,7 @@ def run_block_spec(spec: Spec, *, comm) -> dict:
     from fem.obstacles import CircleObstacle, ParabolaObstacle, WedgeObstacle
     from fem.solver import ContactSolveError, solve_contact
     from meshes.block import build_block_mesh
-    from scripts.mesh_io import read_mesh
+    from workbench.mesh_io import read_mesh
 
     geo, mat = _geometry(spec), Material(E=spec.E, nu=spec.nu)
     a = _target_half_width(spec)
@@ -274,7 +274,7 @@ def run_conformal(*, comm, progress) -> list[dict]:
     """
     from cases.schema import load_case
     from fem.solver import ContactSolveError
-    from scripts.scene_concave import run_concave
+    from workbench.scenes.concave import run_concave
 
     case = load_case("close_to_conformal")
     run = case.runs(h_contact=case.discretisation.ci_level)[0]
@@ -399,8 +399,8 @@ def report_markdown(summary: dict, records: list[dict]) -> str:
              f"{summary['runs']} runs in {summary['wall_time_s']:.0f} s: **{summary['ok']} ok** (converged, errors "
              f"<= {summary['band']:.0%} band, no warning), **{summary['named']} named** (failure, warning or model "
              f"limit, reason given), **{summary['silent']} SILENT** (converged out of band, nothing named).", "",
-             "Errors: relative, against the classical theory at the measured load (scripts.compare). its = Newton "
-             "iterations summed over all solves (max per solve). Status: see scripts/stability.py.", ""]
+             "Errors: relative, against the classical theory at the measured load (workbench.scenes.block_theory). its = Newton "
+             "iterations summed over all solves (max per solve). Status: see workbench/studies/stability.py.", ""]
     lines += _defaults_section(records)
     for study in STUDIES:
         recs = [r for r in records if r["study"] == study]
@@ -472,8 +472,8 @@ def report_markdown(summary: dict, records: list[dict]) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """CLI: ``python -m scripts.stability [--study NAME ...] [--out DIR]``; exit 1 if any run is SILENT."""
-    ap = argparse.ArgumentParser(prog="python -m scripts.stability", description=__doc__.splitlines()[0])
+    """CLI: ``python -m workbench.studies.stability [--study NAME ...] [--out DIR]``; exit 1 if any run is SILENT."""
+    ap = argparse.ArgumentParser(prog="python -m workbench.studies.stability", description=__doc__.splitlines()[0])
     ap.add_argument("--study", action="append", choices=STUDIES, help="run only these studies (repeatable)")
     ap.add_argument("--out", type=Path, default=OUT, help="output folder (default results/stability)")
     args = ap.parse_args(argv)
@@ -491,7 +491,7 @@ def main(argv: list[str] | None = None) -> int:
     }
     write_json(args.out / "stability.json", {"summary": summary, "records": records})
     write_text(args.out / "report.md", report_markdown(summary, records))
-    from scripts.stability_plot import main as plot_main  # plotting is separate; it reads the JSON back
+    from workbench.studies.stability_plot import main as plot_main  # plotting is separate; it reads the JSON back
 
     plot_main(["--dir", str(args.out)])
     print(f"stability: {summary['runs']} runs, {summary['ok']} ok, {summary['named']} named, "

@@ -13,7 +13,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from scripts.atomic import atomic_path  # noqa: E402
+from workbench.atomic import atomic_path  # noqa: E402
 
 __all__ = ["load_study_json", "plot_load_indentation", "plot_pressure_panels", "save_figure"]
 

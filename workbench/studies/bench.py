@@ -1,10 +1,10 @@
-"""Performance benchmark (issue "Performance and scale"): ``python -m scripts.bench`` (``make bench``).
+"""Performance benchmark (issue "Performance and scale"): ``python -m workbench.studies.bench`` (``make bench``).
 
 Writes ``results/bench/bench.json`` (every number) and ``results/bench/report.md`` atomically; the plot
-(``scripts.bench_plot``) reads the JSON. A benchmark to report, not a timed test: the targets are stated as
+(``workbench.studies.bench_plot``) reads the JSON. A benchmark to report, not a timed test: the targets are stated as
 met / not met. Scene: ``cases/hertz_cylinder.toml`` (rigid circle R = 10 mm on a steel block, Hertz load of
 a = 0.5 mm, half model). Error measure: ``rms = RMS(p - p_H)/p0`` at the measured load
-(:func:`scripts.compare.rms_error`); target ``RMS_TARGET = 0.5 %``. Times are wall seconds; "warm" means
+(:func:`workbench.scenes.block_theory.rms_error`); target ``RMS_TARGET = 0.5 %``. Times are wall seconds; "warm" means
 the FFCx JIT cache and the mesh cache are filled and the forms were loaded once in the process (the best of
 up to ``repeats`` identical runs: the CPU may be shared).
 
@@ -24,7 +24,7 @@ Sections:
    to ~1e6 dofs, one subprocess per size. Peak memory = the high-water mark VmHWM of that process
    (``ru_maxrss`` is inherited from the parent across fork/exec on Linux, so after a big section it only
    shows the parent's peak; both are kept). Fitted exponent of time against ndofs (:func:`fit_exponent`).
-4. MPI: ``mpiexec -n 2 python -m scripts run hertz_cylinder`` against the serial run (P, p0, half-width to
+4. MPI: ``mpiexec -n 2 workbench run hertz_cylinder`` against the serial run (P, p0, half-width to
    1e-8 relative) and the speed-up (default size and a larger one).
 5. Repeated work: cold (fresh FFCx cache via ``XDG_CACHE_HOME`` and a fresh mesh cache, in a subprocess)
    against warm; symbolic against numeric factorisations (PETSc log events); MUMPS ordering, PETSc LU and
@@ -54,7 +54,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from scripts.atomic import write_json, write_text
+from workbench.atomic import write_json, write_text
 
 __all__ = [
     "BASELINE_KAPPA",
@@ -144,7 +144,7 @@ class ExponentFit(NamedTuple):
 def fit_exponent(ndofs: Sequence[float], times: Sequence[float], *, n_last: int | None = None) -> ExponentFit:
     """Fit ``t = c ndofs^k`` over the ``n_last`` largest sizes (all by default).
 
-    Uses :func:`scripts.convergence.fit_rate` (one log-log fit in one place).
+    Uses :func:`workbench.studies.convergence.fit_rate` (one log-log fit in one place).
 
     Args:
         ndofs: sizes, strictly increasing, > 0.
@@ -154,7 +154,7 @@ def fit_exponent(ndofs: Sequence[float], times: Sequence[float], *, n_last: int 
     Raises:
         ValueError: fewer than two sizes, non-increasing sizes or a non-positive value.
     """
-    from scripts.convergence import fit_rate
+    from workbench.studies.convergence import fit_rate
 
     n = np.asarray(ndofs, dtype=float)
     if n.ndim != 1 or n.size < 2:
@@ -293,7 +293,7 @@ def uniform_box_mesh(*, width: float, height: float, h: float, comm):
 
 def _hertz_errors(result, run) -> dict:
     """Errors of a result against Hertz at the measured load, exactly as the case runner computes them."""
-    from scripts.scene_block import compare_result
+    from workbench.scenes.block import compare_result
 
     return compare_result(result, run).errors
 
@@ -301,8 +301,8 @@ def _hertz_errors(result, run) -> dict:
 def _baseline_once(run, *, box: float, h: float, comm) -> dict:
     """One baseline solve (see module docstring, section 1); times in s."""
     from fem.solver import solve_contact
-    from scripts.compare import block_theory
-    from scripts.scene_block import obstacle_for
+    from workbench.scenes.block_theory import block_theory
+    from workbench.scenes.block import obstacle_for
 
     t0 = time.perf_counter()
     target = block_theory(run.geometry, run.material, P=run.loading.P, half_width=run.loading.half_width)
@@ -351,7 +351,7 @@ def _baseline_once(run, *, box: float, h: float, comm) -> dict:
 
 
 def _ours_once(run, *, comm) -> dict:
-    from scripts.scene_block import run_block
+    from workbench.scenes.block import run_block
 
     t0 = time.perf_counter()
     o = run_block(run, name=f"bench_{CASE}", stage=None, comm=comm, progress=lambda s: None)
@@ -470,9 +470,9 @@ def time_to_accuracy(*, repeats: int, comm, progress, ladder: Sequence = BASELIN
 
 
 def _block_mesh_data(run, *, comm):
-    """The cached graded mesh of a block run: :func:`scripts.scene_block.block_mesh` (as run_block builds it)."""
-    from scripts.mesh_io import read_mesh
-    from scripts.scene_block import block_mesh
+    """The cached graded mesh of a block run: :func:`workbench.scenes.block.block_mesh` (as run_block builds it)."""
+    from workbench.mesh_io import read_mesh
+    from workbench.scenes.block import block_mesh
 
     files, _ = block_mesh(run, name=f"bench_{CASE}", comm=comm)
     return read_mesh(files.msh, comm)
@@ -534,7 +534,7 @@ def linear_solve(mesh_data, run, *, repeats: int = 3) -> dict:
 
 
 def _case_P(run) -> float:
-    from scripts.compare import block_theory
+    from workbench.scenes.block_theory import block_theory
 
     return block_theory(run.geometry, run.material, P=run.loading.P, half_width=run.loading.half_width).P
 
@@ -568,10 +568,10 @@ def contact_vs_linear(run, *, comm, repeats: int) -> dict:
 
 
 def _solve_case(run, mesh_data, *, petsc_options: dict | None = None, **overrides):
-    """``fem.solver.solve_contact`` with the run's settings (as scripts.scene_block) on ``mesh_data``."""
+    """``fem.solver.solve_contact`` with the run's settings (as workbench.scenes.block) on ``mesh_data``."""
     from fem.solver import solve_contact
-    from scripts.compare import block_theory
-    from scripts.scene_block import obstacle_for
+    from workbench.scenes.block_theory import block_theory
+    from workbench.scenes.block import obstacle_for
 
     th = block_theory(run.geometry, run.material, P=run.loading.P, half_width=run.loading.half_width)
     s = run.solver
@@ -678,13 +678,13 @@ def _worker_cold() -> dict:
 def _subprocess_json(
     args: list[str], *, env: dict | None = None, cwd: Path | None = None, timeout: float = 1200.0
 ) -> dict:
-    """Run ``python -m scripts.bench --worker ...`` and parse its ``BENCH_JSON`` line; adds ``process_s``."""
+    """Run ``python -m workbench.studies.bench --worker ...`` and parse its ``BENCH_JSON`` line; adds ``process_s``."""
     e = dict(os.environ)
     e["PYTHONPATH"] = str(ROOT) + os.pathsep + e.get("PYTHONPATH", "")
     e.update(env or {})
     t0 = time.perf_counter()
     cp = subprocess.run(
-        [PY, "-m", "scripts.bench", *args], env=e, cwd=str(cwd or ROOT), capture_output=True, text=True, timeout=timeout
+        [PY, "-m", "workbench.studies.bench", *args], env=e, cwd=str(cwd or ROOT), capture_output=True, text=True, timeout=timeout
     )
     dt = time.perf_counter() - t0
     if cp.returncode != 0:
@@ -721,7 +721,7 @@ def cost_growth(*, families: dict[str, Sequence[float]], progress) -> dict:
 
 
 def _cli_metrics(out: Path, *, np_: int, h_contact: float | None) -> dict:
-    cmd = [PY, "-m", "scripts", "run", CASE, "--out", str(out)]
+    cmd = [PY, "-m", "workbench", "run", CASE, "--out", str(out)]
     if h_contact is not None:
         cmd += ["--h-contact", repr(float(h_contact))]
     if np_ > 1:
@@ -781,7 +781,7 @@ def cold_warm(*, progress) -> dict:
         disk_warm = _subprocess_json(["--worker", "cold"], env=env, cwd=Path(tmp))
     t0 = time.perf_counter()
     cp = subprocess.run(
-        [PY, "-m", "scripts", "run", CASE, "--out", str(Path(tempfile.gettempdir()) / "bench_cli")],
+        [PY, "-m", "workbench", "run", CASE, "--out", str(Path(tempfile.gettempdir()) / "bench_cli")],
         cwd=str(ROOT),
         capture_output=True,
         text=True,
@@ -964,9 +964,9 @@ def run_bench(
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m scripts.bench [--repeats N] [--quick] [--sections ...]``; writes results/bench/."""
+    """``python -m workbench.studies.bench [--repeats N] [--quick] [--sections ...]``; writes results/bench/."""
     p = argparse.ArgumentParser(
-        prog="python -m scripts.bench", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+        prog="python -m workbench.studies.bench", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     p.add_argument("--repeats", type=int, default=3, help="warm repetitions per timing (best kept)")
     p.add_argument("--quick", action="store_true", help="small sizes only (development)")
@@ -997,12 +997,12 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    from scripts.bench_report import to_markdown
+    from workbench.studies.bench_report import to_markdown
 
     write_json(args.out / "bench.json", data)
     write_text(args.out / "report.md", to_markdown(data))
     try:
-        from scripts.bench_plot import plot_bench
+        from workbench.studies.bench_plot import plot_bench
 
         plot_bench(data, args.out)
     except ImportError:

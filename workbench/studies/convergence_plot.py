@@ -1,6 +1,6 @@
 """Plots of the convergence study (reads ``results/convergence/convergence.json``; files only, Agg backend).
 
-Run: ``python -m scripts.convergence_plot [JSON]`` -> ``error_vs_time.png`` and ``error_vs_ndofs.png`` next to
+Run: ``python -m workbench.studies.convergence_plot [JSON]`` -> ``error_vs_time.png`` and ``error_vs_ndofs.png`` next to
 the JSON. One row of panels per case x series, one panel per error metric, one line per method x degree,
 log-log axes; each line joins the h_c levels in refinement order.
 """
@@ -16,7 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402
 
-from scripts.plots import load_study_json, save_figure  # noqa: E402
+from workbench.reports.plots import load_study_json, save_figure  # noqa: E402
 
 __all__ = ["main", "plot_study"]
 
@@ -62,7 +62,7 @@ def plot_study(data: dict, *, out_dir: Path) -> list[Path]:
     One row of panels per case x series, one panel per error metric, one line per method x degree.
 
     Args:
-        data: The JSON written by :mod:`scripts.convergence` (``rows``, ``metrics``, ``time_of``).
+        data: The JSON written by :mod:`workbench.studies.convergence` (``rows``, ``metrics``, ``time_of``).
         out_dir: Output folder.
     """
     groups: dict[tuple, list[dict]] = {}
@@ -98,7 +98,7 @@ def plot_study(data: dict, *, out_dir: Path) -> list[Path]:
 
 def main(argv: list[str] | None = None) -> int:
     """CLI: plot the study JSON (default results/convergence/convergence.json); exit 2 if it is missing."""
-    loaded = load_study_json(sys.argv[1:] if argv is None else argv, DEFAULT_JSON, producer="scripts.convergence")
+    loaded = load_study_json(sys.argv[1:] if argv is None else argv, DEFAULT_JSON, producer="workbench.studies.convergence")
     if loaded is None:
         return 2
     path, data = loaded

@@ -1,6 +1,6 @@
-"""Markdown report of the performance benchmark (:mod:`scripts.bench`): formatting only, no computing.
+"""Markdown report of the performance benchmark (:mod:`workbench.studies.bench`): formatting only, no computing.
 
-:func:`to_markdown` turns the data of :func:`scripts.bench.run_bench` (also ``results/bench/bench.json``) into
+:func:`to_markdown` turns the data of :func:`workbench.studies.bench.run_bench` (also ``results/bench/bench.json``) into
 ``results/bench/report.md``, with a final table of the targets, each met / not met with its measured value.
 """
 
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from scripts.bench import BASELINE_FORCE_RTOL, BASELINE_KAPPA, RMS_TARGET, SCALE_BOX, SMALL_NDOFS, TARGETS
+from workbench.studies.bench import BASELINE_FORCE_RTOL, BASELINE_KAPPA, RMS_TARGET, SCALE_BOX, SMALL_NDOFS, TARGETS
 
 __all__ = ["to_markdown"]
 
@@ -178,7 +178,7 @@ def _md_scale(sc: dict, targets: list) -> list[str]:
 
 def _md_mpi(mp: dict) -> list[str]:
     L = [
-        "## 4. MPI (`mpiexec -n 2 python -m scripts run hertz_cylinder`)",
+        "## 4. MPI (`mpiexec -n 2 workbench run hertz_cylinder`)",
         "",
         "| h/a | ndofs | rel diff P | rel diff p0 | rel diff a | <= 1e-8 | solver 1 / 2 procs (s) | speed-up "
         "solver | speed-up process |",
@@ -207,7 +207,7 @@ def _md_cache(ca: dict, op: dict | None, targets: list) -> list[str]:
             f"| same caches, new process | {_f(w['process_s'])} | {_f(w['import_s'])} | {_f(w['mesh_s'])} | "
             f"{_f(w['first_total_s'])} | {_f(w['warm_total_s'])} |",
             "",
-            f"Whole CLI `python -m scripts run hertz_cylinder` with warm caches (imports, run, plots, VTK, "
+            f"Whole CLI `workbench run hertz_cylinder` with warm caches (imports, run, plots, VTK, "
             f"report): {_f(ca['cli_warm_process_s'])} s (exit {ca['cli_exit']}).",
             "",
         ]
@@ -263,7 +263,7 @@ def _md_reuse(lr: dict) -> list[str]:
         "",
         "GMRES needs about one triangular solve per contact dof whose state differs from the first "
         "Jacobian, so this wins only when the contact zone holds few dofs (see the comment at "
-        "REUSE_LU in scripts/bench.py).",
+        "REUSE_LU in workbench/studies/bench.py).",
         "",
     ]
 
@@ -273,7 +273,7 @@ def to_markdown(data: dict) -> str:
     L = [
         "# Performance benchmark (hertz_cylinder)",
         "",
-        f"`python -m scripts.bench` (`make bench`): {_f(data.get('bench_wall_time_s'), '.0f')} s on "
+        f"`python -m workbench.studies.bench` (`make bench`): {_f(data.get('bench_wall_time_s'), '.0f')} s on "
         f"{data.get('cpu_count')} cores, load average {_f(data['load_avg_start'][0], '.2f')} at start and "
         f"{_f(data.get('load_avg_end', [math.nan])[0], '.2f')} at the end (the CPU is shared: times are the "
         "best "

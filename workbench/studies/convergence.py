@@ -1,8 +1,8 @@
 """Convergence study (issue "Error against run time"): error against ndofs and WARM wall time.
 
-Run: ``python -m scripts.convergence`` (``make convergence``) -> ``results/convergence/``: convergence.json,
+Run: ``python -m workbench.studies.convergence`` (``make convergence``) -> ``results/convergence/``: convergence.json,
 convergence.csv (one row per case x series x method x degree x level) and, from the JSON, report.md
-(:mod:`scripts.convergence_report`) and error_vs_time/ndofs.png (:mod:`scripts.convergence_plot`); atomic.
+(:mod:`workbench.studies.convergence_report`) and error_vs_time/ndofs.png (:mod:`workbench.studies.convergence_plot`); atomic.
 
 Study: for ``hertz_cylinder`` and ``wedge_convective``, method {penalty, nitsche} x Lagrange degree {1, 2} x
 contact element size ``h_c`` (fraction of the classical half-width a or b0), in two series:
@@ -17,7 +17,7 @@ contact element size ``h_c`` (fraction of the classical half-width a or b0), in 
 Each run is solved once to warm the JIT and file caches (``cold_s``), then ``repeats`` more identical times;
 ``time_s`` is the median of those warm solver times (``fem.solver`` load stepping only, no meshing).
 
-Errors (relative, dimensionless; formulas in :mod:`scripts.compare` and :mod:`scripts.case_checks`):
+Errors (relative, dimensionless; formulas in :mod:`workbench.scenes.block_theory` and :mod:`workbench.scenes.convective`):
     p_max, half_width, rms (RMS(p - p_th)/p_ref over |x| <= 1.05 max(a_fem, a), trapezoid over the samples),
     l2 (the same mean with the contact-facet Gauss weights, :func:`l2_pressure_error`) and, Hertz only,
     l2_inner (the same on |x| <= 0.8 a, away from the square-root edges); p_ref = p0 (Hertz) or P/(2b)
@@ -46,7 +46,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from scripts.atomic import write_json, write_text
+from workbench.atomic import write_json, write_text
 
 __all__ = ["CASES", "DEFAULT_LEVELS", "EXPECTED_RATES", "IDEAL_LEVELS", "METRICS", "RateFit", "cheapest",
            "fit_rate", "ideal_growth", "judge_rates", "l2_pressure_error", "main", "observed_rates",
@@ -73,7 +73,7 @@ SERIES = {  # geometry overrides of each series (the ideal series also refines t
     "hertz_cylinder": {"case": {}, "ideal": {**BIG, "indenter": "parabola"}},
     "wedge_convective": {"case": {}, "ideal": BIG},
 }
-# Expected rates of the error against h_c (derivation in scripts/convergence_report.py, RATE_NOTES):
+# Expected rates of the error against h_c (derivation in workbench/studies/convergence_report.py, RATE_NOTES):
 # the square-root edge of the Hertz pressure caps any L2 pressure error at h^1 (P1 and P2); the log apex
 # singularity of the wedge pressure caps it at h^(1/2). The Hertz case series sits on model floors (no rate).
 EXPECTED_RATES = {
@@ -165,13 +165,13 @@ def l2_pressure_error(samples, theory, *, half_width_fem: float, x_max: float | 
     """Gauss-quadrature L2 mean of the pressure error on the patch, relative to the reference pressure.
 
     l2 = sqrt( sum_q w_q (p_q - p_th(x_q))^2 / sum_q w_q ) / p_ref over the contact-facet Gauss points with
-    |x_q| <= 1.05 max(a_fem, a) (the band of :func:`scripts.compare.rms_error`), or |x_q| <= x_max when
+    |x_q| <= 1.05 max(a_fem, a) (the band of :func:`workbench.scenes.block_theory.rms_error`), or |x_q| <= x_max when
     given; w_q = Gauss weight times facet length (mm). These are the points where the discrete contact law
     holds.
 
     Args:
         samples: :class:`fem.postprocess.SurfaceSamples` (``s``, ``p``, ``weight``); a half model's samples.
-        theory: :class:`scripts.compare.BlockTheory` at the measured load (``pressure``, ``half_width``,
+        theory: :class:`workbench.scenes.block_theory.BlockTheory` at the measured load (``pressure``, ``half_width``,
             ``p_ref``).
         half_width_fem: FEM half-width of the patch (mm).
         x_max: Optional band half-length (mm), > 0, replacing the default band.
@@ -190,7 +190,7 @@ def l2_pressure_error(samples, theory, *, half_width_fem: float, x_max: float | 
 
 
 class _Timed(NamedTuple):
-    outcome: Any       # the last scripts.outcome.Outcome
+    outcome: Any       # the last workbench.scenes.records.Outcome
     cold_s: float      # solver time of the first solve (s)
     warm_s: list       # solver times of the repeated identical solves (s); [cold_s] when repeats = 0
     spread: float      # max relative change of the FEM half-width across the solves (determinism check)
@@ -198,7 +198,7 @@ class _Timed(NamedTuple):
 
 def _timed_run(run, *, name: str, repeats: int, comm) -> _Timed:
     """First (warm-up) solve, then ``repeats`` identical solves; returns the last outcome and the times."""
-    from scripts.scene_block import run_block
+    from workbench.scenes.block import run_block
 
     def solve():
         return run_block(run, name=name, stage=None, comm=comm, progress=lambda s: None)
@@ -223,7 +223,7 @@ def _configure(run, *, method: str, degree: int, geometry: dict, growth: float |
 def _measure(case, *, series: str, geometry: dict, method: str, degree: int, level: float, repeats: int,
              comm, growth: float | None = None, kappa0: float | None = None) -> dict:
     """One configuration: every run of the case, timed; returns its CSV/JSON row (NaN errors on failure)."""
-    from scripts.case_checks import case_level_comparisons
+    from workbench.scenes.convective import case_level_comparisons
 
     row = {"case": case.name, "series": series, "method": method, "degree": degree, "h_contact": level,
            "growth": growth if growth is not None else case.discretisation.growth,
@@ -432,7 +432,7 @@ def run_study(*, cases: Sequence[str] = CASES, levels: Sequence[float] = DEFAULT
                 say(perturbed[-1])
         section_s[f"{case.name}/diagnostics"] = time.perf_counter() - ts
     return {
-        "description": "error against ndofs and warm solver time; see scripts/convergence.py",
+        "description": "error against ndofs and warm solver time; see workbench/studies/convergence.py",
         "levels": series_levels, "repeats": repeats, "n_finest": N_FINEST, "metrics": METRICS,
         "time_of": TIME_OF, "series": SERIES, "growth_per_h": GROWTH_PER_H, "inner": INNER,
         "rms_target": RMS_TARGET, "rate_band": RATE_BAND, "expected_rates": EXPECTED_RATES,
@@ -476,18 +476,18 @@ def write_outputs(data: dict, *, out_dir: Path = OUT_DIR, plot: bool = True) -> 
     data = _finite_or_none(data)
     write_json(out_dir / "convergence.json", data)
     write_text(out_dir / "convergence.csv", to_csv(data["rows"]))
-    from scripts.convergence_report import to_markdown  # after the data files: a report bug loses nothing
+    from workbench.studies.convergence_report import to_markdown  # after the data files: a report bug loses nothing
 
     write_text(out_dir / "report.md", to_markdown(data))
     if plot:
-        from scripts.convergence_plot import plot_study
+        from workbench.studies.convergence_plot import plot_study
 
         plot_study(data, out_dir=out_dir)
 
 
 def main(argv: list[str] | None = None) -> int:
     """CLI: run the study and write ``results/convergence/``; exit 2 on bad arguments."""
-    p = argparse.ArgumentParser(prog="python -m scripts.convergence", description=__doc__,
+    p = argparse.ArgumentParser(prog="python -m workbench.studies.convergence", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--cases", nargs="+", default=list(CASES), help="block cases (default: %(default)s)")
     p.add_argument("--levels", nargs="+", type=float, default=list(DEFAULT_LEVELS),

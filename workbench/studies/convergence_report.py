@@ -1,7 +1,7 @@
-"""Markdown report of the convergence study (reads the JSON of :mod:`scripts.convergence`; formatting only).
+"""Markdown report of the convergence study (reads the JSON of :mod:`workbench.studies.convergence`; formatting only).
 
-Run: ``python -m scripts.convergence_report [JSON]`` -> ``report.md`` next to the JSON (``make convergence``
-writes it through :func:`scripts.convergence.write_outputs`). Every number in the report is read from the
+Run: ``python -m workbench.studies.convergence_report [JSON]`` -> ``report.md`` next to the JSON (``make convergence``
+writes it through :func:`workbench.studies.convergence.write_outputs`). Every number in the report is read from the
 JSON; the only constants typed here are the derivations of the expected rates (:data:`RATE_NOTES`).
 """
 
@@ -12,7 +12,7 @@ import statistics
 import sys
 from pathlib import Path
 
-from scripts.atomic import write_text
+from workbench.atomic import write_text
 
 __all__ = ["RATE_NOTES", "discussion", "main", "to_markdown"]
 
@@ -235,7 +235,7 @@ def _edge_constant(data: dict) -> list[dict]:
 
 
 def _p_run_time(data: dict) -> list[str]:
-    from scripts.convergence import fit_rate
+    from workbench.studies.convergence import fit_rate
 
     out = []
     for series in ("case", "ideal"):
@@ -454,7 +454,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     path = Path(argv[0]) if argv else DEFAULT_JSON
     if not path.is_file():
-        print(f"error: {path} does not exist; run `python -m scripts.convergence` first", file=sys.stderr)
+        print(f"error: {path} does not exist; run `python -m workbench.studies.convergence` first", file=sys.stderr)
         return 2
     out = path.parent / "report.md"
     write_text(out, to_markdown(json.loads(path.read_text())))

@@ -54,7 +54,7 @@ def _analytic_claims(results: Path) -> list[Claim]:
                              verdict.rstrip(": ")))
     else:
         out.append(Claim(CH, "convective b/b0 figures", "-", "not computed yet", "-",
-                         "run `python -m scripts.convective_table`"))
+                         "run `python -m workbench.studies.convective_table`"))
     E_star = materials.plane_strain_modulus(214000.0, 0.3)
     out.append(Claim(CC, "E* = 235 GPa for E = 214 GPa, nu = 0.3, rigid particle", "235 GPa",
                      f"{E_star / 1000:.2f} GPa", "closed form",

@@ -11,9 +11,9 @@ from pathlib import Path
 
 import numpy as np
 
-from scripts.atomic import write_text
-from scripts.markdown_html import fmt, markdown_to_html
-from scripts.plots import plot_pressure_panels
+from workbench.atomic import write_text
+from workbench.reports.markdown import fmt, markdown_to_html
+from workbench.reports.plots import plot_pressure_panels
 
 __all__ = ["write_case_outputs", "case_report_markdown"]
 

@@ -1,8 +1,8 @@
 """Plots of the performance benchmark (reads ``results/bench/bench.json``; files only, Agg backend).
 
-Run: ``python -m scripts.bench_plot [JSON]`` -> ``time_to_accuracy.png`` (RMS/p0 against warm time, baseline
+Run: ``python -m workbench.studies.bench_plot [JSON]`` -> ``time_to_accuracy.png`` (RMS/p0 against warm time, baseline
 and the four configurations of ours) and ``cost_growth.png`` (solver, fast-variant and linear-solve time and
-peak memory against ndofs, log-log, with the fitted power laws) next to the JSON. ``python -m scripts.bench``
+peak memory against ndofs, log-log, with the fitted power laws) next to the JSON. ``python -m workbench.studies.bench``
 calls :func:`plot_bench` itself.
 """
 
@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402
 
-from scripts.plots import load_study_json, save_figure  # noqa: E402
+from workbench.reports.plots import load_study_json, save_figure  # noqa: E402
 
 __all__ = ["main", "plot_bench"]
 
@@ -84,7 +84,7 @@ def plot_bench(data: dict, out_dir: Path) -> list[Path]:
     """Write ``time_to_accuracy.png`` and ``cost_growth.png`` (when the sections exist); returns the paths.
 
     Args:
-        data: The JSON written by :mod:`scripts.bench`.
+        data: The JSON written by :mod:`workbench.studies.bench`.
         out_dir: Output folder.
     """
     paths = []
@@ -107,8 +107,8 @@ def _save(fig, path: Path) -> Path:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m scripts.bench_plot [JSON]``."""
-    loaded = load_study_json(sys.argv[1:] if argv is None else argv, DEFAULT_JSON, producer="scripts.bench")
+    """``python -m workbench.studies.bench_plot [JSON]``."""
+    loaded = load_study_json(sys.argv[1:] if argv is None else argv, DEFAULT_JSON, producer="workbench.studies.bench")
     if loaded is None:
         return 2
     path, data = loaded

@@ -1,4 +1,9 @@
-"""Run one case end to end and write ``results/<case>/`` atomically.
+"""Run one case end to end and write ``<out>/<case>/`` atomically: the one path from case file to outputs.
+
+For every run of the case: its scene (:mod:`workbench.scenes`) meshes it, names the rigid obstacle and the
+load path; the solver (:func:`workbench.scenes.wiring.solve_run`) solves it; the scene compares the result
+with theory. Then the scene judges the whole case, the case-level ``metrics.json`` is assembled here
+(:func:`case_metrics`) and the reports are written from the saved files (:mod:`workbench.reports`).
 
 Outputs (the results contract): ``metrics.json``, ``pressure.csv``, ``pressure.png``, ``report.md`` /
 ``report.html``, ``run.log`` and ``vtk/<run>/`` (ParaView). Everything is written into a staging folder
@@ -17,10 +22,13 @@ import time
 import traceback
 from pathlib import Path
 
-from cases.schema import Case
-from scripts.atomic import atomic_dir, write_json, write_text
+from cases.schema import Case, Run
+from workbench.atomic import atomic_dir, write_json, write_text
+from workbench.paths import OutputPaths
+from workbench.scenes import Outcome, scene_for
+from workbench.scenes.wiring import solve_run, step_printer
 
-__all__ = ["run_case", "case_metrics"]
+__all__ = ["run_case", "run_one", "case_metrics"]
 
 
 def _progress_printer(comm, log: list[str]):
@@ -42,8 +50,6 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
     summed, ``P``/``P_pressure``/``patches`` are those of the first run, ``errors`` holds the worst value of
     each error over the runs plus case-level comparisons (e.g. ``b_over_b0``), and ``runs`` lists every run.
     """
-    from scripts.case_checks import case_level_comparisons
-
     runs = [o.metrics for o in outcomes]
     first = runs[0]
     errors: dict[str, float] = {}
@@ -51,7 +57,7 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
         for k, v in r.get("errors", {}).items():
             if v is not None and not (isinstance(v, float) and math.isnan(v)):
                 errors[k] = max(errors.get(k, 0.0), v)
-    extra = case_level_comparisons(case, outcomes)
+    extra = scene_for(outcomes[0].run).judge(case, outcomes)
     errors.update(extra.errors)
     tol = dict(case.tolerances)
     checks = {k: (errors.get(k) is not None and errors[k] <= t) for k, t in tol.items()}
@@ -80,12 +86,28 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
     }
 
 
-def run_case(case: Case, *, out_root: Path, h_contact: float | None = None, ci: bool = False) -> dict | None:
-    """Run every run of ``case`` and write its results folder.
+def run_one(run: Run, *, name: str, mesh_cache: Path, comm, progress=print, stats_dir: Path | None = None,
+            **solver_overrides) -> Outcome:
+    """Mesh, solve and compare one run through its scene (``solver_overrides``: extra solver keywords)."""
+    from workbench.mesh_io import read_mesh
+
+    scene = scene_for(run)
+    mesh = scene.mesh(run, name=name, mesh_cache=mesh_cache, comm=comm, stats_dir=stats_dir)
+    progress(f"[{run.label}] {mesh.summary}")
+    mesh_data = read_mesh(mesh.files.msh, comm)
+    result = solve_run(run, mesh_data, scene.obstacle(run, mesh), scene.load_path(run, mesh),
+                       case=f"{name}[{run.label}]", on_step=step_printer(progress, run.label), **solver_overrides)
+    for w in result.warnings:
+        progress(f"[{run.label}] WARNING: {w}")
+    return scene.compare(run, result, mesh, progress=progress)
+
+
+def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, ci: bool = False) -> dict | None:
+    """Run every run of ``case`` and write its results folder ``paths.case(case.name)``.
 
     Args:
         case: The loaded case.
-        out_root: Results root (``results``).
+        paths: The output folder (results, mesh cache, logs).
         h_contact: Override of the contact element size (fraction of the half-width).
         ci: Use the case's ``ci_level`` (coarsest level that must still meet the tolerances).
 
@@ -98,12 +120,12 @@ def run_case(case: Case, *, out_root: Path, h_contact: float | None = None, ci: 
 
     from fem.output import write_vtk
     from fem.solver import ContactSolveError
-    from scripts.case_report import write_case_outputs
+    from workbench.reports.case_report import write_case_outputs
 
     comm = MPI.COMM_WORLD
     if ci and h_contact is None:
         h_contact = case.discretisation.ci_level or case.discretisation.h_contact
-    out = Path(out_root) / case.name
+    out = paths.case(case.name)
     log: list[str] = []
     progress = _progress_printer(comm, log)
     progress(f"case {case.name}: {len(case.runs())} run(s), h_c = "
@@ -114,7 +136,7 @@ def run_case(case: Case, *, out_root: Path, h_contact: float | None = None, ci: 
             stage = Path(comm.bcast(str(stage) if comm.rank == 0 else None, root=0))
             outcomes = []
             for run in case.runs(h_contact=h_contact):
-                outcome = _run_one(run, case=case, stage=stage, comm=comm, progress=progress)
+                outcome = run_one(run, name=case.name, mesh_cache=paths.mesh_cache, comm=comm, progress=progress)
                 write_vtk(outcome.result, stage / "vtk" / _safe(run.label))
                 outcomes.append(outcome)
             metrics = case_metrics(case, outcomes, h_contact=h_contact, wall_time_s=time.perf_counter() - t0)
@@ -128,23 +150,13 @@ def run_case(case: Case, *, out_root: Path, h_contact: float | None = None, ci: 
                 write_json(stage / "metrics.json", metrics)
             comm.barrier()
     except (ContactSolveError, ValueError) as exc:
-        _fail(case, out_root, log, exc, comm)
+        _fail(case, paths, log, exc, comm)
         raise SystemExit(1) from None
     except KeyboardInterrupt:
         if comm.rank == 0:
             print(f"interrupted: previous results of {case.name} left intact", file=sys.stderr)
         raise SystemExit(130) from None
     return metrics
-
-
-def _run_one(run, *, case, stage, comm, progress):
-    if run.geometry.scene == "block":
-        from scripts.scene_block import run_block
-
-        return run_block(run, name=case.name, stage=stage, comm=comm, progress=progress)
-    from scripts.scene_concave import run_concave
-
-    return run_concave(run, name=case.name, stage=stage, comm=comm, progress=progress)
 
 
 def _safe(label: str) -> str:
@@ -159,10 +171,10 @@ class _null_dir:
         return False
 
 
-def _fail(case: Case, out_root: Path, log: list[str], exc: BaseException, comm) -> None:
+def _fail(case: Case, paths: OutputPaths, log: list[str], exc: BaseException, comm) -> None:
     if comm.rank != 0:
         return
-    path = Path(out_root) / "logs" / f"{case.name}.log"
+    path = paths.logs / f"{case.name}.log"
     text = "\n".join(log) + "\n\n" + "".join(traceback.format_exception(exc))
     write_text(path, text)
     first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__

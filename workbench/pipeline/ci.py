@@ -1,7 +1,7 @@
 """``make ci``: every case at its coarsest level (``ci_level``), checked against the case tolerances.
 
-Results go to ``results/ci/<case>/`` (the default-resolution results are left alone); the report is
-``results/ci_report.md``. Exit code 1 on any tolerance violation or failed run.
+Results go to ``<out>/ci/<case>/`` (the default-resolution results are left alone); the report is
+``<out>/ci_report.md``. Exit code 1 on any tolerance violation or failed run.
 """
 
 from __future__ import annotations
@@ -9,25 +9,24 @@ from __future__ import annotations
 import subprocess
 import sys
 import time
-from pathlib import Path
-
 from cases import case_names, load_case
-from scripts.atomic import write_text
-from scripts.summary import load_metrics
+from workbench.atomic import write_text
+from workbench.paths import OutputPaths
+from workbench.reports.summary import load_metrics
 
 __all__ = ["run_ci"]
 
 
-def run_ci(results: Path) -> int:
+def run_ci(paths: OutputPaths) -> int:
     """Run every case at its CI level in a subprocess each (a crash of one case cannot hide the others)."""
-    results = Path(results)
-    ci_root = results / "ci"
+    results = paths.root
+    ci_root = paths.ci.root
     rows, ok = [], True
     for name in case_names():
         case = load_case(name)
         level = case.discretisation.ci_level or case.discretisation.h_contact
         t0 = time.perf_counter()
-        proc = subprocess.run([sys.executable, "-m", "scripts", "run", name, "--ci", "--out", str(ci_root)],
+        proc = subprocess.run([sys.executable, "-m", "workbench", "run", name, "--ci", "--out", str(ci_root)],
                               capture_output=True, text=True)
         dt = time.perf_counter() - t0
         sys.stdout.write(proc.stdout)

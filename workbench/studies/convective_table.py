@@ -1,6 +1,6 @@
 """Convective-effect table (Ciavarella & Hills): b/b0 at fixed load, and the paper's figures checked.
 
-Run: ``python -m scripts.convective_table`` -> results/analytic/convective.{json,md} (written atomically).
+Run: ``python -m workbench.studies.convective_table`` -> results/analytic/convective.{json,md} (written atomically).
 Computing (:func:`compute`) is separate from formatting (:func:`to_markdown`).
 """
 
@@ -14,7 +14,7 @@ from typing import Any
 from scipy import optimize
 
 from analytic import convective, materials, wedge
-from scripts.atomic import write_json, write_text
+from workbench.atomic import write_json, write_text
 
 __all__ = ["compute", "main", "to_markdown"]
 

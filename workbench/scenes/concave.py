@@ -28,13 +28,10 @@ from analytic import hertz, materials
 from analytic.fit import fit_elliptical
 from analytic.superposition import ContactPair as HertzPair
 from analytic.superposition import superpose
-from cases.schema import Run
-from scripts.case_checks import CaseComparison
-from scripts.outcome import Outcome, Series, step_printer
+from cases.schema import Case, Run
+from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
 
-__all__ = ["ConcaveMesh", "concave_mesh", "run_concave", "concave_case_comparison"]
-
-MESH_CACHE = Path("results/mesh_cache")
+__all__ = ["ConcaveMesh", "ConcaveScene", "concave_mesh", "concave_case_comparison"]
 _SAMPLES_LCP = 300
 
 
@@ -43,6 +40,11 @@ def _lcp_at(des, d: float):
     from analytic.lcp import find_contact_pairs
 
     return find_contact_pairs(des.concave, particle_at(des, d), n_samples=_SAMPLES_LCP)
+
+
+def _plausible_overlap(pr) -> bool:
+    """An LCP pair that is plausible, overlapping and of finite positive relative radius."""
+    return pr.plausible and pr.gap < 0 and 0 < pr.relative_radius < math.inf
 
 
 def _arc_length_of(curve, X: np.ndarray) -> np.ndarray:
@@ -80,7 +82,7 @@ def _step_metrics(snap, *, curve, lcp, E_star, label):
     patches = find_patches(smp)
     p = smp.p
     p_max = float(p.max()) if p.size else 0.0
-    pairs = [pr for pr in lcp.pairs if pr.plausible and pr.gap < 0 and 0 < pr.relative_radius < math.inf]
+    pairs = [pr for pr in lcp.pairs if _plausible_overlap(pr)]
     pair_s = [float(curve.arc_length(np.array([pr.t_a]))[0]) for pr in pairs]
     out_patches = []
     for pt in patches:
@@ -164,7 +166,7 @@ class ConcaveMesh(NamedTuple):
     h_contact: float
 
 
-def concave_mesh(run: Run, *, name: str, comm, stats_dir: Path | None = None) -> ConcaveMesh:
+def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None) -> ConcaveMesh:
     """The (cached) mesh of a concave run, refined where the LCP predicts contact over the whole path."""
     from analytic.designs import design
     from meshes.concave import build_concave_mesh
@@ -176,7 +178,7 @@ def concave_mesh(run: Run, *, name: str, comm, stats_dir: Path | None = None) ->
     a_est = math.inf
     for lcp in lcps:
         for pr in lcp.pairs:
-            if pr.plausible and pr.gap < 0 and 0 < pr.relative_radius < math.inf:
+            if _plausible_overlap(pr):
                 a_est = min(a_est, math.sqrt(pr.relative_radius * pr.delta))
         if math.isfinite(a_est):
             break
@@ -184,57 +186,82 @@ def concave_mesh(run: Run, *, name: str, comm, stats_dir: Path | None = None) ->
         raise ValueError(f"{name}: loading.d = {list(ld.d)} never brings the particle into contact "
                          "(no overlapping plausible LCP pair); allowed: displacements that reach the body")
     h_c = disc.h_contact * a_est
-    files = build_concave_mesh(design=des, h_contact=h_c, growth=disc.growth, out_dir=MESH_CACHE, name=name,
+    files = build_concave_mesh(design=des, h_contact=h_c, growth=disc.growth, out_dir=mesh_cache, name=name,
                                comm=comm, stats_dir=stats_dir)
     return ConcaveMesh(files, des, lcps, a_est, h_c)
 
 
-def run_concave(run: Run, *, name: str, stage: Path | None, comm, progress) -> Outcome:
-    """Run a concave scene through its displacement steps and compare each step with Hertz theory."""
-    from fem.obstacles import CurveObstacle
-    from fem.solver import solve_contact
-    from scripts.mesh_io import read_mesh
-
+def _run_metrics(run: Run, result, mesh: ConcaveMesh, steps: list[dict]) -> dict:
+    """The run's JSON entry of ``metrics.json["runs"]``."""
     ld, disc, sol = run.loading, run.discretisation, run.solver
-    files, des, lcps, a_est, h_c = concave_mesh(run, name=name, comm=comm)
-    E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
-    progress(f"[{run.label}] mesh {files.stats.get('cells', '?')} cells ({'cached' if files.cached else 'built'}), "
-             f"h_c = {h_c:.4g} mm (a_est = {a_est:.4g} mm)")
-    mesh_data = read_mesh(files.msh, comm)
-
-    result = solve_contact(
-        mesh_data, CurveObstacle(des.particle, direction=tuple(des.direction)), E=run.material.E,
-        nu=run.material.nu, degree=disc.degree, method=sol.method, kinematics=sol.kinematics,
-        traction=sol.traction, kappa0=sol.kappa0, gamma0=sol.gamma0, theta=sol.theta, control="displacement",
-        target=ld.d[-1], record_at=ld.d, n_steps=ld.steps, on_step=step_printer(progress, run.label),
-        case=f"{name}[{run.label}]",
-    )
-    steps, series = [], []
-    for snap, lcp in zip(result.snapshots, lcps, strict=True):
-        m, sr = _step_metrics(snap, curve=des.concave, lcp=lcp, E_star=E_star, label=run.label)
-        m["warnings"] = list(snap.warnings)
-        for w in snap.warnings:
-            progress(f"[{run.label}] d = {snap.d:.3g} mm: WARNING: {w}")
-        steps.append(m)
-        series.append(sr)
     last = steps[-1]
-    metrics = {
-        "label": run.label, "scene": "concave", "design": des.name, "nu": run.material.nu,
+    E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
+    return {
+        "label": run.label, "scene": "concave", "design": mesh.design.name, "nu": run.material.nu,
         "method": sol.method, "kinematics": sol.kinematics, "traction": sol.traction, "degree": disc.degree,
-        "h_contact": disc.h_contact, "h_contact_mm": h_c, "ndofs": result.ndofs, "wall_time_s": result.wall_time_s,
-        "newton_iterations": list(result.newton_iterations), "load_steps": result.load_steps, "d": result.d,
-        "P": result.P, "P_pressure": result.P_pressure,
+        "h_contact": disc.h_contact, "h_contact_mm": mesh.h_contact, "ndofs": result.ndofs,
+        "wall_time_s": result.wall_time_s, "newton_iterations": list(result.newton_iterations),
+        "load_steps": result.load_steps, "d": result.d, "P": result.P, "P_pressure": result.P_pressure,
         "patches": [{k: e[k] for k in ("center", "half_width", "p_max", "P")} for e in last["patches"]],
-        "mesh": files.stats, "steps": steps, "warnings": [w for s in steps for w in s["warnings"]],
+        "mesh": mesh.files.stats, "steps": steps, "warnings": [w for s in steps for w in s["warnings"]],
         "analytic": {"E_star": E_star, "lcp": [s["lcp_pairs"] for s in steps]},
         "errors": {"load_balance": max(abs(s["P"] - s["P_pressure"]) / abs(s["P"]) for s in steps if s["P"] > 0)},
     }
-    return Outcome(run.label, metrics, series, None, result)
+
+
+class ConcaveScene:
+    """A concave elastic body under the rigid convex particle, displacement-controlled through ``loading.d``."""
+
+    name = "concave"
+
+    def preflight(self, run: Run, *, where: str) -> None:
+        """Reject a displacement path that never brings the particle into contact (pure geometry, LCP)."""
+        from analytic.designs import design
+        from cases import CaseError
+
+        des = design(run.geometry.design)
+        if not any(_plausible_overlap(pr) for pr in _lcp_at(des, run.loading.d[-1]).pairs):
+            raise CaseError(
+                f"{where}: variant {run.label!r}: loading.d = {list(run.loading.d)!r} never brings the "
+                "particle into contact with the concave body; allowed: a largest displacement beyond first contact "
+                f"(Table 1 of the paper starts at d = {min(des.table1_d)} mm)")
+
+    def mesh(self, run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None) -> SceneMesh:
+        cm = concave_mesh(run, name=name, mesh_cache=mesh_cache, comm=comm, stats_dir=stats_dir)
+        summary = (f"mesh {cm.files.stats.get('cells', '?')} cells ({'cached' if cm.files.cached else 'built'}), "
+                   f"h_c = {cm.h_contact:.4g} mm (a_est = {cm.a_est:.4g} mm)")
+        return SceneMesh(cm.files, cm, summary)
+
+    def obstacle(self, run: Run, mesh: SceneMesh):
+        from fem.obstacles import CurveObstacle
+
+        des = mesh.estimate.design
+        return CurveObstacle(des.particle, direction=tuple(des.direction))
+
+    def load_path(self, run: Run, mesh: SceneMesh) -> LoadPath:
+        ld = run.loading
+        return LoadPath("displacement", ld.d[-1], ld.steps, record_at=ld.d)
+
+    def compare(self, run: Run, result, mesh: SceneMesh, *, progress) -> Outcome:
+        cm = mesh.estimate
+        E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
+        steps, series = [], []
+        for snap, lcp in zip(result.snapshots, cm.lcps, strict=True):
+            m, sr = _step_metrics(snap, curve=cm.design.concave, lcp=lcp, E_star=E_star, label=run.label)
+            m["warnings"] = list(snap.warnings)
+            for w in snap.warnings:
+                progress(f"[{run.label}] d = {snap.d:.3g} mm: WARNING: {w}")
+            steps.append(m)
+            series.append(sr)
+        return Outcome(run.label, run, _run_metrics(run, result, cm, steps), series, None, steps, result)
+
+    def judge(self, case: Case, outcomes: list[Outcome]) -> CaseComparison:
+        return concave_case_comparison(case, outcomes)
 
 
 def concave_case_comparison(case, outcomes) -> CaseComparison:
     """Per-step table, P-delta stiffness and the superposition verdict of a concave case."""
-    steps = [s for o in outcomes for s in o.metrics["steps"]]
+    steps = [s for o in outcomes for s in o.comparison]
     rows = ["| d (mm) | delta LCP (mm) | P (N/mm) | p0 (MPa) | patches | 2a FEM (mm) | eq. (4) 2a (mm) | "
             "eq. (5) 2a (mm) | R (mm) | fit RMS/p0 | superposition RMS/p0 (patch loads) | best superposition RMS/p0 |",
             "|---|---|---|---|---|---|---|---|---|---|---|---|"]

@@ -1,6 +1,6 @@
 """Plots of the stability sweep from ``results/stability/stability.json`` (no computation here).
 
-``python -m scripts.stability_plot [--dir results/stability]`` writes ``method.png`` (errors and the Jacobian's
+``python -m workbench.studies.stability_plot [--dir results/stability]`` writes ``method.png`` (errors and the Jacobian's
 condition estimate against kappa0 / gamma0) and ``incompressible.png`` (peak error against nu, P1/P2
 displacement vs mixed).
 """
@@ -17,7 +17,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from scripts.plots import save_figure  # noqa: E402
+from workbench.reports.plots import save_figure  # noqa: E402
 
 __all__ = ["plot_method", "plot_incompressible", "main"]
 
@@ -72,7 +72,7 @@ def plot_incompressible(records: list[dict], path: Path) -> Path:
 
 def main(argv: list[str] | None = None) -> int:
     """CLI: read ``<dir>/stability.json``, write the PNGs next to it."""
-    ap = argparse.ArgumentParser(prog="python -m scripts.stability_plot", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m workbench.studies.stability_plot", description=__doc__.splitlines()[0])
     ap.add_argument("--dir", type=Path, default=Path("results/stability"))
     args = ap.parse_args(argv)
     data = json.loads((args.dir / "stability.json").read_text())

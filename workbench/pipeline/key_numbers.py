@@ -1,0 +1,102 @@
+"""The key numbers of a results folder, and their comparison with a saved set (refactors change no result).
+
+``key_numbers(root)`` flattens every case's ``metrics.json`` into ``{"case/field": value}``: the load ``P`` and
+``P_pressure``, every error, the case-level analytic values (b/b0 ...), and per run ``P``, ``d``, ``p_max``,
+the patch half-width, the patches, the errors, ``ndofs`` and the Newton iterations; per concave step its
+load, peak and superposition errors. Times are left out.
+
+``python -m workbench.pipeline.key_numbers save RESULTS FILE`` writes them; ``... compare RESULTS FILE
+[--rtol 1e-10]`` prints every number that moved by more than ``rtol`` (relative) and exits 1 if any did.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+__all__ = ["key_numbers", "compare_numbers"]
+
+_RUN_FIELDS = ("P", "P_pressure", "d", "p_max", "patch_half_width", "ndofs", "newton_iterations")
+_STEP_FIELDS = ("d", "P", "P_pressure", "p_max", "n_patches", "superposition_independent_rms_over_p0",
+                "superposition_best_rms_over_p0")
+
+
+def _flat(prefix: str, value, out: dict) -> None:
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _flat(f"{prefix}/{k}", v, out)
+    elif isinstance(value, (list, tuple)):
+        for i, v in enumerate(value):
+            _flat(f"{prefix}/{i}", v, out)
+    elif isinstance(value, bool) or value is None or isinstance(value, str):
+        out[prefix] = value
+    elif isinstance(value, (int, float)):
+        out[prefix] = float(value)
+
+
+def key_numbers(root: Path) -> dict:
+    """Key numbers of every ``<root>/<case>/metrics.json`` (see the module docstring)."""
+    out: dict = {}
+    for f in sorted(Path(root).glob("*/metrics.json")):
+        m = json.loads(f.read_text())
+        c = m["case"]
+        for k in ("P", "P_pressure", "errors", "pass"):
+            _flat(f"{c}/{k}", m.get(k), out)
+        _flat(f"{c}/analytic", {k: v for k, v in m.get("analytic", {}).items() if k != "runs"}, out)
+        for r in m.get("runs", []):
+            pre = f"{c}/runs/{r['label']}"
+            for k in _RUN_FIELDS:
+                _flat(f"{pre}/{k}", r.get(k), out)
+            _flat(f"{pre}/errors", r.get("errors"), out)
+            _flat(f"{pre}/patches", r.get("patches"), out)
+            for i, s in enumerate(r.get("steps", [])):
+                _flat(f"{pre}/steps/{i}", {k: s.get(k) for k in _STEP_FIELDS}, out)
+    return out
+
+
+def compare_numbers(new: dict, old: dict, *, rtol: float = 1e-10) -> list[str]:
+    """One line per key number that is missing, new, or moved by more than ``rtol`` (relative)."""
+    bad = []
+    for k in sorted(set(old) | set(new)):
+        if k not in new or k not in old:
+            bad.append(f"{k}: {'missing now' if k not in new else 'new'}")
+            continue
+        a, b = old[k], new[k]
+        if isinstance(a, float) and isinstance(b, float):
+            if math.isnan(a) and math.isnan(b):
+                continue
+            if not abs(b - a) <= rtol * max(abs(a), abs(b), 1e-300):
+                bad.append(f"{k}: {a!r} -> {b!r} (rel {abs(b - a) / max(abs(a), 1e-300):.3g})")
+        elif a != b:
+            bad.append(f"{k}: {a!r} -> {b!r}")
+    return bad
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m workbench.pipeline.key_numbers", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("action", choices=("save", "compare"))
+    p.add_argument("results", type=Path)
+    p.add_argument("file", type=Path)
+    p.add_argument("--rtol", type=float, default=1e-10)
+    args = p.parse_args(argv)
+    numbers = key_numbers(args.results)
+    if not numbers:
+        print(f"error: no */metrics.json under {args.results}", file=sys.stderr)
+        return 2
+    if args.action == "save":
+        args.file.write_text(json.dumps(numbers, indent=1, sort_keys=True) + "\n")
+        print(f"wrote {len(numbers)} key numbers to {args.file}")
+        return 0
+    bad = compare_numbers(numbers, json.loads(args.file.read_text()), rtol=args.rtol)
+    for line in bad:
+        print(line)
+    print(f"{len(numbers)} key numbers, {len(bad)} differ by more than {args.rtol:g} relative")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

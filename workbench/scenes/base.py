@@ -1,0 +1,156 @@
+"""What a scene is: the protocol every scene implements, the records it returns, and the scene registry.
+
+A *scene* turns a case run (:class:`cases.schema.Run`) into a contact problem and judges its result:
+
+0. :meth:`Scene.preflight` rejects a run that cannot be done (one-line :class:`cases.CaseError`, exit 2)
+   before anything is written;
+1. :meth:`Scene.mesh` builds (or reuses) the run's mesh, sized from the scene's own contact estimate;
+2. :meth:`Scene.obstacle` is the rigid body, an analytic curve (:mod:`fem.obstacles`), never a mesh;
+3. :meth:`Scene.load_path` says how the obstacle is driven (force or displacement control);
+4. :meth:`Scene.compare` compares one converged :class:`fem.solver.ContactResult` with theory and returns an
+   :class:`Outcome` (typed records; ``metrics`` is its JSON form for ``metrics.json``);
+5. :meth:`Scene.judge` compares the runs of a whole case (e.g. convective against small kinematics) and
+   returns a :class:`CaseComparison`.
+
+The pipeline (:mod:`workbench.pipeline.run_case`) does the rest, the same way for every scene: read the mesh,
+call the solver with :func:`workbench.scenes.wiring.solver_options`, write the outputs. A new scene is one
+module with a class implementing this protocol and one line ``register_scene(MyScene())``
+(:mod:`workbench.scenes`); ``[geometry] scene = "<name>"`` in a case file selects it.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, NamedTuple, Protocol, runtime_checkable
+
+from cases.schema import Case, Run
+
+__all__ = ["CaseComparison", "LoadPath", "Outcome", "Scene", "SceneMesh", "Series", "SCENES", "register_scene",
+           "scene_for"]
+
+
+class Series(NamedTuple):
+    """One pressure curve with its analytic predictions (one plot panel, one block of CSV rows).
+
+    Attributes:
+        label: Run or step label.
+        x: Surface coordinate (mm): material abscissa (block) or arc length of the undeformed concave
+            surface (concave scenes).
+        p: FEM contact pressure from the contact law (MPa, >= 0).
+        sigma_nn: Projected normal stress -sigma_nn (MPa), for comparison.
+        predictions: Prediction name -> pressure at ``x`` (MPa).
+        xlabel: Axis label of ``x``.
+        xlim: Plot range of ``x`` (mm).
+    """
+
+    label: str
+    x: Any
+    p: Any
+    sigma_nn: Any
+    predictions: dict
+    xlabel: str
+    xlim: tuple[float, float]
+
+
+class Outcome(NamedTuple):
+    """One FEM run of a case, compared with theory.
+
+    Attributes:
+        label: Run label.
+        run: The run record.
+        metrics: The run's entry of ``metrics.json["runs"]`` (JSON-ready).
+        series: Pressure curves to plot and to write to ``pressure.csv``.
+        theory: The scene's analytic prediction at the measured load (block: :class:`BlockTheory`), or None.
+        comparison: The scene's typed comparison record (block: :class:`BlockComparison`), or None.
+        result: The :class:`fem.solver.ContactResult` (for VTK output).
+    """
+
+    label: str
+    run: Run
+    metrics: dict
+    series: list[Series]
+    theory: Any
+    comparison: Any
+    result: Any
+
+
+class CaseComparison(NamedTuple):
+    """Case-level analytic values, errors, a one-line headline, extra Markdown tables, and extra top-level
+    fields of ``metrics.json`` (e.g. the per-step table of a concave case)."""
+
+    analytic: dict
+    errors: dict
+    headline: str
+    tables: dict
+    top: dict = {}
+
+
+class SceneMesh(NamedTuple):
+    """The mesh of one run and what the scene sized it from.
+
+    Attributes:
+        files: :class:`meshes.MeshFiles` (``.msh`` path, statistics, cache key).
+        estimate: The scene's contact estimate the mesh was sized from (block: :class:`BlockTheory` at the
+            target load; concave: the LCP pairs along the path).
+        summary: One line for the progress log (cells, sizes).
+    """
+
+    files: Any
+    estimate: Any
+    summary: str
+
+
+class LoadPath(NamedTuple):
+    """How the rigid body is driven: ``control`` ``"force"`` (target P, N/mm, full body) or ``"displacement"``
+    (target d, mm, with snapshots at ``record_at``), in ``n_steps`` steps; ``symmetric_half`` for half models."""
+
+    control: str
+    target: float
+    n_steps: int
+    symmetric_half: bool = False
+    record_at: tuple[float, ...] | None = None
+
+
+@runtime_checkable
+class Scene(Protocol):
+    """The protocol of a scene (see the module docstring)."""
+
+    name: str
+
+    def preflight(self, run: Run, *, where: str) -> None:
+        ...
+
+    def mesh(self, run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None) -> SceneMesh:
+        ...
+
+    def obstacle(self, run: Run, mesh: SceneMesh):
+        ...
+
+    def load_path(self, run: Run, mesh: SceneMesh) -> LoadPath:
+        ...
+
+    def compare(self, run: Run, result, mesh: SceneMesh, *, progress) -> Outcome:
+        ...
+
+    def judge(self, case: Case, outcomes: list[Outcome]) -> CaseComparison:
+        ...
+
+
+SCENES: dict[str, Scene] = {}
+
+
+def register_scene(scene: Scene) -> Scene:
+    """Add a scene to the registry under ``scene.name`` (the ``[geometry] scene`` value of a case)."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"{scene!r} does not implement the Scene protocol")
+    SCENES[scene.name] = scene
+    return scene
+
+
+def scene_for(run: Run) -> Scene:
+    """The registered scene of a run (``run.geometry.scene``)."""
+    try:
+        return SCENES[run.geometry.scene]
+    except KeyError:
+        raise ValueError(f"geometry.scene = {run.geometry.scene!r} has no registered scene; "
+                         f"known: {sorted(SCENES)}") from None

@@ -1,0 +1,151 @@
+"""Block scene: an elastic block under a rigid circle, parabola or wedge, compared with half-plane theory.
+
+Reads top to bottom: classical estimate -> mesh sized from it -> rigid obstacle -> force-controlled FEM
+-> comparison at the measured load. A case with a ``small`` and a ``convective`` run is judged against the
+Ciavarella-Hills theory (:mod:`workbench.scenes.convective`). Units: mm, N, MPa.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from cases.schema import Case, Run
+from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
+from workbench.scenes.block_theory import BlockTheory, block_theory, compare_block
+
+__all__ = ["BlockComparison", "BlockScene", "block_mesh", "compare_result", "obstacle_for"]
+
+
+def obstacle_for(run: Run, theory: BlockTheory):
+    """The rigid obstacle of a block run (an analytic curve, never a mesh)."""
+    from fem.obstacles import CircleObstacle, ParabolaObstacle, WedgeObstacle
+
+    g = run.geometry
+    if g.indenter == "circle":
+        return CircleObstacle(center=(0.0, g.radius), radius=g.radius)
+    if g.indenter == "parabola":
+        return ParabolaObstacle(radius=g.radius)
+    return WedgeObstacle(slope=theory.m)
+
+
+class BlockComparison(NamedTuple):
+    """A block result against its classical theory at the measured load (samples mirrored to the full body)."""
+
+    x: np.ndarray
+    p: np.ndarray
+    sigma_nn: np.ndarray
+    half_width: float
+    p_max: float
+    theory: BlockTheory
+    errors: dict
+
+
+def compare_result(result, run: Run) -> BlockComparison:
+    """Compare a :class:`fem.solver.ContactResult` of a block run with half-plane theory at its measured load.
+
+    A half model's samples (x >= 0) are mirrored to the full body; the main patch is the one carrying the
+    largest load.
+    """
+    smp = result.samples
+    x, p, snn = smp.s, smp.p, smp.sigma_nn
+    if result.half:  # mirror the half model (x >= 0) to the full body for plots and errors
+        keep = x > 0
+        x = np.concatenate([-x[keep][::-1], x])
+        p = np.concatenate([p[keep][::-1], p])
+        snn = np.concatenate([snn[keep][::-1], snn])
+    main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
+    half_width = main.half_width if main else math.nan
+    p_max = main.p_max if main else math.nan
+    theory, errors = compare_block(x=x, p=p, P=result.P, P_pressure=result.P_pressure,
+                                   half_width_fem=half_width, p_max_fem=p_max, geometry=run.geometry,
+                                   material=run.material)
+    return BlockComparison(x, p, snn, half_width, p_max, theory, errors)
+
+
+def block_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None):
+    """The (cached) mesh of a block run, sized from the classical estimate of its contact half-width.
+
+    Returns:
+        ``(MeshFiles, BlockTheory)``: the mesh files and the classical prediction at the target load.
+    """
+    from meshes.block import build_block_mesh
+
+    g, ld, disc = run.geometry, run.loading, run.discretisation
+    target = block_theory(g, run.material, P=ld.P, half_width=ld.half_width)
+    a0 = target.half_width
+    files = build_block_mesh(
+        width=g.width_factor * a0, height=g.height_factor * a0, contact_half_width=a0,
+        h_contact=disc.h_contact * a0, growth=disc.growth, half_model=g.half_model,
+        apex_refinement=g.indenter == "wedge",
+        out_dir=mesh_cache, name=f"{name}_{run.label}".replace("/", "_").replace("=", "_"),
+        stats_dir=stats_dir, comm=comm,
+    )
+    return files, target
+
+
+def _run_metrics(run: Run, result, cmp: BlockComparison, files) -> dict:
+    """The run's JSON entry of ``metrics.json["runs"]``."""
+    sol, disc, theory = run.solver, run.discretisation, cmp.theory
+    errors = cmp.errors
+    if sol.kinematics == "convective":
+        # The classical theory ignores the convective effect this run measures: its errors are kept for
+        # information only (the convective comparison is made at case level, workbench/scenes/convective.py).
+        errors = {(k if k == "load_balance" else f"{k}_vs_classical"): v for k, v in errors.items()}
+    return {
+        "label": run.label, "scene": "block", "nu": run.material.nu, "method": sol.method,
+        "kinematics": sol.kinematics, "traction": sol.traction, "degree": disc.degree,
+        "h_contact": disc.h_contact, "ndofs": result.ndofs, "wall_time_s": result.wall_time_s,
+        "newton_iterations": list(result.newton_iterations), "load_steps": result.load_steps, "d": result.d,
+        "P": result.P, "P_pressure": result.P_pressure, "patches": [pt._asdict() for pt in result.patches],
+        "warnings": list(result.warnings), "patch_half_width": cmp.half_width, "p_max": cmp.p_max,
+        "mesh": files.stats,
+        "analytic": {
+            "kind": theory.kind, "P": theory.P, "E_star": theory.E_star, "half_width": theory.half_width,
+            "p_ref": theory.p_ref, "R": theory.R, "m": theory.m,
+        },
+        "errors": errors,
+    }
+
+
+class BlockScene:
+    """An elastic block (full or half) under a rigid circle, parabola or wedge, force-controlled."""
+
+    name = "block"
+
+    def preflight(self, run: Run, *, where: str) -> None:
+        """Nothing beyond the case schema's checks (unreachable circle loads are rejected there)."""
+
+    def mesh(self, run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None) -> SceneMesh:
+        files, target = block_mesh(run, name=name, mesh_cache=mesh_cache, comm=comm, stats_dir=stats_dir)
+        summary = (f"mesh {files.stats.get('cells', '?')} cells ({'cached' if files.cached else 'built'}), "
+                   f"a0 = {target.half_width:.4g} mm, P target = {target.P:.6g} N/mm")
+        return SceneMesh(files, target, summary)
+
+    def obstacle(self, run: Run, mesh: SceneMesh):
+        return obstacle_for(run, mesh.estimate)
+
+    def load_path(self, run: Run, mesh: SceneMesh) -> LoadPath:
+        return LoadPath("force", mesh.estimate.P, run.loading.steps, symmetric_half=run.geometry.half_model)
+
+    def compare(self, run: Run, result, mesh: SceneMesh, *, progress) -> Outcome:
+        cmp = compare_result(result, run)
+        metrics = _run_metrics(run, result, cmp, mesh.files)
+        order = np.argsort(cmp.x, kind="stable")
+        x, p, snn = cmp.x[order], cmp.p[order], cmp.sigma_nn[order]
+        theory = cmp.theory
+        predictions = {f"{theory.kind} (at measured P)": theory.pressure(x)}
+        lim = 1.6 * max(cmp.half_width if math.isfinite(cmp.half_width) else 0.0, theory.half_width)
+        series = Series(run.label, x, p, snn, predictions, "x (mm, material)", (-lim, lim))
+        return Outcome(run.label, run, metrics, [series], theory, cmp, result)
+
+    def judge(self, case: Case, outcomes: list[Outcome]) -> CaseComparison:
+        from workbench.scenes.convective import convective_case_comparison
+
+        by_kin = {o.run.solver.kinematics: o for o in outcomes}
+        if "convective" in case.analytic.predictions and {"small", "convective"} <= set(by_kin):
+            return convective_case_comparison(by_kin["small"], by_kin["convective"])
+        return CaseComparison({}, {}, "", {})

@@ -1,0 +1,50 @@
+"""The one place where a case run becomes solver options (:func:`fem.solver.solve_contact` keywords).
+
+Every caller (the case pipeline, the studies) goes through :func:`solver_options` and :func:`solve_run`, so a
+new field of :class:`cases.schema.Solver` or a new contact method is wired here once.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from cases.schema import Run
+from workbench.scenes.base import LoadPath
+
+__all__ = ["solver_options", "solve_run", "step_printer"]
+
+
+def solver_options(run: Run, load: LoadPath) -> dict:
+    """Keyword arguments of :func:`fem.solver.solve_contact` for ``run`` driven along ``load``.
+
+    Material (E in MPa, nu), element degree, the contact method and its parameters, kinematics and traction
+    come from the run; control, target (N/mm or mm), steps, snapshots and the half model from ``load``.
+    """
+    sol, disc = run.solver, run.discretisation
+    opts = dict(E=run.material.E, nu=run.material.nu, degree=disc.degree, method=sol.method,
+                kinematics=sol.kinematics, traction=sol.traction, kappa0=sol.kappa0, gamma0=sol.gamma0,
+                theta=sol.theta, control=load.control, target=load.target, n_steps=load.n_steps,
+                symmetric_half=load.symmetric_half)
+    if load.record_at is not None:
+        opts["record_at"] = load.record_at
+    return opts
+
+
+def solve_run(run: Run, mesh_data, obstacle, load: LoadPath, *, case: str, on_step: Callable | None = None,
+              **overrides):
+    """Solve one run's contact problem: :func:`solver_options` plus any study-specific ``overrides``
+    (e.g. ``petsc_options``, ``predictor``, ``formulation``)."""
+    from fem.solver import solve_contact
+
+    return solve_contact(mesh_data, obstacle, **(solver_options(run, load) | overrides), on_step=on_step,
+                         case=case)
+
+
+def step_printer(progress: Callable[[str], None], label: str) -> Callable[[dict], None]:
+    """An ``on_step`` callback that prints one line per converged solve."""
+
+    def on_step(rec: dict) -> None:
+        progress(f"[{label}] {rec.get('kind', 'step')}: d = {rec['d']:.6g} mm, P = {rec['P']:.6g} N/mm, "
+                 f"{rec['iterations']} Newton its, {rec['time']:.2f} s")
+
+    return on_step
