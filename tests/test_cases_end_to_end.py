@@ -1,7 +1,9 @@
 """Every case runs end to end at its coarsest (CI) level, fills the results contract and meets its tolerances.
 
 Requirement: no case can rot. Each case is run through the real CLI (``workbench run CASE --ci``)
-in a subprocess, into a temporary results folder.
+in a subprocess, from a foreign working directory, into a temporary results folder. Its key numbers must
+equal those saved before the redesign (``tests/data/key_numbers_ci.json``) to 1e-10 relative: a refactor
+changes no result.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ from pathlib import Path
 import pytest
 
 from cases import case_names
+from workbench.pipeline.key_numbers import compare_numbers, key_numbers
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -24,7 +27,7 @@ CONTRACT = ("case", "method", "kinematics", "ndofs", "wall_time_s", "newton_iter
 @pytest.mark.parametrize("name", case_names())
 def test_case_runs_at_ci_level(name, tmp_path):
     proc = subprocess.run([sys.executable, "-m", "workbench", "run", name, "--ci", "--out", str(tmp_path)],
-                          cwd=ROOT, capture_output=True, text=True, timeout=600)
+                          cwd=tmp_path, capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     out = tmp_path / name
     m = json.loads((out / "metrics.json").read_text())
@@ -41,3 +44,10 @@ def test_case_runs_at_ci_level(name, tmp_path):
     assert header[:4] == ["run", "coordinate_mm", "p_fem_MPa", "sigma_nn_MPa"] and len(header) >= 5
     assert list((out / "vtk").rglob("*.pvd")), "VTK output for ParaView"
     assert not list(tmp_path.glob(f".{name}.staging.*")), "no staging folder left behind"
+    # nothing written outside the output folder: the mesh cache lives in it too
+    assert (tmp_path / "mesh_cache").is_dir()
+    saved = json.loads((ROOT / "tests" / "data" / "key_numbers_ci.json").read_text())
+    saved = {k: v for k, v in saved.items() if k.startswith(f"{name}/")}
+    assert saved, f"no saved key numbers for {name}"
+    moved = compare_numbers(key_numbers(tmp_path), saved, rtol=1e-10)
+    assert not moved, "\n".join(moved[:20])

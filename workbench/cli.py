@@ -75,9 +75,10 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the CLI; returns the exit code."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] in STUDIES:  # the study parses its own options (``workbench convergence --help``)
+        return int(importlib.import_module(STUDIES[argv[0]]).main(argv[1:]) or 0)
     args = _parser().parse_args(argv)
-    if args.command in STUDIES:
-        return int(importlib.import_module(STUDIES[args.command]).main(args.study_args) or 0)
     from cases import CaseError, case_names, load_case
 
     paths = default_paths(args.out) if hasattr(args, "out") else None
