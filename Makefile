@@ -30,7 +30,7 @@ for c in "$$PYTHON" python3.13 python3.12 \
 done; exit 1
 endef
 
-.PHONY: help setup test run ci lint clean convergence stability bench report list $(CASES)
+.PHONY: help setup test run ci lint clean convergence stability bench report list example check-numbers $(CASES)
 
 help:
 	@echo "make run          every case at its default resolution + results/report.{md,html}"
@@ -40,7 +40,10 @@ help:
 	@echo "make convergence  error against run time study"
 	@echo "make stability    stiff/extreme-case sweep"
 	@echo "make bench        performance benchmark"
+	@echo "make check-numbers  make run's key numbers against tests/data/key_numbers_run.json (1e-10)"
+	@echo "make example     examples/hertz_contact.py"
 	@echo "make lint | clean | setup     (NP=N runs cases on N MPI processes)"
+	@echo "Everything here calls the one command .venv/bin/workbench (see: .venv/bin/workbench --help)"
 
 setup: $(STAMP)
 
@@ -59,6 +62,7 @@ test: setup
 
 lint: setup
 	$(VENV)/bin/ruff check .
+	$(VENV)/bin/lint-imports
 
 list: setup
 	@$(WB) list
@@ -90,6 +94,13 @@ stability: setup
 
 bench: setup
 	$(WB) bench
+
+example: setup
+	$(PY) examples/hertz_contact.py
+
+# The redesign changed no result: every key number of `make run` equals the one saved before it (1e-10).
+check-numbers: run
+	$(PY) -m workbench.pipeline.key_numbers compare results tests/data/key_numbers_run.json
 
 clean:
 	rm -rf results .pytest_cache .ruff_cache
