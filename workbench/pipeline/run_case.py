@@ -120,7 +120,8 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
 
     from fem.output import write_vtk
     from fem.solver import ContactSolveError
-    from workbench.reports.case_report import write_case_outputs
+    from workbench.pipeline.case_files import write_case_files
+    from workbench.reports.case_report import write_case_report
 
     comm = MPI.COMM_WORLD
     if ci and h_contact is None:
@@ -142,12 +143,13 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
             metrics = case_metrics(case, outcomes, h_contact=h_contact, wall_time_s=time.perf_counter() - t0)
             metrics["mpi_processes"] = comm.size
             if comm.rank == 0:
-                write_case_outputs(case, outcomes, metrics, stage)
+                write_case_files(outcomes, stage)
                 write_json(stage / "mesh.json", {o.label: o.metrics.get("mesh") for o in outcomes})
                 verdict = "PASS" if metrics["pass"] else "FAIL"
                 progress(f"case {case.name}: {verdict} in {metrics['wall_time_s']:.1f} s -> {out}")
                 write_text(stage / "run.log", "\n".join(log) + "\n")
                 write_json(stage / "metrics.json", metrics)
+                write_case_report(stage)  # from the saved metrics.json and series.json only
             comm.barrier()
     except (ContactSolveError, ValueError) as exc:
         _fail(case, paths, log, exc, comm)

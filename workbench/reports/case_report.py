@@ -1,50 +1,52 @@
-"""Per-case outputs: ``pressure.csv``, ``pressure.png`` and ``report.md`` / ``report.html``.
+"""The case report: ``pressure.png``, ``report.md`` and ``report.html`` of ``<out>/<case>/``.
 
-Everything here formats what the runs computed; nothing is recomputed.
+It reads only the files the run saved in the case folder, ``metrics.json`` and ``series.json`` (written by
+:mod:`workbench.pipeline.case_files`), so any case report can be drawn again later from its folder
+(:func:`write_case_reports`, called by ``workbench report``). Nothing is recomputed.
 """
 
 from __future__ import annotations
 
-import csv
-import io
+import json
 from pathlib import Path
 
 import numpy as np
 
 from workbench.atomic import write_text
 from workbench.reports.markdown import fmt, markdown_to_html
-from workbench.reports.plots import plot_pressure_panels
 
-__all__ = ["write_case_outputs", "case_report_markdown"]
-
-
-def _slug(name: str) -> str:
-    return "_".join("".join(c if c.isalnum() else " " for c in name.lower()).split())
-
-
-def _csv_text(outcomes) -> str:
-    series = [sr for o in outcomes for sr in o.series]
-    names = list(dict.fromkeys(k for sr in series for k in sr.predictions))
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow(["run", "coordinate_mm", "p_fem_MPa", "sigma_nn_MPa", *[f"p_{_slug(n)}_MPa" for n in names]])
-    for sr in series:
-        for i in range(len(sr.x)):
-            row = [sr.label, f"{sr.x[i]:.10g}", f"{sr.p[i]:.10g}", f"{sr.sigma_nn[i]:.10g}"]
-            for n in names:
-                v = sr.predictions.get(n)
-                row.append("" if v is None or not np.isfinite(v[i]) else f"{v[i]:.10g}")
-            w.writerow(row)
-    return buf.getvalue()
+__all__ = ["case_report_markdown", "load_series", "pressure_panels", "write_case_report", "write_case_reports"]
 
 
 def _fmt(v) -> str:
     return fmt(v, 5)
 
 
-def case_report_markdown(case, outcomes, metrics) -> str:
-    """The case report as Markdown: description, plot, metrics table per run, checks."""
-    lines = [f"# {case.name}", "", case.description, "",
+def load_series(folder: Path) -> list[dict] | None:
+    """The pressure series of ``folder/series.json`` (``null`` values as NaN), or None if the file is absent."""
+    f = Path(folder) / "series.json"
+    if not f.is_file():
+        return None
+
+    def arr(values):
+        return None if values is None else np.array(values, dtype=float)  # None -> NaN
+
+    return [sr | {"x": arr(sr["x"]), "p": arr(sr["p"]), "sigma_nn": arr(sr["sigma_nn"]),
+                  "predictions": {k: arr(v) for k, v in sr["predictions"].items()}}
+            for sr in json.loads(f.read_text())["series"]]
+
+
+def pressure_panels(series: list[dict]) -> list[dict]:
+    """The panels of :func:`workbench.reports.plots.plot_pressure_panels`, one per series."""
+    return [{"label": sr["label"], "x": sr["x"], "p_fem": sr["p"], "sigma_nn": sr["sigma_nn"],
+             "xlabel": sr["xlabel"], "xlim": sr["xlim"],
+             "predictions": {k: (sr["x"], v) for k, v in sr["predictions"].items() if v is not None}}
+            for sr in series]
+
+
+def case_report_markdown(metrics: dict) -> str:
+    """The case report as Markdown from ``metrics.json``: description, plot, runs, patches, errors, checks."""
+    lines = [f"# {metrics['case']}", "", metrics.get("description", ""), "",
              f"Verdict: **{'PASS' if metrics['pass'] else 'FAIL'}** against the case tolerances. "
              f"Wall time {metrics['wall_time_s']:.1f} s on {metrics.get('mpi_processes', 1)} process(es) "
              "(includes meshing, and form compilation when the JIT cache is cold).", ""]
@@ -54,10 +56,11 @@ def case_report_markdown(case, outcomes, metrics) -> str:
     if warns:
         lines += ["## Warnings", "", *[f"- {label}: {w}" for label, w in warns], ""]
     lines += ["![pressure](pressure.png)", "",
-              "Data: [pressure.csv](pressure.csv) · metrics: [metrics.json](metrics.json) · ParaView: `vtk/` "
-              "(open the `.pvd` files) · log: [run.log](run.log)", "", "## Runs", "",
-              "| run | method | kinematics | traction | P | ndofs | Newton its (per solve) | load steps | P (N/mm) | "
-              "P_pressure (N/mm) | patches | time (s) |",
+              "Data: [pressure.csv](pressure.csv), [series.json](series.json) · "
+              "metrics: [metrics.json](metrics.json) · ParaView: `vtk/` (open the `.pvd` files) · "
+              "log: [run.log](run.log)", "", "## Runs", "",
+              "| run | method | kinematics | traction | degree | ndofs | Newton its (per solve) | load steps | "
+              "P (N/mm) | P_pressure (N/mm) | patches | time (s) |",
               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in metrics["runs"]:
         lines.append(
@@ -71,29 +74,55 @@ def case_report_markdown(case, outcomes, metrics) -> str:
         for pt in r["patches"]:
             lines.append(f"| {r['label']} | {_fmt(pt['center'])} | {_fmt(pt['half_width'])} | "
                          f"{_fmt(pt['p_max'])} | {_fmt(pt['P'])} |")
-    lines += ["", "## Errors against theory (relative, at the measured load)", "",
-              "| run | " + " | ".join(sorted({k for r in metrics["runs"] for k in r.get("errors", {})})) + " |"]
     keys = sorted({k for r in metrics["runs"] for k in r.get("errors", {})})
-    lines.append("|---|" + "---|" * len(keys))
+    lines += ["", "## Errors against theory (relative, at the measured load)", "",
+              "| run | " + " | ".join(keys) + " |", "|---|" + "---|" * len(keys)]
     for r in metrics["runs"]:
         lines.append(f"| {r['label']} | " + " | ".join(_fmt(r.get("errors", {}).get(k)) for k in keys) + " |")
     lines += ["", "## Checks", "", "| quantity | value | tolerance | verdict |", "|---|---|---|---|"]
     for k, t in metrics["tolerances"].items():
         v = metrics["errors"].get(k)
         lines.append(f"| {k} | {_fmt(v)} | {_fmt(t)} | {'PASS' if metrics['checks'][k] else 'FAIL'} |")
-    if metrics.get("case_tables"):
-        for title, table in metrics["case_tables"].items():
-            lines += ["", f"## {title}", "", *table]
+    for title, table in (metrics.get("case_tables") or {}).items():
+        lines += ["", f"## {title}", "", *table]
     return "\n".join(lines) + "\n"
 
 
-def write_case_outputs(case, outcomes, metrics, stage: Path) -> None:
-    """Write the CSV, the plot and the report of a case into its staging folder."""
-    write_text(stage / "pressure.csv", _csv_text(outcomes))
-    panels = [{"label": sr.label, "x": sr.x, "p_fem": sr.p, "sigma_nn": sr.sigma_nn, "xlabel": sr.xlabel,
-               "predictions": {k: (sr.x, v) for k, v in sr.predictions.items()}, "xlim": sr.xlim}
-              for o in outcomes for sr in o.series]
-    plot_pressure_panels(panels, stage / "pressure.png", title=case.name)
-    md = case_report_markdown(case, outcomes, metrics)
-    write_text(stage / "report.md", md)
-    write_text(stage / "report.html", markdown_to_html(md, title=case.name))
+def write_case_report(folder: Path) -> list[Path]:
+    """Write ``pressure.png``, ``report.md`` and ``report.html`` of the case in ``folder``.
+
+    Reads ``folder/metrics.json`` and ``folder/series.json``. Without ``series.json`` (a folder written before
+    it existed) the plot is not drawn and an existing ``pressure.png`` is left as it is.
+
+    Returns:
+        The files written.
+    """
+    from workbench.reports.plots import plot_pressure_panels  # matplotlib only when a plot is drawn
+
+    folder = Path(folder)
+    metrics = json.loads((folder / "metrics.json").read_text())
+    name = metrics["case"]
+    written = []
+    series = load_series(folder)
+    if series:
+        plot_pressure_panels(pressure_panels(series), folder / "pressure.png", title=name)
+        written.append(folder / "pressure.png")
+    md = case_report_markdown(metrics)
+    write_text(folder / "report.md", md)
+    write_text(folder / "report.html", markdown_to_html(md, title=name))
+    return [*written, folder / "report.md", folder / "report.html"]
+
+
+def write_case_reports(results: Path, names: list[str]) -> list[Path]:
+    """Draw again the report of every case of ``names`` that has ``results/<name>/metrics.json``.
+
+    Returns:
+        The case folders whose reports were written.
+    """
+    done = []
+    for name in names:
+        folder = Path(results) / name
+        if (folder / "metrics.json").is_file():
+            write_case_report(folder)
+            done.append(folder)
+    return done

@@ -2,7 +2,8 @@
 
 One row per scene with its headline numbers and a link to the case report, the paper-claims table, and
 links to the studies (convergence, stability, benchmark) when they have been run. It reads only what the
-runs wrote (``results/<case>/metrics.json``), so it works when only some cases exist yet.
+runs wrote (``results/<case>/metrics.json``), so it works when only some cases exist yet. Writing it also
+draws every case report again from its saved JSON, and writes an HTML twin of every study report.
 """
 
 from __future__ import annotations
@@ -14,7 +15,10 @@ from cases import case_names
 from workbench.atomic import write_text
 from workbench.reports.markdown import fmt, markdown_to_html
 
-__all__ = ["load_metrics", "summary_markdown", "write_summary"]
+__all__ = ["STUDY_REPORTS", "load_metrics", "summary_markdown", "write_summary"]
+
+STUDY_REPORTS = ("convergence/report.md", "stability/report.md", "bench/report.md", "analytic/convective.md")
+"""The study reports (Markdown) below the output folder; each gets an HTML twin."""
 
 _HEADLINE = ("p_max", "half_width", "rms", "load_balance", "b_over_b0")
 
@@ -96,9 +100,21 @@ def summary_markdown(results: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_summary(results: Path) -> None:
-    """Write ``report.md`` and ``report.html`` in ``results``."""
+def write_summary(results: Path, *, case_reports: bool = True) -> None:
+    """Write ``report.md`` and ``report.html`` in ``results``, and an HTML twin of each study report.
+
+    Args:
+        results: The output folder.
+        case_reports: Also draw every case report again from its saved ``metrics.json`` and ``series.json``
+            (:func:`workbench.reports.case_report.write_case_reports`).
+    """
     results = Path(results)
+    if case_reports:
+        from workbench.reports.case_report import write_case_reports
+
+        redone = write_case_reports(results, case_names())
+        if redone:
+            print(f"redrew {len(redone)} case report(s): {', '.join(f.name for f in redone)}")
     metrics = load_metrics(results)
     if all(n in metrics and metrics[n].get("steps") for n in ("concave_symmetric", "close_to_conformal")):
         from workbench.reports.plots import plot_load_indentation
@@ -116,11 +132,12 @@ def write_summary(results: Path) -> None:
                               reference=paper)
     md = summary_markdown(results)
     write_text(results / "report.md", md)
-    html = markdown_to_html(md.replace("/report.md)", "/report.html)").replace("/convective.md)", "/convective.html)"),
-                            title="Contact workbench summary")
-    write_text(results / "report.html", html)
-    for study in ("convergence/report.md", "stability/report.md", "bench/report.md", "analytic/convective.md"):
+    # the summary links the Markdown reports; its HTML twin links their HTML twins
+    write_text(results / "report.html", markdown_to_html(md, title="Contact workbench summary",
+                                                         link_suffixes={".md": ".html"}))
+    for study in STUDY_REPORTS:
         f = results / study
         if f.is_file():  # an HTML twin of each study report, so the summary's links work in a browser
-            write_text(f.with_suffix(".html"), markdown_to_html(f.read_text(), title=f.parent.name))
+            write_text(f.with_suffix(".html"), markdown_to_html(f.read_text(), title=f.parent.name,
+                                                                link_suffixes={".md": ".html"}))
     print(f"wrote {results / 'report.md'} and {results / 'report.html'}")
