@@ -1,4 +1,4 @@
-"""UFL weak forms of frictionless contact against a rigid obstacle (penalty and Nitsche).
+"""UFL weak forms of frictionless contact against a rigid obstacle: the kinematics, and the method terms.
 
 Notation (units: mm, N, MPa). ``u`` displacement, ``v`` test function, ``a(u, v) = int sigma(u) : eps(v) dx``.
 On the candidate contact boundary Gamma_c (reference configuration, outward body normal ``n_b``):
@@ -12,15 +12,21 @@ On the candidate contact boundary Gamma_c (reference configuration, outward body
 * traction ``obstacle``: ``n_c = -n_o`` (signed distance along the rigid curve's normal); ``halfplane``:
   vertical gap and ``n_c = e_y`` (traction normal to the undeformed flat surface; obstacle moved along -e_y).
 
-Penalty: ``p = kappa [-g]_+``, ``kappa = kappa0 E / h`` (h = cell diameter); residual
-``F(u; v) = a(u, v) + int_Gc p (n_c . v) ds``  (= first variation of ``1/2 a(u,u) + int kappa/2 [-g]_+^2``).
+Contact methods (:mod:`fem.methods`, one module each, registered by name) turn the gap into a pressure
+argument ``q``, the pressure ``p = [q]_+`` and the contact residual ``F_c``; the residual is
+``F(u; v) = a(u, v) + F_c(u; v)``:
 
-Nitsche (Chouly-Hild, frictionless), ``gamma = gamma0 E / h``, ``sigma_n(w) = n_c . sigma(w) n_b``,
-``P_gamma(u) = sigma_n(u) + gamma g(u)``, ``P_theta(v) = theta sigma_n(v) - gamma (n_c . v)``:
-``F(u; v) = a(u, v) - theta/gamma int sigma_n(u) sigma_n(v) ds + 1/gamma int [P_gamma(u)]_- P_theta(v) ds``,
-so ``p = -[P_gamma]_- = [-sigma_n(u) - gamma g]_+``. theta = 1 symmetric, 0 incomplete (= penalty-like
-residual with a consistent pressure), -1 skew-symmetric. With theta = 0 both methods share
-``F = a + int p (n_c . v)``.
+* ``penalty`` (:mod:`fem.methods.penalty`): ``p = kappa [-g]_+``, ``kappa = kappa0 E / h`` (h = cell diameter),
+  ``F_c = int_Gc p (n_c . v) ds`` (= first variation of ``int kappa/2 [-g]_+^2``).
+* ``nitsche`` (:mod:`fem.methods.nitsche`, Chouly-Hild, frictionless), ``gamma = gamma0 E / h``,
+  ``sigma_n(w) = n_c . sigma(w) n_b``, ``P_gamma(u) = sigma_n(u) + gamma g(u)``,
+  ``P_theta(v) = theta sigma_n(v) - gamma (n_c . v)``:
+  ``F(u; v) = a(u, v) - theta/gamma int sigma_n(u) sigma_n(v) ds + 1/gamma int [P_gamma(u)]_- P_theta(v) ds``,
+  so ``p = -[P_gamma]_- = [-sigma_n(u) - gamma g]_+``. theta = 1 symmetric, 0 incomplete (= penalty-like
+  residual with a consistent pressure), -1 skew-symmetric. With theta = 0 both methods share
+  ``F = a + int p (n_c . v)``.
+* ``augmented_lagrangian`` (:mod:`fem.methods.augmented_lagrangian`): ``p = [lambda - kappa g]_+`` with a nodal
+  multiplier ``lambda`` updated to ``p`` (Uzawa) until the constraint holds; no infinite penalty.
 
 For a :class:`fem.obstacles.CurveObstacle` the gap and normal are nodal Functions (``g_k``, ``n_k``) updated from
 the current iterate ``u_k`` every residual evaluation, with ``g(u) = g_k + n_k . (u - u_k)`` (convective) or
@@ -41,10 +47,13 @@ import dolfinx
 import ufl
 
 from fem.elasticity import Lame, sigma
+from fem.methods import ContactMethod, create, method_names
+from fem.methods.base import positive_part
 
-__all__ = ["ContactForms", "positive_part", "build_contact_forms", "METHODS", "KINEMATICS", "TRACTIONS"]
+__all__ = ["ContactForms", "ContactKinematics", "positive_part", "contact_kinematics", "build_contact_forms",
+           "METHODS", "KINEMATICS", "TRACTIONS"]
 
-METHODS = ("nitsche", "penalty")
+METHODS = method_names()  # ("nitsche", "penalty", "augmented_lagrangian"): the registry of fem.methods
 KINEMATICS = ("small", "convective")
 TRACTIONS = ("obstacle", "halfplane")
 
@@ -62,6 +71,8 @@ class ContactForms(NamedTuple):
         sigma_nn: UFL ``-n_c . sigma(u) n_b`` (MPa, > 0 compressive), the stress-based pressure.
         F_c: the contact part of the residual (form in v).
         update: callable(u_function) refreshing nodal gap data (Curve obstacles) or None.
+        method: the :class:`fem.methods.base.ContactMethod` instance that built ``F_c``.
+        ds_c: the contact measure of ``F_c`` (the method's quadrature; resultants of p use it too).
     """
 
     F: Any
@@ -73,20 +84,34 @@ class ContactForms(NamedTuple):
     sigma_nn: Any
     F_c: Any
     update: Callable | None
+    method: Any = None
+    ds_c: Any = None
 
 
-def positive_part(x):
-    """``[x]_+`` as a UFL conditional (derivative: indicator of x > 0)."""
-    return ufl.conditional(ufl.gt(x, 0.0), x, 0.0)
+class ContactKinematics(NamedTuple):
+    """What every method needs on Gamma_c (module docstring).
 
+    Attributes:
+        gap: UFL gap g(u) (mm, > 0 open).
+        n_c: UFL unit contact direction (body -> obstacle).
+        n_b: UFL outward body normal (reference configuration).
+        X: UFL material coordinate (mm).
+        h: UFL cell diameter (mm), the scale of the penalty/Nitsche parameters.
+        update: callable(u_function) refreshing nodal gap data (Curve obstacles) or None.
+        u: the displacement Function (its space and mesh, for methods with unknowns of their own).
+    """
 
-def _law(q, X, mask):
-    """``[q]_+``, or the prescribed-active-set law while the predictor mask is on."""
-    if mask is None:
-        return positive_part(q)
-    on, lo, hi = mask
-    inside = ufl.And(ufl.gt(X[0], lo), ufl.lt(X[0], hi))
-    return ufl.conditional(ufl.gt(on, 0.5), ufl.conditional(inside, q, 0.0), positive_part(q))
+    gap: Any
+    n_c: Any
+    n_b: Any
+    X: Any
+    h: Any
+    update: Callable | None
+    u: Any
+
+    def sigma_n(self, stress):
+        """``n_c . stress n_b`` (MPa)."""
+        return ufl.dot(self.n_c, ufl.dot(stress, self.n_b))
 
 
 def _check(name, value, allowed):
@@ -131,48 +156,22 @@ def _curve_gap(*, u, obstacle, d, contact_facets, kinematics):
     return gap, -n_k, update
 
 
-def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str, kinematics: str,
-                        traction: str, kappa0: float, gamma0: float, theta: float, ds_c, contact_facets,
-                        mask=None, v=None, stress_u=None, stress_v=None, bulk=None) -> ContactForms:
-    """Assemble the UFL residual/Jacobian of frictionless contact (see module docstring for the weak form).
+def contact_kinematics(*, u, obstacle, d, kinematics: str, traction: str, contact_facets) -> ContactKinematics:
+    """Gap and contact direction of ``kinematics`` / ``traction`` (module docstring).
 
     Args:
-        u: displacement Function (vector Lagrange).
-        obstacle: an obstacle from :mod:`fem.obstacles`.
+        u: displacement Function.  obstacle: an obstacle from :mod:`fem.obstacles`.
         d: dolfinx Constant, rigid displacement (mm) of the obstacle along ``obstacle.direction``.
-        lame: plane-strain Lame parameters.
-        E: Young's modulus (MPa) scaling kappa and gamma.
-        method, kinematics, traction: see module docstring.
-        kappa0, gamma0, theta: penalty / Nitsche parameters (dimensionless).
-        ds_c: boundary measure restricted to Gamma_c (with its quadrature degree).
+        kinematics: ``"small"`` or ``"convective"``.  traction: ``"obstacle"`` or ``"halfplane"``.
         contact_facets: local facet indices of Gamma_c (needed for Curve obstacles).
-        mask: optional Constants ``(on, lo, hi)``: while ``on = 1`` the positive part is replaced by a prescribed
-            active set, ``p = q`` for ``lo < X1 < hi`` and 0 elsewhere (the solver's active-set predictor
-            iteration); ``on = 0`` gives the true contact law.
-        v: test function (default ``TestFunction`` of u's space; a mixed formulation passes its own).
-        stress_u, stress_v: UFL stress of the state and of the test field entering the Nitsche terms (default
-            ``sigma(u)``, ``sigma(v)``; the mixed u-p formulation passes ``2 mu eps - p I`` and ``2 mu eps(v) -
-            q I``). The contact terms are otherwise unchanged.
-        bulk: UFL bulk residual replacing ``inner(sigma(u), grad v) dx`` (mixed formulation).
     """
-    _check("method", method, METHODS)
     _check("kinematics", kinematics, KINEMATICS)
     _check("traction", traction, TRACTIONS)
-    if theta not in (-1, 0, 1, -1.0, 0.0, 1.0):
-        raise ValueError(f"theta must be one of (1, 0, -1), got {theta!r}")
-    if method == "penalty" and not kappa0 > 0:
-        raise ValueError(f"kappa0 must be > 0, got {kappa0}")
-    if method == "nitsche" and not gamma0 > 0:
-        raise ValueError(f"gamma0 must be > 0, got {gamma0}")
     mesh = u.function_space.mesh
-    v = ufl.TestFunction(u.function_space) if v is None else v
-    stress_u = sigma(u, lame) if stress_u is None else stress_u
-    stress_v = sigma(v, lame) if stress_v is None else stress_v
     X = ufl.SpatialCoordinate(mesh)
     n_b = ufl.FacetNormal(mesh)
     h = ufl.CellDiameter(mesh)
     update = None
-
     if traction == "halfplane":
         if abs(obstacle.direction[0]) > 1e-14 or obstacle.direction[1] > 0:
             raise ValueError(f"traction='halfplane' needs direction (0, -1), got {obstacle.direction}")
@@ -195,21 +194,57 @@ def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str, ki
     else:
         gap, n_c, update = _curve_gap(u=u, obstacle=obstacle, d=d, contact_facets=contact_facets,
                                       kinematics=kinematics)
+    return ContactKinematics(gap=gap, n_c=n_c, n_b=n_b, X=X, h=h, update=update, u=u)
 
-    sig_n = lambda s: ufl.dot(n_c, ufl.dot(s, n_b))  # noqa: E731
-    if method == "penalty":
-        kappa = kappa0 * E / h
-        q = -kappa * gap
-        p = _law(q, X, mask)
-        F_c = p * ufl.dot(n_c, v) * ds_c
-    else:
-        gamma = gamma0 * E / h
-        P_gamma = sig_n(stress_u) + gamma * gap
-        q = -P_gamma
-        p = _law(q, X, mask)
-        F_c = (-theta / gamma * sig_n(stress_u) * sig_n(stress_v)
-               - p / gamma * (theta * sig_n(stress_v) - gamma * ufl.dot(n_c, v))) * ds_c
-    F = (ufl.inner(stress_u, ufl.grad(v)) * ufl.dx if bulk is None else bulk) + F_c
+
+def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str | ContactMethod, kinematics: str,
+                        traction: str, kappa0: float = 1e3, gamma0: float = 10.0, theta: float = 1.0, ds_c,
+                        contact_facets, mask=None, v=None, stress_u=None, stress_v=None, bulk=None,
+                        **method_params) -> ContactForms:
+    """Assemble the UFL residual/Jacobian of frictionless contact (see module docstring for the weak form).
+
+    Args:
+        u: displacement Function (vector Lagrange).
+        obstacle: an obstacle from :mod:`fem.obstacles`.
+        d: dolfinx Constant, rigid displacement (mm) of the obstacle along ``obstacle.direction``.
+        lame: plane-strain Lame parameters.
+        E: Young's modulus (MPa) scaling kappa and gamma.
+        method: a registered method name (:mod:`fem.methods`) or a method instance.
+        kinematics, traction: see module docstring.
+        kappa0, gamma0, theta: penalty / Nitsche / augmentation parameters (dimensionless); with
+            ``method_params`` (e.g. ``uzawa_rtol``) passed to the method's constructor when ``method`` is a name.
+        ds_c: boundary measure restricted to Gamma_c (with its quadrature degree); a method with its own contact
+            quadrature (:meth:`fem.methods.base.ContactMethod.measure_metadata`) gets it re-built from this one.
+        contact_facets: local facet indices of Gamma_c (needed for Curve obstacles).
+        mask: optional Constants ``(on, lo, hi)``: while ``on = 1`` the positive part is replaced by a prescribed
+            active set, ``p = q`` for ``lo < X1 < hi`` and 0 elsewhere (the solver's active-set predictor
+            iteration); ``on = 0`` gives the true contact law.
+        v: test function (default ``TestFunction`` of u's space; a mixed formulation passes its own).
+        stress_u, stress_v: UFL stress of the state and of the test field entering the Nitsche terms (default
+            ``sigma(u)``, ``sigma(v)``; the mixed u-p formulation passes ``2 mu eps - p I`` and ``2 mu eps(v) -
+            q I``). The contact terms are otherwise unchanged.
+        bulk: UFL bulk residual replacing ``inner(sigma(u), grad v) dx`` (mixed formulation).
+    """
+    if isinstance(method, str):
+        _check("method", method, METHODS)
+    kin = contact_kinematics(u=u, obstacle=obstacle, d=d, kinematics=kinematics, traction=traction,
+                             contact_facets=contact_facets)
+    if isinstance(method, str):
+        method = create(method, E=E, kappa0=kappa0, gamma0=gamma0, theta=theta, **method_params)
+    v = ufl.TestFunction(u.function_space) if v is None else v
+    stress_u = sigma(u, lame) if stress_u is None else stress_u
+    stress_v = sigma(v, lame) if stress_v is None else stress_v
+    ds_c = _method_measure(ds_c, method, u)
+    terms = method.terms(kin, v=v, stress_u=stress_u, stress_v=stress_v, ds_c=ds_c, mask=mask)
+    F = (ufl.inner(stress_u, ufl.grad(v)) * ufl.dx if bulk is None else bulk) + terms.F_c
     J = ufl.derivative(F, u, ufl.TrialFunction(u.function_space)) if bulk is None else None
-    return ContactForms(F=F, J=J, gap=gap, argument=q, pressure=p, n_c=n_c, sigma_nn=-sig_n(stress_u),
-                        F_c=F_c, update=update)
+    return ContactForms(F=F, J=J, gap=kin.gap, argument=terms.argument, pressure=terms.pressure, n_c=kin.n_c,
+                        sigma_nn=-kin.sigma_n(stress_u), F_c=terms.F_c, update=kin.update, method=method,
+                        ds_c=ds_c)
+
+
+def _method_measure(ds_c, method, u):
+    """``ds_c`` with the method's contact quadrature (unchanged when the method keeps the Gauss rule)."""
+    degree = u.function_space.ufl_element().embedded_superdegree
+    want = method.measure_metadata(degree=degree, quadrature_degree=ds_c.metadata().get("quadrature_degree"))
+    return ds_c if want is None else ds_c.reconstruct(metadata=want)

@@ -82,13 +82,22 @@ class SurfaceSampler:
     The dolfinx Expression (FFCx JIT lookup), the integration entities and the quadrature weights times facet
     lengths depend only on the forms, the mesh and the facets, so a solver that samples the surface after
     every load step builds one sampler per solve.
+
+    ``rule`` (points (n, 1) on the reference facet and weights summing to 1, e.g. a
+    :class:`fem.methods.base.SampleRule`) replaces the Gauss points of ``quadrature_degree``; samples at the same
+    material point (a facet end point seen from both facets) are then merged (weight-averaged values, summed
+    weights).
     """
 
-    def __init__(self, *, u, forms, facets, quadrature_degree: int):
+    def __init__(self, *, u, forms, facets, quadrature_degree: int | None = None, rule=None):
         mesh = u.function_space.mesh
         self._mesh = mesh
         self._ent = integration_entities(mesh, facets)
-        pts, wts = basix.make_quadrature(basix.CellType.interval, quadrature_degree)
+        if rule is None:
+            pts, wts = basix.make_quadrature(basix.CellType.interval, quadrature_degree)
+        else:
+            pts, wts = np.asarray(rule.points, dtype=float), np.asarray(rule.weights, dtype=float)
+        self._merge = rule is not None
         self._nq = len(wts)
         X = ufl.SpatialCoordinate(mesh)
         fields = ufl.as_vector([X[0], X[1], u[0], u[1], forms.pressure, forms.argument, forms.sigma_nn,
@@ -113,15 +122,38 @@ class SurfaceSampler:
         vals = np.concatenate(mesh.comm.allgather(vals), axis=0)
         order = np.lexsort((vals[:, 1], vals[:, 0]))
         vals, w = vals[order], self._w[order]
+        if self._merge:
+            vals, w = _merge_coincident(vals, w)
         Xs = vals[:, 0:2]
         return SurfaceSamples(s=Xs[:, 0].copy(), X=Xs, x=Xs + vals[:, 2:4], p=vals[:, 4], q=vals[:, 5],
                               sigma_nn=vals[:, 6], gap=vals[:, 7], weight=w)
 
 
+def _merge_coincident(vals: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Merge samples at the same material point (a facet end point sampled from both of its facets).
+
+    ``vals`` sorted by (X1, X2); merged rows are the weight-averaged values with the summed weight, so
+    ``sum(weight * p)`` is unchanged.
+    """
+    if vals.shape[0] < 2:
+        return vals, w
+    tol = 1e-12 * max(1.0, float(np.max(np.abs(vals[:, 0:2]))))
+    new = np.ones(vals.shape[0], dtype=bool)
+    new[1:] = np.any(np.abs(np.diff(vals[:, 0:2], axis=0)) > tol, axis=1)
+    group = np.cumsum(new) - 1
+    wsum = np.bincount(group, weights=w)
+    merged = np.column_stack([np.bincount(group, weights=w * vals[:, k]) for k in range(vals.shape[1])])
+    safe = np.where(wsum > 0, wsum, 1.0)
+    merged /= safe[:, None]
+    return merged, wsum
+
+
 def sample_surface(*, u, forms, facets, quadrature_degree: int) -> SurfaceSamples:
     """Evaluate p, q, sigma_nn, gap and positions at the Gauss points of the contact facets (all ranks).
 
-    One-off use; repeated sampling of the same problem should keep a :class:`SurfaceSampler`.
+    One-off use; repeated sampling of the same problem should keep a :class:`SurfaceSampler`. A
+    :class:`SurfaceSampler` built with a ``rule`` (points and weights on the reference facet, e.g. the nodal rule
+    of the augmented Lagrangian method) samples there instead and merges the points shared by two facets.
     """
     return SurfaceSampler(u=u, forms=forms, facets=facets, quadrature_degree=quadrature_degree)()
 
@@ -185,14 +217,17 @@ def find_patches(samples: SurfaceSamples, *, half: bool = False) -> list[Patch]:
     return patches
 
 
-def facets_across(samples: SurfaceSamples, *, quadrature_degree: int, half: bool = False) -> list[float]:
+def facets_across(samples: SurfaceSamples, *, quadrature_degree: int, half: bool = False,
+                  points_per_facet: int | None = None) -> list[float]:
     """Number of contact facets spanned by each patch (same order as :func:`find_patches`).
 
     ``(right - left) / h`` with ``h`` the mean length of the facets holding the patch's active samples (the
-    sample weights of one facet sum to its length; ``quadrature_degree`` gives the points per facet). A half
-    model's patch at ``s = 0`` counts its mirror image too.
+    sample weights of one facet sum to its length; ``quadrature_degree`` gives the points per facet, or
+    ``points_per_facet`` for samples at a method's own points). A half model's patch at ``s = 0`` counts its
+    mirror image too.
     """
-    n_q = len(basix.make_quadrature(basix.CellType.interval, quadrature_degree)[1])
+    n_q = (len(basix.make_quadrature(basix.CellType.interval, quadrature_degree)[1]) if points_per_facet is None
+           else int(points_per_facet))
     out = []
     for left, right, i, j in contact_edges(samples.s, samples.q):
         n = j - i + 1
@@ -203,7 +238,7 @@ def facets_across(samples: SurfaceSamples, *, quadrature_degree: int, half: bool
 
 
 def resolution_warnings(samples: SurfaceSamples, *, quadrature_degree: int, half: bool = False,
-                        min_facets_across: int = 8) -> list[str]:
+                        min_facets_across: int = 8, points_per_facet: int | None = None) -> list[str]:
     """Named warnings about whether the contact is resolved by the mesh (empty list: none).
 
     * ``"no contact: ..."``: no sample is active.
@@ -217,8 +252,9 @@ def resolution_warnings(samples: SurfaceSamples, *, quadrature_degree: int, half
         return ["no contact: no active contact sample (the obstacle does not touch the body)"]
     out = []
     n = len(samples.s)
-    for (left, right, i, j), k in zip(runs, facets_across(samples, quadrature_degree=quadrature_degree, half=half),
-                                      strict=True):
+    across = facets_across(samples, quadrature_degree=quadrature_degree, half=half,
+                           points_per_facet=points_per_facet)
+    for (left, right, i, j), k in zip(runs, across, strict=True):
         if k < min_facets_across:
             where = 0.0 if (half and i == 0) else 0.5 * (left + right)
             out.append(f"contact unresolved: the patch at X1 = {where:.6g} mm spans {k:.2f} contact facets "
