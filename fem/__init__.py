@@ -3,34 +3,44 @@
 Import ``dolfinx_solver`` happens inside the submodules (before dolfinx). Public API::
 
     from fem.obstacles import CircleObstacle, ParabolaObstacle, WedgeObstacle, PlaneObstacle, CurveObstacle
-    from fem.solver import solve_contact, ContactResult, ContactSolveError
+    from fem.solver import solve_contact, ContactOptions, ContactResult, ContactSolveError
+    from fem.problem import ContactProblem          # spaces, supports, forms, measures, NonlinearProblem
+    from fem.stepping import LoadStepper            # load steps, cut-backs, force control, predictors
+    from fem.methods import REGISTRY, register      # contact methods, one module each
     from fem.output import write_vtk
 """
 
 __all__ = [
     "CircleObstacle",
+    "ContactOptions",
+    "ContactProblem",
     "ContactResult",
     "ContactSolveError",
     "CurveObstacle",
+    "LoadStepper",
     "ParabolaObstacle",
     "PlaneObstacle",
     "WedgeObstacle",
+    "method_names",
+    "register",
     "solve_contact",
     "write_vtk",
 ]
 
+_FROM = {
+    "fem.obstacles": ("CircleObstacle", "ParabolaObstacle", "WedgeObstacle", "PlaneObstacle", "CurveObstacle"),
+    "fem.solver": ("solve_contact", "ContactResult", "ContactSolveError", "ContactOptions"),
+    "fem.problem": ("ContactProblem",),
+    "fem.stepping": ("LoadStepper",),
+    "fem.methods": ("method_names", "register"),
+    "fem.output": ("write_vtk",),
+}
+
 
 def __getattr__(name):  # lazy, so `import fem` does not start dolfinx
-    if name in ("CircleObstacle", "ParabolaObstacle", "WedgeObstacle", "PlaneObstacle", "CurveObstacle"):
-        from fem import obstacles
+    import importlib
 
-        return getattr(obstacles, name)
-    if name in ("solve_contact", "ContactResult", "ContactSolveError"):
-        from fem import solver
-
-        return getattr(solver, name)
-    if name == "write_vtk":
-        from fem.output import write_vtk
-
-        return write_vtk
+    for module, names in _FROM.items():
+        if name in names:
+            return getattr(importlib.import_module(module), name)
     raise AttributeError(name)

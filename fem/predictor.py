@@ -18,7 +18,6 @@ import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
 
 import dolfinx
 import dolfinx.fem.petsc
-import dolfinx.la.petsc
 import numpy as np
 import ufl
 from mpi4py import MPI
@@ -70,14 +69,15 @@ class HertzPredictor:
             pb.solve()
             self._factored = True
             return
-        dolfinx.la.petsc._zero_vector(pb.b)
+        with pb.b.localForm() as b_local:
+            b_local.set(0.0)
         dolfinx.fem.petsc.assemble_vector(pb.b, pb.L)
         dolfinx.fem.petsc.apply_lifting(pb.b, [pb.a], bcs=[pb.bcs])
-        dolfinx.la.petsc._ghost_update(pb.b, PETSc.InsertMode.ADD, PETSc.ScatterMode.REVERSE)
+        pb.b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         for bc in pb.bcs:
             bc.set(pb.b.array_w)
         pb.solver.solve(pb.b, pb.x)  # unchanged operator: PETSc keeps the LU factors
-        dolfinx.la.petsc._ghost_update(pb.x, PETSc.InsertMode.INSERT, PETSc.ScatterMode.FORWARD)
+        pb.x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
         dolfinx.fem.petsc.assign(pb.x, pb.u)
 
     def __call__(self, P: float, *, half: bool = False) -> tuple[float, np.ndarray, tuple[float, float]]:

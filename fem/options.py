@@ -1,0 +1,115 @@
+"""Options of a contact solve: one frozen record with the keywords (and defaults) of :func:`fem.solver.solve_contact`.
+
+Units: mm, N, MPa; loads P per unit thickness (N/mm, full body). The meaning of every field is documented once,
+in :func:`fem.solver.solve_contact`; this module holds the record, the option vocabularies and the checks that
+need no mesh.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+__all__ = ["ContactOptions", "SUPPORT_KINDS", "FORMULATIONS", "CONTROLS", "PREDICTORS", "MIN_FACETS_ACROSS",
+           "check_options"]
+
+SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free")
+FORMULATIONS = ("displacement", "mixed")
+CONTROLS = ("displacement", "force")
+PREDICTORS = ("auto", "hertz", "extrapolate")
+# A patch spanning fewer contact facets than this is reported "contact unresolved" (ContactResult.warnings):
+# with P2 and 2 Gauss points per facet the edge-location error is about one Gauss spacing, so < 8 facets
+# across the patch means a half-width error above ~ 1/16 and a peak that depends on where the nodes fall.
+MIN_FACETS_ACROSS = 8
+
+
+@dataclass(frozen=True, kw_only=True)
+class ContactOptions:
+    """The keyword options of :func:`fem.solver.solve_contact` (same names, same defaults; see its docstring).
+
+    ``solve_contact(mesh_data, obstacle, options=ContactOptions(E=..., nu=..., target=...))`` is the same
+    solve as passing the fields as keywords; ``dataclasses.replace(options, n_steps=8)`` varies one of them.
+    """
+
+    E: float
+    nu: float
+    target: float
+    degree: int = 2
+    method: str = "nitsche"
+    kinematics: str = "small"
+    traction: str = "obstacle"
+    kappa0: float = 1e3
+    gamma0: float = 10.0
+    theta: float = 1.0
+    control: str = "displacement"
+    n_steps: int = 4
+    symmetric_half: bool = False
+    on_step: Callable | None = None
+    petsc_prefix: str | None = None
+    max_cutbacks: int = 5
+    supports: dict | None = None
+    contact_group: str = "contact"
+    quadrature_degree: int | None = None
+    force_rtol: float = 1e-10
+    snes_rtol: float = 1e-10
+    max_it: int = 40
+    case: str = "contact"
+    petsc_options: dict | None = None
+    predictor: str = "auto"
+    sample_degree: int | None = None
+    active_set_predictor: bool = True
+    first_step_fraction: float = 0.1
+    record_at: Sequence[float] | None = None
+    formulation: str = "displacement"
+    min_facets_across: int = MIN_FACETS_ACROSS
+    uzawa_rtol: float = 1e-10
+    uzawa_max_it: int = 100
+
+    @property
+    def mixed(self) -> bool:
+        """True for the Taylor-Hood u-p formulation."""
+        return self.formulation == "mixed"
+
+    @property
+    def contact_quadrature_degree(self) -> int:
+        """Gauss degree of the contact integral (default ``2 degree - 1``)."""
+        return 2 * self.degree - 1 if self.quadrature_degree is None else int(self.quadrature_degree)
+
+    def method_params(self) -> dict:
+        """The keywords a contact method's constructor receives (:func:`fem.methods.create`)."""
+        return dict(E=self.E, kappa0=self.kappa0, gamma0=self.gamma0, theta=self.theta,
+                    uzawa_rtol=self.uzawa_rtol, uzawa_max_it=self.uzawa_max_it)
+
+    @classmethod
+    def field_names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in fields(cls))
+
+
+def check_options(opts: ContactOptions, *, mesh_data, obstacle) -> None:
+    """The checks that need no function space (ValueError naming the option)."""
+    if opts.degree not in (1, 2, 3):
+        raise ValueError(f"degree must be 1, 2 or 3, got {opts.degree}")
+    if opts.control not in CONTROLS:
+        raise ValueError(f"control must be 'displacement' or 'force', got {opts.control!r}")
+    if not (opts.target > 0 and np.isfinite(opts.target)):
+        raise ValueError(f"target must be > 0 (mm or N/mm), got {opts.target}")
+    if int(opts.n_steps) < 1:
+        raise ValueError(f"n_steps must be >= 1, got {opts.n_steps}")
+    if opts.contact_group not in mesh_data.physical_groups:
+        raise ValueError(f"contact_group {opts.contact_group!r} not in mesh physical groups")
+    if opts.formulation not in FORMULATIONS:
+        raise ValueError(f"formulation must be one of {FORMULATIONS}, got {opts.formulation!r}")
+    if opts.mixed and opts.degree < 2:
+        raise ValueError(f"degree must be >= 2 for formulation='mixed' (Taylor-Hood), got {opts.degree}")
+    if opts.mixed and not getattr(obstacle, "analytic", False):
+        raise ValueError("formulation='mixed' needs an analytic obstacle (not a CurveObstacle)")
+    if opts.predictor not in PREDICTORS:
+        raise ValueError(f"predictor must be 'auto', 'hertz' or 'extrapolate', got {opts.predictor!r}")
+    if not 0.0 < opts.first_step_fraction <= 1.0:
+        raise ValueError(f"first_step_fraction must be in (0, 1], got {opts.first_step_fraction}")
+    if opts.control == "displacement" and opts.record_at:
+        levels = [float(v) for v in opts.record_at]
+        if any(v <= 0 for v in levels) or levels != sorted(levels) or levels[-1] != float(opts.target):
+            raise ValueError("record_at must be increasing values > 0 (mm) ending at target")

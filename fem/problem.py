@@ -1,0 +1,355 @@
+"""The contact problem of one solve: spaces, supports, forms, load measures and the dolfinx NonlinearProblem.
+
+Plane strain, units mm, N, MPa; loads P per unit thickness (N/mm). Gap g > 0 open; pressure p >= 0
+compressive. The weak forms are documented in :mod:`fem.contact_forms` and the method modules
+(:mod:`fem.methods`); the load stepping that drives this object is :class:`fem.stepping.LoadStepper`.
+
+Solution: semismooth Newton (PETSc SNES ``newtonls`` with ``basic`` full steps, LU/MUMPS), options with a
+unique prefix; the Jacobian is the exact Gateaux derivative of the residual.
+
+Measured load ``P`` (virtual work): ``P = -a(u, w)`` with ``w`` equal to the loading direction at every
+Dirichlet-constrained component dof and 0 elsewhere, i.e. the support reaction along the direction; it
+equals the discrete contact force. ``P_pressure = int p (n_o . direction) ds`` is the resultant of the
+contact pressure along the direction (with the method's contact quadrature; it equals P up to round-off for
+penalty, Nitsche and the augmented Lagrangian, because the Nitsche stress terms vanish for a rigid test field;
+it is a consistency check of the assembly). For ``symmetric_half=True`` both are doubled (full-body values).
+"""
+
+from __future__ import annotations
+
+import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
+
+import itertools
+from contextlib import contextmanager
+
+import dolfinx
+import dolfinx.fem.petsc
+import numpy as np
+import ufl
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from fem.contact_forms import ContactForms, build_contact_forms
+from fem.elasticity import lame, mixed_constraint, plane_strain_modulus, sigma, sigma_mixed
+from fem.options import SUPPORT_KINDS, ContactOptions
+from fem.postprocess import (
+    LOCKING_NU,
+    SurfaceSampler,
+    SurfaceSamples,
+    contact_edges,
+    oscillation_warnings,
+    penetration_warning,
+    resolution_warnings,
+)
+
+__all__ = ["ContactProblem", "resolve_supports"]
+
+_counter = itertools.count()
+_COMPONENTS = {"clamped": (0, 1), "roller_x": (0,), "roller_y": (1,), "free": ()}
+
+
+def resolve_supports(mesh_data, supports: dict | None, symmetric_half: bool) -> dict:
+    """Physical group name -> support kind, with the defaults (clamped ``clamped``; roller_x ``symmetry``)."""
+    groups = mesh_data.physical_groups
+    if supports is None:
+        supports = {"clamped": "clamped"}
+        if symmetric_half:
+            supports["symmetry"] = "roller_x"
+    for name, kind in supports.items():
+        if kind not in SUPPORT_KINDS:
+            raise ValueError(f"supports[{name!r}] must be one of {SUPPORT_KINDS}, got {kind!r}")
+        if name not in groups:
+            raise ValueError(f"supports names unknown physical group {name!r}; known: {sorted(groups)}")
+    return supports
+
+
+def _group_facets(mesh_data, name):
+    return mesh_data.facet_tags.find(mesh_data.physical_groups[name].tag)
+
+
+def _ghost_forward(vec) -> None:
+    """Copy owned values of a (non-nested) PETSc vector to its ghosts."""
+    vec.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+
+
+class ContactProblem:
+    """One frictionless contact problem (the body meshed in ``mesh_data``, a rigid ``obstacle``).
+
+    Attributes (main ones):
+        u: displacement Function (mm); ph: the mixed formulation's pressure Function (MPa) or None.
+        d: dolfinx Constant, rigid displacement of the obstacle along its direction (mm).
+        mask: Constants ``(on, lo, hi)`` of the prescribed-active-set predictor law.
+        forms: :class:`fem.contact_forms.ContactForms`; method: its contact method instance.
+        bcs: Dirichlet supports; ds_c: the Gauss contact measure (``quadrature_degree``).
+        problem: the dolfinx NonlinearProblem; snes: its SNES; prefix: its PETSc options prefix.
+        qdeg, sdeg: contact quadrature and sample degrees; mult: 2 for a half model, else 1.
+    """
+
+    def __init__(self, mesh_data, obstacle, options: ContactOptions):
+        self.options = opts = options
+        self.mesh_data, self.obstacle = mesh_data, obstacle
+        self.lame = lame(E=opts.E, nu=opts.nu)
+        self.E_star = plane_strain_modulus(E=opts.E, nu=opts.nu)
+        self.mesh = mesh_data.mesh
+        self.comm = self.mesh.comm
+        self.supports = resolve_supports(mesh_data, opts.supports, opts.symmetric_half)
+        self.qdeg = opts.contact_quadrature_degree
+        self.sdeg = self.qdeg if opts.sample_degree is None else int(opts.sample_degree)
+        self.mult = 2.0 if opts.symmetric_half else 1.0
+        self._build_spaces()
+        self.forms: ContactForms = self._build_forms()
+        self.method = self.forms.method
+        self._build_supports()
+        self._build_solver()
+        self.extras = ([] if self.ph is None else [self.ph]) + list(self.method.state_functions())
+        self.n_u = self.u.x.array.size
+        self._samplers: dict = {}
+        self.method_rule = self.method.sample_rule(degree=opts.degree)  # None: Gauss points of the contact rule
+        self.sample_rule = self.method_rule if opts.sample_degree is None else None
+
+    # -- construction ---------------------------------------------------------------------------------------
+    def _build_spaces(self) -> None:
+        opts, mesh = self.options, self.mesh
+        self.V = dolfinx.fem.functionspace(mesh, ("Lagrange", opts.degree, (2,)))
+        self.u = dolfinx.fem.Function(self.V, name="displacement")
+        self.d = dolfinx.fem.Constant(mesh, 0.0)
+        self.mask = tuple(dolfinx.fem.Constant(mesh, 0.0) for _ in range(3))  # (on, lo, hi)
+        self.contact_facets = _group_facets(self.mesh_data, opts.contact_group)
+        ds = ufl.Measure("ds", domain=mesh, subdomain_data=self.mesh_data.facet_tags,
+                         metadata={"quadrature_degree": self.qdeg})
+        self.ds_c = ds(self.mesh_data.physical_groups[opts.contact_group].tag)
+        self.ph = None
+        if opts.mixed:
+            Q = dolfinx.fem.functionspace(mesh, ("Lagrange", opts.degree - 1))
+            self.ph = dolfinx.fem.Function(Q, name="pressure")
+
+    def _build_forms(self) -> ContactForms:
+        """Bulk (displacement or Taylor-Hood u-p) plus the method's contact terms."""
+        opts, u, lm = self.options, self.u, self.lame
+        if self.ph is not None:
+            W = ufl.MixedFunctionSpace(self.V, self.ph.function_space)
+            v_t, q_t = ufl.TestFunctions(W)
+            self._trials = ufl.TrialFunctions(W)
+            self.stress = sigma_mixed(u, self.ph, lm)
+            bulk = (ufl.inner(self.stress, ufl.grad(v_t)) + mixed_constraint(u, self.ph, q_t, lm)) * ufl.dx
+            mixed_kw = dict(v=v_t, stress_u=self.stress, stress_v=sigma_mixed(v_t, q_t, lm), bulk=bulk)
+        else:
+            self.stress = sigma(u, lm)
+            mixed_kw = {}
+        return build_contact_forms(u=u, obstacle=self.obstacle, d=self.d, lame=lm, method=opts.method,
+                                   kinematics=opts.kinematics, traction=opts.traction, ds_c=self.ds_c,
+                                   contact_facets=self.contact_facets, mask=self.mask, **opts.method_params(),
+                                   **mixed_kw)
+
+    def _build_supports(self) -> None:
+        """Dirichlet supports and the virtual-work field w (direction at constrained component dofs)."""
+        V, fdim = self.V, self.mesh.topology.dim - 1
+        self.bcs = []
+        w = dolfinx.fem.Function(V)
+        direction = self.obstacle.direction
+        for name, kind in self.supports.items():
+            facets = _group_facets(self.mesh_data, name)
+            for c in _COMPONENTS[kind]:
+                Vc, _ = V.sub(c).collapse()
+                dofs = dolfinx.fem.locate_dofs_topological((V.sub(c), Vc), fdim, facets)
+                self.bcs.append(dolfinx.fem.dirichletbc(dolfinx.fem.Function(Vc), dofs, V.sub(c)))
+                w.x.array[dofs[0]] = direction[c]
+        self.reaction_form = dolfinx.fem.form(-ufl.inner(self.stress, ufl.grad(w)) * ufl.dx)
+        forms = self.forms
+        self.pressure_form = dolfinx.fem.form(
+            -forms.pressure * ufl.dot(forms.n_c, ufl.as_vector(direction)) * forms.ds_c)
+
+    def _build_solver(self) -> None:
+        """NonlinearProblem with SNES newtonls/basic, LU (MUMPS); atol scaled by E and the body size L."""
+        opts, forms, comm = self.options, self.forms, self.comm
+        self.prefix = opts.petsc_prefix or f"fem_contact_{next(_counter)}_"
+        x_all = self.mesh.geometry.x
+        L = comm.allreduce(float(np.max(np.ptp(x_all[:, :2], axis=0))) if x_all.size else 0.0, op=MPI.MAX)
+        petsc = {"snes_type": "newtonls", "snes_linesearch_type": "basic", "ksp_type": "preonly", "pc_type": "lu",
+                 "pc_factor_mat_solver_type": "mumps", "snes_rtol": opts.snes_rtol, "snes_atol": 1e-13 * opts.E * L,
+                 "snes_stol": 0.0, "snes_max_it": opts.max_it}
+        petsc.update(opts.petsc_options or {})
+        if self.ph is not None:
+            du_t, dp_t = self._trials
+            J_full = ufl.derivative(forms.F, self.u, du_t) + ufl.derivative(forms.F, self.ph, dp_t)
+            self.problem = dolfinx.fem.petsc.NonlinearProblem(
+                ufl.extract_blocks(forms.F), [self.u, self.ph], bcs=self.bcs, J=ufl.extract_blocks(J_full),
+                kind="mpi", petsc_options_prefix=self.prefix, petsc_options=petsc)
+        else:
+            self.problem = dolfinx.fem.petsc.NonlinearProblem(forms.F, self.u, bcs=self.bcs, J=forms.J,
+                                                              petsc_options_prefix=self.prefix,
+                                                              petsc_options=petsc)
+        self.snes = self.problem.solver
+        if forms.update is not None:
+            self.snes.setFunction(self._residual_with_update, self.problem.b)
+
+    def _residual_with_update(self, snes, x, b) -> None:
+        """SNES residual that refreshes the nodal gap data (Curve obstacles) at the iterate first."""
+        _ghost_forward(x)
+        dolfinx.fem.petsc.assign(x, self.u)
+        self.forms.update(self.u)
+        dolfinx.fem.petsc.assemble_residual(snes, x, b, u=self.u, residual=self.problem.F,
+                                            jacobian=self.problem.J, bcs=self.bcs)
+
+    # -- state ----------------------------------------------------------------------------------------------
+    @property
+    def ndofs(self) -> int:
+        """Global number of unknowns: displacement dofs (plus the mixed pressure dofs)."""
+        n = self.V.dofmap.index_map.size_global * 2
+        return n + (self.ph.function_space.dofmap.index_map.size_global if self.ph is not None else 0)
+
+    def measure(self) -> tuple[float, float]:
+        """(P, P_pressure) in N/mm, full body (module docstring)."""
+        P = self.mult * self.comm.allreduce(dolfinx.fem.assemble_scalar(self.reaction_form), op=MPI.SUM)
+        Pp = self.mult * self.comm.allreduce(dolfinx.fem.assemble_scalar(self.pressure_form), op=MPI.SUM)
+        return P, Pp
+
+    def get_state(self) -> np.ndarray:
+        """Local array of the unknowns: u, then the mixed pressure and the method's own unknowns (if any)."""
+        if not self.extras:
+            return self.u.x.array.copy()
+        return np.concatenate([self.u.x.array] + [f.x.array for f in self.extras])
+
+    def set_state(self, arr: np.ndarray, rest: np.ndarray | None = None) -> None:
+        """Set u (and the extra unknowns); a displacement-only ``arr`` takes them from the full state ``rest``."""
+        n_u = self.n_u
+        self.u.x.array[:] = arr[:n_u]
+        self.u.x.scatter_forward()
+        src, k = (arr if arr.size > n_u else rest), n_u
+        for f in self.extras:
+            m = f.x.array.size
+            f.x.array[:] = src[k:k + m]
+            f.x.scatter_forward()
+            k += m
+
+    # -- surface --------------------------------------------------------------------------------------------
+    def sample(self, degree: int | None = None, rule=None) -> SurfaceSamples:
+        """Surface samples of the current state.
+
+        Default: at the result's sample points (``sample_degree``, else the method's own points, e.g. the nodal
+        points of the augmented Lagrangian, else the contact quadrature). ``degree``: the Gauss points of that
+        degree; ``rule``: a :class:`fem.methods.base.SampleRule`.
+        """
+        if degree is None and rule is None:
+            rule = self.sample_rule
+            degree = self.sdeg
+        key = ("rule", id(rule)) if rule is not None else degree
+        if key not in self._samplers:
+            self._samplers[key] = SurfaceSampler(u=self.u, forms=self.forms, facets=self.contact_facets,
+                                                 quadrature_degree=degree, rule=rule)
+        return self._samplers[key]()
+
+    def contact_zone(self) -> tuple[float, float] | None:
+        """The single contact run (lo, hi) in X1 where the discrete law holds (the contact quadrature or the
+        method's points); lo = -inf when it starts at the first sample. None: no contact or several patches."""
+        smp = self.sample(rule=self.method_rule) if self.method_rule is not None else self.sample(self.qdeg)
+        runs = contact_edges(smp.s, smp.q)
+        if len(runs) != 1:
+            return None
+        left, right, i, _ = runs[0]
+        return (-np.inf if i == 0 else left), right
+
+    def quality_warnings(self, smp: SurfaceSamples, d_now: float) -> list[str]:
+        """Named warnings of a converged state: resolution, penetration, oscillation, locking risk."""
+        opts = self.options
+        per_facet = self.sample_rule.points_per_facet if self.sample_rule is not None else None
+        out = resolution_warnings(smp, quadrature_degree=self.sdeg, half=opts.symmetric_half,
+                                  min_facets_across=opts.min_facets_across, points_per_facet=per_facet)
+        pen = penetration_warning(smp, d=d_now)
+        out += ([pen] if pen else []) + oscillation_warnings(smp)
+        if not opts.mixed and opts.nu >= LOCKING_NU:
+            out.append(f"near-incompressible: nu = {opts.nu:g} >= {LOCKING_NU} with the displacement formulation "
+                       "(volumetric locking); use formulation='mixed'")
+        return out
+
+    # -- solves ---------------------------------------------------------------------------------------------
+    @contextmanager
+    def max_iterations(self, n: int):
+        """Temporarily limit the SNES to ``n`` iterations."""
+        self.snes.setTolerances(max_it=n)
+        try:
+            yield
+        finally:
+            self.snes.setTolerances(max_it=self.options.max_it)
+
+    def newton(self, *, force_iteration: bool = False) -> tuple[int, int]:
+        """One SNES solve from the current state: (converged reason, iterations).
+
+        ``force_iteration``: at least one Newton iteration even when the initial residual already meets
+        ``snes_atol`` (a method that changed a coefficient of F, e.g. a multiplier, by a small amount).
+        """
+        if not force_iteration:
+            self.problem.solve()
+            return self.snes.getConvergedReason(), self.snes.getIterationNumber()
+        self.snes.setForceIteration(True)
+        try:
+            self.problem.solve()
+        finally:
+            self.snes.setForceIteration(False)
+        return self.snes.getConvergedReason(), self.snes.getIterationNumber()
+
+    def predictor_iteration(self, zone: tuple[float, float]) -> None:
+        """One Newton iteration with the prescribed active set ``lo < X1 < hi``; the mask is off afterwards."""
+        mask = self.mask
+        mask[0].value, mask[1].value, mask[2].value = 1.0, max(zone[0], -1e300), zone[1]
+        self.snes.setTolerances(max_it=1)
+        self.problem.solve()
+        self.snes.setTolerances(max_it=self.options.max_it)
+        mask[0].value = 0.0
+
+    def solve_once(self, d_value: float, state: np.ndarray, *, rest=None, zone=None) -> tuple[int, int, dict]:
+        """Solve at obstacle displacement ``d_value`` (mm) from ``state``.
+
+        With ``zone`` one prescribed-active-set iteration comes first (counted). Then the method's solve
+        (one Newton solve, or the augmented Lagrangian's Uzawa loop). Returns (SNES converged reason, Newton
+        iterations, the method's extra record entries).
+        """
+        self.d.value = d_value
+        self.set_state(state, rest)
+        if self.forms.update is not None:
+            self.forms.update(self.u)
+        pre = 0
+        if zone is not None:
+            self.predictor_iteration(zone)
+            pre = 1
+        reason, its, extra = self.method.solve(self.newton)
+        return reason, its + pre, extra
+
+    def tangent(self, state: np.ndarray, d0: float) -> tuple[np.ndarray, float] | None:
+        """Tangent ``t = du/dd`` of the converged ``state`` at ``d0`` for its active set, and ``dP/dd`` (N/mm/mm).
+
+        ``J t = -dF/dd`` with ``dF/dd`` a central difference of the residual in d (step ``1e-6 |d0|``) and the
+        LU factors the last Newton solve left in the KSP (no new factorisation); ``dP/dd = P(t)`` because P is
+        linear in u. Returns None when t is not finite or ``dP/dd <= 0``. The state is restored.
+        """
+        x = self.problem.x
+        self.set_state(state)
+        dolfinx.fem.petsc.assign(self.u, x)
+        _ghost_forward(x)
+        f_plus, f_minus, t = x.duplicate(), x.duplicate(), x.duplicate()
+        try:
+            delta = 1e-6 * max(abs(d0), 1e-300)
+            for dv, f in ((d0 + delta, f_plus), (d0 - delta, f_minus)):
+                self.d.value = dv
+                try:
+                    self.snes.computeFunction(x, f)
+                except PETSc.Error as exc:  # Ctrl-C in the Python residual: re-raise it as such
+                    if isinstance(exc.__cause__, KeyboardInterrupt):
+                        raise exc.__cause__ from None
+                    raise
+            self.d.value = d0
+            f_plus.axpy(-1.0, f_minus)
+            f_plus.scale(-1.0 / (2.0 * delta))  # -dF/dd
+            self.snes.getKSP().solve(f_plus, t)  # the Jacobian already factored: no new LU
+            _ghost_forward(t)
+            dolfinx.fem.petsc.assign(t, self.u)
+            t_arr = self.u.x.array.copy()
+        finally:
+            for vec in (f_plus, f_minus, t):
+                vec.destroy()
+        dP = self.measure()[0]  # P is linear in u: the load of the tangent field t
+        self.set_state(state)
+        finite = self.comm.allreduce(bool(np.all(np.isfinite(t_arr))), op=MPI.LAND)  # same decision on all ranks
+        if not (finite and np.isfinite(dP) and dP > 0):
+            return None
+        return t_arr, dP

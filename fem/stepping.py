@@ -1,0 +1,291 @@
+"""Load stepping of a :class:`fem.problem.ContactProblem`: steps, cut-backs, force control and predictors.
+
+Because small-strain frictionless contact is path independent, the cost is all in the active set. Measured on
+the Hertz scene, semismooth Newton started from a predicted u whose active set is decided by the sign of its
+tiny gaps releases about one quadrature point per iteration (10-25 iterations per step). So every solve
+starts with ONE Newton iteration on a prescribed active set ``lo < X1 < hi`` (the Hertz zone of the load
+level, or the contact edges of the last two states extrapolated linearly in d), then the true law:
+
+* predictor ``hertz`` (force control, circle/parabola, direction (0, -1); :mod:`fem.predictor`): u from a
+  linear solve with the Hertz pressure as a Neumann load, d from its displacement at the first-contact point;
+* predictor ``extrapolate``: the state (u, and the mixed pressure or a method's multiplier) linear in d from the
+  last two converged states; without history a short first step at ``first_step_fraction`` of the first level.
+
+Reported ``iterations`` count that predictor iteration too (1 = the prescribed active set was already right).
+
+* ``control="displacement"``: the obstacle moves by ``d_k = target k / n_steps`` along its direction
+  (``record_at``: through the recorded displacements, a :class:`Snapshot` at each).
+* ``control="force"``: load levels ``P_k = target k / n_steps`` (N/mm, full body); d from the Hertz predictor or
+  the secant through the last two (d, P) states (the first from a stiffness guess 0.3 E'); the last level is
+  corrected on d until ``|P - target| <= force_rtol target`` (each a separate record, kind ``force-correction``).
+  For a fixed active set the small-strain equations are linear in (u, d), so a correction first tries the
+  tangent of the last converged state with the LU factors the Newton solve already holds
+  (:meth:`fem.problem.ContactProblem.tangent`): ``Delta d = (target - P) / (dP/dd)``, ``u + Delta d t``; that
+  state then goes through the same SNES solve (true law, same tolerances and converged-reason checks), which
+  accepts it without iterating (0 iterations recorded) when the active set did not change, and may take one
+  Newton iteration otherwise. When the tangent does not apply (mixed formulation, curve obstacles, a method with
+  its own multiplier loop, a miss above 1 % of the target), its solve needs more than one iteration (discarded),
+  or it needed one or cut the force miss less than tenfold (an active-set change between the factored J and the
+  converged state), the remaining corrections are secant steps through the last two (d, P) states.
+
+Divergence (SNES converged reason <= 0) restores the last converged state and halves the increment, up to
+``max_cutbacks`` times per step, then raises :class:`fem.errors.ContactSolveError` naming the reason (e.g.
+``-5 (DIVERGED_MAX_IT)``).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import NamedTuple
+
+import numpy as np
+
+from fem.errors import ContactSolveError, snes_reason_name
+from fem.postprocess import Patch, SurfaceSamples, find_patches
+from fem.predictor import HertzPredictor
+from fem.problem import ContactProblem
+
+__all__ = ["LoadStepper", "ConvergedState", "Snapshot"]
+
+MAX_FORCE_CORRECTIONS = 30
+
+
+class Snapshot(NamedTuple):
+    """Surface state at one recorded displacement (``record_at``): d (mm), P and P_pressure (N/mm, full
+    body), surface samples, patches, the Newton iterations of the solve that reached it, and the named
+    warnings of that state (as :attr:`fem.solver.ContactResult.warnings`)."""
+
+    d: float
+    P: float
+    P_pressure: float
+    samples: SurfaceSamples
+    patches: list[Patch]
+    iterations: int
+    warnings: tuple = ()
+
+
+class ConvergedState(NamedTuple):
+    """A converged state: d (mm), P (N/mm), the unknowns (:meth:`ContactProblem.get_state`) and the contact zone
+    (lo, hi) in X1 for the active-set predictor (None: unknown, no contact or not a single patch)."""
+
+    d: float
+    P: float
+    x: np.ndarray
+    zone: tuple | None
+
+
+class LoadStepper:
+    """Drives a :class:`ContactProblem` through the load levels (module docstring).
+
+    Attributes:
+        problem: the contact problem.
+        states: converged states, the unloaded one first.
+        records: one dict per converged solve: d (mm), P, P_pressure (N/mm), iterations, time (s), kind, reason
+            (plus the method's entries, e.g. ``uzawa``).
+        snapshots: :class:`Snapshot` per ``record_at`` displacement.
+        hertz: the Hertz predictor, or None.
+        factored: the SNES's KSP holds LU factors of a Jacobian of this problem.
+        on_step: callbacks ``f(record)`` called after every converged solve (:meth:`add_step_callback`).
+    """
+
+    def __init__(self, problem: ContactProblem, *, on_step: Callable | None = None):
+        self.problem = pb = problem
+        self.opts = opts = problem.options
+        self.states = [ConvergedState(0.0, 0.0, pb.get_state() * 0.0, None)]
+        self.records: list[dict] = []
+        self.snapshots: list[Snapshot] = []
+        self.on_step: list[Callable] = [] if on_step is None else [on_step]
+        self.factored = False
+        self.t_start = time.perf_counter()
+        self.wall_time_s = 0.0
+        ob = problem.obstacle
+        hertz_ok = (opts.control == "force" and hasattr(ob, "hertz_contact")
+                    and abs(ob.direction[0]) < 1e-14 and ob.direction[1] < 0)
+        if opts.predictor == "hertz" and not hertz_ok:
+            raise ValueError("predictor='hertz' needs control='force', a circle/parabola obstacle and "
+                             "direction (0, -1)")
+        use_hertz = opts.predictor == "hertz" or (opts.predictor == "auto" and hertz_ok)
+        self.hertz = (HertzPredictor(u=pb.u, obstacle=ob, lame=pb.lame, E_star=pb.E_star, bcs=pb.bcs, ds_c=pb.ds_c,
+                                     facets=pb.contact_facets, prefix=pb.prefix + "hertz_") if use_hertz else None)
+        self.tangent_ok = not opts.mixed and pb.forms.update is None and pb.method.supports_tangent
+
+    def add_step_callback(self, fn: Callable[[dict], None]) -> None:
+        """Call ``fn(record)`` after every converged solve (after the ones already registered)."""
+        self.on_step.append(fn)
+
+    # -- predictors -----------------------------------------------------------------------------------------
+    def extrapolate(self, d_new: float) -> np.ndarray:
+        """State linear in d through the last two converged states (the last one without history)."""
+        if len(self.states) == 1:
+            return self.states[-1].x
+        (d1, _, u1, _), (d2, _, u2, _) = self.states[-2], self.states[-1]
+        if d2 == d1:
+            return u2
+        return u2 + (d_new - d2) / (d2 - d1) * (u2 - u1)
+
+    def predicted_zone(self, d_new: float) -> tuple[float, float] | None:
+        """Contact zone at d_new, the edges of the last two states extrapolated linearly in d."""
+        if len(self.states) < 2 or self.states[-1].zone is None:
+            return None
+        (d1, _, _, e1), (d2, _, _, e2) = self.states[-2], self.states[-1]
+        if e1 is None and len(self.states) == 2:  # from the unloaded state: a zone shrunk to the first-contact point
+            c = 0.0 if np.isinf(e2[0]) else 0.5 * (e2[0] + e2[1])
+            e1 = (e2[0] if np.isinf(e2[0]) else c, c)
+        if e1 is None:
+            return None
+        if d2 == d1:
+            return e2
+        f = (d_new - d2) / (d2 - d1)
+        lo = -np.inf if np.isinf(e2[0]) else e2[0] + f * (e2[0] - e1[0])
+        return lo, e2[1] + f * (e2[1] - e1[1])
+
+    def secant(self, P_goal: float) -> float:
+        """d for load P_goal (N/mm) through the last two (d, P) states (first: stiffness guess 0.3 E')."""
+        (d1, P1, _, _), (d2, P2, _, _) = self.states[-2], self.states[-1]
+        if P2 == P1:
+            return d2 * P_goal / P2 if P2 > 0 else P_goal / (0.3 * self.problem.E_star)
+        return d2 + (P_goal - P2) * (d2 - d1) / (P2 - P1)
+
+    # -- solves ---------------------------------------------------------------------------------------------
+    def attempt(self, d_new, x_pred, kind, zone=None, predict_active_set=True) -> tuple[int, int]:
+        """One solve at d_new from x_pred; on convergence append the state and the record and call on_step."""
+        t0 = time.perf_counter()
+        pb = self.problem
+        if zone is None and predict_active_set:
+            zone = self.predicted_zone(d_new)
+        use_zone = zone is not None and self.opts.active_set_predictor and predict_active_set
+        reason, its, extra = pb.solve_once(d_new, x_pred, rest=self.states[-1].x, zone=zone if use_zone else None)
+        self.factored = self.factored or its > 0
+        if reason <= 0:
+            return reason, its
+        P, Pp = pb.measure()
+        zone_now = pb.contact_zone() if self.opts.active_set_predictor else None
+        self.states.append(ConvergedState(d_new, P, pb.get_state(), zone_now))
+        rec = {"d": d_new, "P": P, "P_pressure": Pp, "iterations": its, "time": time.perf_counter() - t0,
+               "kind": kind, "reason": reason, **extra}
+        self.records.append(rec)
+        for fn in self.on_step:
+            fn(rec)
+        return reason, its
+
+    def reach(self, d_target, step, kind, x_pred=None, zone=None) -> None:
+        """Reach d_target from the last converged state, halving the increment on divergence."""
+        cut = 0
+        while True:
+            d_prev = self.states[-1].d
+            d_try = d_target if cut == 0 else d_prev + (d_target - d_prev) / 2.0**cut
+            guess = x_pred if (cut == 0 and x_pred is not None) else self.extrapolate(d_try)
+            reason, its = self.attempt(d_try, guess, kind if cut == 0 else "cutback", zone if cut == 0 else None)
+            if reason > 0:
+                if d_try == d_target:
+                    return
+                cut = 0
+                x_pred = zone = None
+                continue
+            cut += 1
+            if cut > self.opts.max_cutbacks:
+                raise ContactSolveError(f"{self.opts.case}: load step {step} (d = {d_try:.6g} mm) diverged: SNES "
+                                        f"reason {reason} ({snes_reason_name(reason)}) after {its} iterations and "
+                                        f"{self.opts.max_cutbacks} cut-backs")
+
+    def tangent_correction(self, P_goal: float) -> bool:
+        """One force correction along the tangent of the last converged state (module docstring).
+
+        Returns True when it produced a converged state; False (state restored) when the tangent does not
+        apply or its SNES solve did not converge within one iteration, so the caller falls back to the secant.
+        """
+        if not (self.tangent_ok and self.factored):
+            return False
+        pb = self.problem
+        d0, P0, u0, _ = self.states[-1]
+        tan = pb.tangent(u0, d0)
+        if tan is None:
+            return False
+        t_arr, dP = tan
+        dd = (P_goal - P0) / dP
+        if not abs(dd) <= 0.5 * abs(d0):
+            return False
+        # At most one Newton iteration from the tangent state: more means the active set moved, which the
+        # secant step with its active-set predictor handles in fewer iterations than semismooth Newton does.
+        with pb.max_iterations(1):
+            reason, _ = self.attempt(d0 + dd, u0 + dd * t_arr, "force-correction", predict_active_set=False)
+        if reason > 0:
+            return True
+        pb.d.value = d0
+        pb.set_state(u0)
+        return False
+
+    # -- drivers --------------------------------------------------------------------------------------------
+    def run(self) -> None:
+        """Step to the target (displacement, recorded displacements or force control)."""
+        opts = self.opts
+        if opts.control == "displacement" and opts.record_at:
+            self.run_recorded()
+        elif opts.control == "displacement":
+            self.run_displacement()
+        else:
+            self.run_force()
+            self.correct_force()
+        self.wall_time_s = time.perf_counter() - self.t_start
+
+    def run_displacement(self) -> None:
+        """``d_k = target k / n_steps`` (after a first step at ``first_step_fraction`` of the first one)."""
+        opts = self.opts
+        if opts.first_step_fraction < 1.0:
+            self.reach(opts.first_step_fraction * opts.target / opts.n_steps, 0, "first")
+        for k in range(1, opts.n_steps + 1):
+            self.reach(opts.target * k / opts.n_steps, k, "step")
+
+    def run_recorded(self) -> None:
+        """Step through the recorded displacements in turn (n_steps sub-steps to the first one, one step between
+        the others, cut back as needed) and keep a snapshot of the surface at each."""
+        opts, pb = self.opts, self.problem
+        levels = [float(v) for v in opts.record_at]
+        for k in range(1, opts.n_steps + 1):
+            self.reach(levels[0] * k / opts.n_steps, k, "step")
+        for k, level in enumerate(levels):
+            if k > 0:
+                self.reach(level, opts.n_steps + k, "step")
+            smp = pb.sample()
+            P_k, Pp_k = pb.measure()
+            self.snapshots.append(Snapshot(d=level, P=float(P_k), P_pressure=float(Pp_k), samples=smp,
+                                           patches=find_patches(smp, half=opts.symmetric_half),
+                                           iterations=int(self.records[-1]["iterations"]) if self.records else 0,
+                                           warnings=tuple(pb.quality_warnings(smp, level))))
+
+    def run_force(self) -> None:
+        """Load levels ``P_k = target k / n_steps``: d from the Hertz predictor or the secant."""
+        opts, E_star = self.opts, self.problem.E_star
+        for k in range(1, opts.n_steps + 1):
+            P_goal = opts.target * k / opts.n_steps
+            zone = None
+            if self.hertz is not None:
+                d_next, u_next, zone = self.hertz(P_goal, half=opts.symmetric_half)
+            else:
+                if len(self.states) == 1 and opts.first_step_fraction < 1.0:
+                    self.reach(opts.first_step_fraction * P_goal / (0.3 * E_star), 0, "first")
+                d_next = P_goal / (0.3 * E_star) if len(self.states) == 1 else self.secant(P_goal)
+                u_next = None
+            self.reach(d_next, k, "step", u_next, zone)
+
+    def correct_force(self) -> None:
+        """Correct d at the last level until ``|P - target| <= force_rtol target`` (tangent, then secant)."""
+        opts = self.opts
+        target = opts.target
+        use_tangent = True
+        for _ in range(MAX_FORCE_CORRECTIONS):
+            miss = abs(self.states[-1].P - target)
+            if miss <= opts.force_rtol * target:
+                return
+            # The tangent is tried for a small miss only (<= 1 %: the step came from the Hertz predictor or a
+            # secant); a large one moves the active set by many points and needs the active-set predictor.
+            if use_tangent and miss <= 1e-2 * target and self.tangent_correction(target):
+                # A tangent state that needed a Newton iteration sits across an active-set change (the factored
+                # J is not the one of the converged state), and so will the next one: the secant takes over.
+                use_tangent = self.records[-1]["iterations"] == 0 and abs(self.states[-1].P - target) <= 0.1 * miss
+            else:
+                use_tangent = False
+                self.reach(self.secant(target), opts.n_steps, "force-correction")
+        raise ContactSolveError(f"{opts.case}: force control did not reach P = {target} N/mm (last P = "
+                                f"{self.states[-1].P:.10g}) in {MAX_FORCE_CORRECTIONS} secant corrections")
