@@ -136,12 +136,15 @@ class Solver:
     """Contact formulation and kinematics.
 
     Attributes:
-        method: ``"nitsche"`` or ``"penalty"``.
+        method: ``"nitsche"``, ``"penalty"`` or ``"augmented_lagrangian"`` (Uzawa updates of a nodal
+            multiplier around the penalty Newton: the constraint holds exactly for any kappa0,
+            :mod:`fem.methods.augmented_lagrangian`).
         kinematics: ``"small"`` (gap at the undeformed position, the Hertz hypothesis) or
             ``"convective"`` (obstacle evaluated at the current position X + u).
         traction: ``"halfplane"`` (vertical gap and traction, as half-plane theory assumes) or
             ``"obstacle"`` (gap and traction along the rigid curve's normal).
-        kappa0: Dimensionless penalty factor, kappa = kappa0 E / h, > 0.
+        kappa0: Dimensionless penalty factor, kappa = kappa0 E / h, > 0 (the augmentation stiffness of the
+            augmented Lagrangian).
         gamma0: Dimensionless Nitsche factor, gamma = gamma0 E / h, > 0.
         theta: Nitsche variant: 1 (symmetric), 0 (skew-less), -1 (skew-symmetric).
     """
@@ -235,7 +238,7 @@ _CHOICES = {
     ("geometry", "design"): ("symmetric", "close_to_conformal"),
     ("loading", "control"): ("force", "displacement"),
     ("discretisation", "degree"): (1, 2),
-    ("solver", "method"): ("nitsche", "penalty"),
+    ("solver", "method"): ("nitsche", "penalty", "augmented_lagrangian"),
     ("solver", "kinematics"): ("small", "convective"),
     ("solver", "traction"): ("halfplane", "obstacle"),
     ("solver", "theta"): (1, 0, -1),

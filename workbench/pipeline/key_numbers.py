@@ -57,10 +57,13 @@ def key_numbers(root: Path) -> dict:
     return out
 
 
-def compare_numbers(new: dict, old: dict, *, rtol: float = 1e-10) -> list[str]:
-    """One line per key number that is missing, new, or moved by more than ``rtol`` (relative)."""
+def compare_numbers(new: dict, old: dict, *, rtol: float = 1e-10, allow_new: bool = False) -> list[str]:
+    """One line per key number that is missing, new (unless ``allow_new``: e.g. a case added since the saved
+    set), or moved by more than ``rtol`` (relative)."""
     bad = []
     for k in sorted(set(old) | set(new)):
+        if k not in old and allow_new:
+            continue
         if k not in new or k not in old:
             bad.append(f"{k}: {'missing now' if k not in new else 'new'}")
             continue
@@ -82,6 +85,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("results", type=Path)
     p.add_argument("file", type=Path)
     p.add_argument("--rtol", type=float, default=1e-10)
+    p.add_argument("--allow-new", action="store_true", help="numbers absent from FILE (new cases) are not errors")
     args = p.parse_args(argv)
     numbers = key_numbers(args.results)
     if not numbers:
@@ -91,7 +95,10 @@ def main(argv: list[str] | None = None) -> int:
         args.file.write_text(json.dumps(numbers, indent=1, sort_keys=True) + "\n")
         print(f"wrote {len(numbers)} key numbers to {args.file}")
         return 0
-    bad = compare_numbers(numbers, json.loads(args.file.read_text()), rtol=args.rtol)
+    saved = json.loads(args.file.read_text())
+    bad = compare_numbers(numbers, saved, rtol=args.rtol, allow_new=args.allow_new)
+    if args.allow_new and (added := sorted(set(numbers) - set(saved))):
+        print(f"{len(added)} key numbers are new (not in {args.file.name}), e.g. {added[0]}")
     for line in bad:
         print(line)
     print(f"{len(numbers)} key numbers, {len(bad)} differ by more than {args.rtol:g} relative")
