@@ -1,4 +1,4 @@
-"""The one place where a case run becomes solver options (:func:`fem.solver.solve_contact` keywords).
+"""The one place where a case run becomes solver options (a :class:`fem.options.ContactOptions` record).
 
 Every caller (the case pipeline, the studies) goes through :func:`solver_options` and :func:`solve_run`, so a
 new field of :class:`cases.schema.Solver` or a new contact method is wired here once.
@@ -9,13 +9,14 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from cases.schema import Run
+from fem.options import ContactOptions
 from workbench.scenes.base import LoadPath
 
 __all__ = ["solver_options", "solve_run", "step_printer"]
 
 
-def solver_options(run: Run, load: LoadPath) -> dict:
-    """Keyword arguments of :func:`fem.solver.solve_contact` for ``run`` driven along ``load``.
+def solver_options(run: Run, load: LoadPath, **overrides) -> ContactOptions:
+    """The solver options of ``run`` driven along ``load`` (``overrides``: any other ContactOptions field).
 
     Material (E in MPa, nu), element degree, the contact method and its parameters, kinematics and traction
     come from the run; control, target (N/mm or mm), steps, snapshots and the half model from ``load``.
@@ -27,7 +28,7 @@ def solver_options(run: Run, load: LoadPath) -> dict:
                 symmetric_half=load.symmetric_half)
     if load.record_at is not None:
         opts["record_at"] = load.record_at
-    return opts
+    return ContactOptions(**(opts | overrides))
 
 
 def solve_run(run: Run, mesh_data, obstacle, load: LoadPath, *, case: str, on_step: Callable | None = None,
@@ -36,8 +37,8 @@ def solve_run(run: Run, mesh_data, obstacle, load: LoadPath, *, case: str, on_st
     (e.g. ``petsc_options``, ``predictor``, ``formulation``)."""
     from fem.solver import solve_contact
 
-    return solve_contact(mesh_data, obstacle, **(solver_options(run, load) | overrides), on_step=on_step,
-                         case=case)
+    return solve_contact(mesh_data, obstacle,
+                         options=solver_options(run, load, on_step=on_step, case=case, **overrides))
 
 
 def step_printer(progress: Callable[[str], None], label: str) -> Callable[[dict], None]:
