@@ -1,5 +1,5 @@
-"""Fast checks of the benchmark helpers (workbench/studies/bench.py, workbench/studies/bench_report.py): exponent fit, ladder
-selection, report text.
+"""Fast checks of the benchmark helpers (workbench/studies/rates.py, bench.py, bench_report.py, config.py):
+exponent fit, ladder selection, report text, the typed config.
 
 No timing is asserted: the benchmark reports times, it does not test them.
 """
@@ -11,8 +11,12 @@ import math
 import numpy as np
 import pytest
 
-from workbench.studies.bench import LOG_EVENTS, RMS_TARGET, ExponentFit, first_reaching, fit_exponent, rel_diff
+from workbench.studies.bench import LOG_EVENTS, first_reaching, rel_diff
 from workbench.studies.bench_report import to_markdown
+from workbench.studies.config import BenchConfig, from_json, to_json
+from workbench.studies.rates import ExponentFit, fit_exponent
+
+RMS_TARGET = BenchConfig().rms_target
 
 # An exact power law is fitted to round-off: the only error is floating point in polyfit on ~5 points,
 # so 1e-10 on the exponent is ~1e5 eps of headroom.
@@ -79,3 +83,39 @@ def test_report_states_unmet_targets():
     }
     text = to_markdown({"load_avg_start": (1.0, 1.0, 1.0), "cpu_count": 2, "linear": lin})
     assert "| contact solve <= 4 linear solves (default case) | 7 | NOT met |" in text
+
+
+def test_quick_config_and_json_round_trip():
+    """--quick keeps the published settings except the sizes; the config survives its JSON (the report reads
+    it), and a bad section or scale family is refused."""
+    import json
+
+    full, quick = BenchConfig(), BenchConfig().quick()
+    assert quick.baseline_ladder == full.baseline_ladder[:1] and quick.mpi_levels == (None,)
+    assert quick.scale["graded"] == full.scale["graded"][:3] and quick.targets == full.targets
+    assert from_json(BenchConfig, json.loads(json.dumps(to_json(quick)))) == quick
+    with pytest.raises(ValueError, match="sections"):
+        BenchConfig(sections=("nope",))
+    with pytest.raises(ValueError, match="scale family"):
+        BenchConfig(scale={"coarse": (0.5,)})
+
+
+def test_report_reads_its_settings_from_the_json():
+    """The targets come from the JSON's config: a looser linear-solve target turns the same row into 'met'."""
+    lin = {"ndofs": 2568, "solve_s": 0.07, "linear_s": 0.01, "linear_resolve_s": 0.004,
+           "linear_solves_equivalent": 7.0, "newton_iterations": [1, 1], "newton_per_step": 1.0,
+           "events": {n: {"count": 1, "time_s": 0.0} for n in LOG_EVENTS}}
+    cfg = to_json(BenchConfig(targets={**BenchConfig().targets, "linear_solves": 8.0}))
+    text = to_markdown({"load_avg_start": (1.0, 1.0, 1.0), "cpu_count": 2, "linear": lin, "config": cfg})
+    assert "| contact solve <= 8 linear solves (default case) | 7 | met |" in text
+
+
+def test_the_report_does_not_import_the_study():
+    """Reports read JSON only: bench_report and bench_plot import neither bench.py nor dolfinx."""
+    import subprocess
+    import sys
+
+    code = ("import sys, workbench.studies.bench_report, workbench.studies.bench_plot; "
+            "bad = [m for m in ('workbench.studies.bench', 'dolfinx') if m in sys.modules]; "
+            "sys.exit(1 if bad else 0)")
+    assert subprocess.run([sys.executable, "-c", code], timeout=120).returncode == 0

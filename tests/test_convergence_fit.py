@@ -1,5 +1,5 @@
-"""Rate fitting and reporting of the convergence study (workbench.studies.convergence, workbench.studies.convergence_report) on
-synthetic data; no dolfinx, < 1 s.
+"""Rate fitting and reporting of the convergence study (workbench.studies.rates, workbench.studies.convergence,
+workbench.studies.convergence_report) on synthetic data; no dolfinx, < 1 s.
 
 The fit is a least-squares line in log-log over the finest three levels, so an exact power law must come out
 to round-off (tolerance 1e-10: a few ulps of log amplified by the 3-point fit), and pre-asymptotic coarse
@@ -11,19 +11,19 @@ import math
 import numpy as np
 import pytest
 
+from workbench.studies.config import ConvergenceConfig, to_json
 from workbench.studies.convergence import (
-    EXPECTED_RATES,
-    GROWTH_RANGE,
-    RATE_BAND,
-    RateFit,
     cheapest,
-    fit_rate,
     ideal_growth,
     judge_rates,
     l2_pressure_error,
     observed_rates,
 )
 from workbench.studies.convergence_report import to_markdown
+from workbench.studies.rates import RateFit, fit_rate
+
+CONFIG = ConvergenceConfig()
+EXPECTED_RATES, GROWTH_RANGE, RATE_BAND = CONFIG.expected_rates, CONFIG.growth_range, CONFIG.rate_band
 
 H = np.array([0.2, 0.1, 0.05, 0.025, 0.0125])
 
@@ -198,3 +198,28 @@ def test_report_states_observed_against_expected():
     md2 = to_markdown(_study(2.0))
     assert "| hertz_cylinder | ideal | nitsche | 2 | rms | 1.00 | +2.00 | outside |" in md2
     assert "hertz_cylinder/ideal: none within the levels; Nitsche P2 reaches rms" in md2
+
+
+def test_config_defaults_are_the_published_study():
+    """The typed config holds what were module constants: levels, bands, targets; bad levels are refused."""
+    assert CONFIG.levels == (0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625, 0.003125)
+    assert CONFIG.ideal_levels == (0.4, 0.2, 0.1, 0.05, 0.025) and CONFIG.n_finest == 3
+    assert CONFIG.rms_target == 0.005 and CONFIG.kappa0_sweep == (1e2, 1e3, 1e4, 1e5)
+    assert to_json(CONFIG)["expected_rates"] == EXPECTED_RATES
+    with pytest.raises(ValueError, match="levels"):
+        ConvergenceConfig(levels=(0.1, 0.2, 0.05))
+    with pytest.raises(ValueError, match="h_contact"):
+        ConvergenceConfig(ideal_levels=(0.4, 0.2, 0.0125))
+    with pytest.raises(ValueError, match="repeats"):
+        ConvergenceConfig(repeats=0)
+
+
+def test_the_report_does_not_import_the_study():
+    """Reports read JSON only: convergence_report and convergence_plot import neither convergence.py nor dolfinx."""
+    import subprocess
+    import sys
+
+    code = ("import sys, workbench.studies.convergence_report, workbench.studies.convergence_plot; "
+            "bad = [m for m in ('workbench.studies.convergence', 'dolfinx') if m in sys.modules]; "
+            "sys.exit(1 if bad else 0)")
+    assert subprocess.run([sys.executable, "-c", code], timeout=120).returncode == 0

@@ -1,8 +1,9 @@
 """Stiff and extreme cases: named warnings, locking-free mixed formulation, scale invariance, conditioning.
 
-Scene (workbench.studies.stability.Spec defaults): rigid circle R = 10 mm on a block 40 a x 40 a (half model), a/R = 0.05,
-E = 200 GPa, P2, h = a/10, Nitsche gamma0 = 10, theta = 1, force control to the Hertz load; errors against
-Hertz at the measured load (workbench.scenes.block_theory). Each solve takes ~0.1 s warm (plus ~1.5 s JIT per new form).
+Scene (workbench.studies.stability.Spec defaults): rigid circle R = 10 mm on a block 40 a x 40 a (half model),
+a/R = 0.05, E = 200 GPa, P2, h = a/10, Nitsche gamma0 = 10, theta = 1, force control to the Hertz load; errors
+against Hertz at the measured load (workbench.scenes.block_theory). Each solve takes ~0.1 s warm (plus ~1.5 s JIT
+per new form).
 """
 
 import dolfinx_solver  # noqa: F401
@@ -16,9 +17,18 @@ from mpi4py import MPI
 
 from fem.conditioning import condition_1norm
 from fem.solver import snes_reason_name
-from workbench.studies.stability import BAND, Spec, classify, run_block_spec, run_sweep
+from workbench.studies.stability import (
+    Spec,
+    StabilityConfig,
+    classify,
+    classify_augmented_lagrangian,
+    run_block_spec,
+    run_sweep,
+    specs,
+)
 
 COMM = MPI.COMM_WORLD
+BAND = StabilityConfig().band
 
 
 def _run(**kw):
@@ -97,7 +107,7 @@ def test_snes_reason_names():
 
 def test_resolution_study_has_no_silent_run():
     """The resolution study end to end: every run ok or named; the coarsest ones are the named ones."""
-    recs = run_sweep(studies=("resolution",), comm=COMM, progress=lambda _: None)
+    recs = run_sweep(StabilityConfig(studies=("resolution",)), comm=COMM, progress=lambda _: None)
     status = {r["label"]: r["status"] for r in recs}
     assert not [k for k, v in status.items() if v == "SILENT"], status
     assert status["h_c = a/0.5"].startswith("named") and status["h_c = a/8"] == "ok", status
@@ -111,3 +121,54 @@ def test_classify_flags_a_silent_run():
     rec["params"]["model_limit"] = "model limit: test"
     assert classify(rec).startswith("named (model limit)")
     assert math.isclose(rec["worst_error"], 0.05) and np.isfinite(rec["worst_error"])
+
+
+def test_default_config_reproduces_the_published_sweep():
+    """The typed config's defaults are the sweep as published: 88 runs before the AL sweep, labels as before,
+    plus five augmented-Lagrangian runs, one per decade of kappa0."""
+    all_specs = specs()
+    labels = [s.label for s in all_specs]
+    assert len(labels) == len(set(labels)) == 88 + 5
+    assert "penalty kappa0=1e8" in labels and "E=1e-3" in labels and "nitsche gamma0=0.1 theta=-1" in labels
+    al = [s for s in all_specs if s.study == "augmented_lagrangian"]
+    k = [s.kappa0 for s in al]
+    assert [s.method for s in al] == ["augmented_lagrangian"] * 5
+    assert math.isclose(math.log10(k[-1] / k[0]), 4.0) and len(k) == 5  # five decades of kappa0
+    assert all(s.band == BAND for s in al)
+
+
+def test_spec_becomes_a_case_run():
+    """A spec is a cases.schema.Run (what the wiring reads) plus the study's solver overrides."""
+    spec = Spec("test", "t", method="penalty", kappa0=1e2, nu=0.49, degree=1, h_ratio=40.0, formulation="mixed")
+    run = spec.run()
+    assert (run.solver.method, run.solver.kappa0, run.solver.traction) == ("penalty", 1e2, "halfplane")
+    assert (run.material.nu, run.discretisation.degree, run.geometry.half_model) == (0.49, 1, True)
+    assert run.loading.half_width == spec.a_over_R * spec.R and run.loading.steps == spec.n_steps
+    assert spec.solver_overrides()["formulation"] == "mixed"
+    fault = Spec("faults", "f", control="displacement", d=0.06, active_set_predictor=False).run()
+    assert fault.loading.control == "displacement" and fault.loading.d == (0.06,)
+
+
+def test_augmented_lagrangian_must_converge():
+    """The AL sweep's own classification: a diverged run is FAILED (the sweep exits 1), not a named pass."""
+    rec = {"converged": False, "error": "diverged: SNES reason -5 (DIVERGED_MAX_IT)\n...", "warnings": [],
+           "params": {"band": BAND}, "errors": {}}
+    assert classify(rec).startswith("named (failure)")
+    assert classify_augmented_lagrangian(rec) == "FAILED (must converge): diverged: SNES reason -5 (DIVERGED_MAX_IT)"
+    ok = {"converged": True, "warnings": [], "params": {"band": BAND},
+          "errors": {"p_max": 0.001, "half_width": 0.004, "rms": 0.004, "load_balance": 0.0}}
+    assert classify_augmented_lagrangian(ok) == "ok"
+
+
+def _al_available() -> bool:
+    from fem import contact_forms
+
+    return "augmented_lagrangian" in getattr(contact_forms, "METHODS", ())
+
+
+@pytest.mark.skipif(not _al_available(), reason="fem has no augmented_lagrangian method yet")
+@pytest.mark.parametrize("kappa0", [1e1, 1e5])
+def test_augmented_lagrangian_converges_at_both_ends(kappa0):
+    """kappa0 = 1e1 and 1e5, the ends of the sweep: converged, within the 2 % band, no warning."""
+    rec = _run(method="augmented_lagrangian", kappa0=kappa0)
+    assert classify_augmented_lagrangian(rec) == "ok", (rec.get("error"), rec["warnings"], rec.get("errors"))

@@ -1,38 +1,42 @@
-"""Performance benchmark (issue "Performance and scale"): ``python -m workbench.studies.bench`` (``make bench``).
+"""Performance benchmark (issue "Performance and scale"): ``workbench bench [--quick] [--sections ...]``.
 
-Writes ``results/bench/bench.json`` (every number) and ``results/bench/report.md`` atomically; the plot
-(``workbench.studies.bench_plot``) reads the JSON. A benchmark to report, not a timed test: the targets are stated as
-met / not met. Scene: ``cases/hertz_cylinder.toml`` (rigid circle R = 10 mm on a steel block, Hertz load of
-a = 0.5 mm, half model). Error measure: ``rms = RMS(p - p_H)/p0`` at the measured load
-(:func:`workbench.scenes.block_theory.rms_error`); target ``RMS_TARGET = 0.5 %``. Times are wall seconds; "warm" means
-the FFCx JIT cache and the mesh cache are filled and the forms were loaded once in the process (the best of
-up to ``repeats`` identical runs: the CPU may be shared).
+Writes ``<results>/bench/bench.json`` (the config and every number) and ``report.md`` atomically; the report
+(:mod:`workbench.studies.bench_report`) and the plot (:mod:`workbench.studies.bench_plot`) read the JSON. A
+benchmark to report, not a timed test: the targets are stated as met / not met. What is run is
+:class:`BenchConfig`. Scene: ``cases/hertz_cylinder.toml`` (rigid circle R = 10 mm on a steel block, Hertz
+load of a = 0.5 mm, half model). Error measure: ``rms = RMS(p - p_H)/p0`` at the measured load
+(:func:`workbench.scenes.block_theory.rms_error`); target ``rms_target = 0.5 %``. Times are wall seconds;
+"warm" means the FFCx JIT cache and the mesh cache are filled and the forms were loaded once in the process
+(the best of up to ``repeats`` identical runs: the CPU may be shared). Every solve goes through the case
+wiring (:func:`workbench.scenes.wiring.solve_run`, our runs through
+:func:`workbench.pipeline.run_case.run_one`) with the section's overrides.
 
 Sections:
 
 1. Time to accuracy. Baseline = the common tutorial set-up: a uniform mesh of right triangles over the whole
    box (half model, W = H = ``box`` a, no grading), P2, penalty with a FIXED stiffness
-   ``kappa = BASELINE_KAPPA E / (1 mm)`` (not scaled by E/h), force control from zero to
-   ``BASELINE_FORCE_RTOL`` (``predictor="extrapolate"``, no active-set predictor, one full load step,
+   ``kappa = baseline_kappa E / (1 mm)`` (not scaled by E/h), force control from zero to
+   ``baseline_force_rtol`` (``predictor="extrapolate"``, no active-set predictor, one full load step,
    ``first_step_fraction=1``; the solver's force corrections: tangent of the last state, else secant).
    Ours = the case (Nitsche or penalty ``kappa0 E/h``, P1 or P2, graded mesh of :mod:`meshes.block`, Hertz
-   predictor). Each ladder is run coarse to fine until ``rms <= RMS_TARGET``; the time to accuracy is the
+   predictor). Each ladder is run coarse to fine until ``rms <= rms_target``; the time to accuracy is the
    warm time of the first configuration that reaches it (mesh + solve + comparison; solver only also kept).
 2. Contact solve against one linear elastic solve on the same mesh (same LU/MUMPS, assembly included),
    Newton iterations per load step, and the PETSc factorisation counts (PETSc log events).
 3. Cost growth: P2, the case's Nitsche solver, on graded meshes of decreasing h_c and on uniform meshes up
    to ~1e6 dofs, one subprocess per size. Peak memory = the high-water mark VmHWM of that process
    (``ru_maxrss`` is inherited from the parent across fork/exec on Linux, so after a big section it only
-   shows the parent's peak; both are kept). Fitted exponent of time against ndofs (:func:`fit_exponent`).
+   shows the parent's peak; both are kept). Fitted exponent of time against ndofs
+   (:func:`workbench.studies.rates.fit_exponent`).
 4. MPI: ``mpiexec -n 2 workbench run hertz_cylinder`` against the serial run (P, p0, half-width to
    1e-8 relative) and the speed-up (default size and a larger one).
 5. Repeated work: cold (fresh FFCx cache via ``XDG_CACHE_HOME`` and a fresh mesh cache, in a subprocess)
    against warm; symbolic against numeric factorisations (PETSc log events); MUMPS ordering, PETSc LU and
-   three load steps (:data:`SOLVER_VARIANTS`); reuse of the first LU through GMRES and a lagged
-   preconditioner (:data:`REUSE_LU`), all through ``solve_contact(..., petsc_options=...)``.
+   three load steps (``solver_variants``); reuse of the first LU through GMRES and a lagged
+   preconditioner (``reuse_lu``), all through the wiring's ``petsc_options`` override.
 
-Internal worker modes (``--worker scale|cold``) run one measurement in a subprocess and print one line
-``BENCH_JSON {...}``.
+Internal worker modes (``workbench bench --worker scale|cold``, the config passed as JSON) run one
+measurement in a subprocess and print one line ``BENCH_JSON {...}``.
 """
 
 from __future__ import annotations
@@ -43,6 +47,7 @@ import json
 import math
 import os
 import resource
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -50,122 +55,26 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
 from workbench.atomic import write_json, write_text
+from workbench.studies.config import BENCH_SECTIONS, SCALE_FAMILIES, BenchConfig, from_json, to_json
+from workbench.studies.rates import fit_exponent
 
-__all__ = [
-    "BASELINE_KAPPA",
-    "BASELINE_LADDER",
-    "ExponentFit",
-    "RMS_TARGET",
-    "fit_exponent",
-    "first_reaching",
-    "main",
-    "rel_diff",
-    "run_bench",
-    "uniform_box_mesh",
-]
+__all__ = ["BenchConfig", "LOG_EVENTS", "first_reaching", "main", "rel_diff", "run_bench", "uniform_box_mesh"]
 
-OUT_DIR = Path("results") / "bench"
-ROOT = Path(__file__).resolve().parent.parent
-CASE = "hertz_cylinder"
-RMS_TARGET = 0.005
-BASELINE_KAPPA = 1e3  # kappa = 1e3 E / mm (N/mm^3): fixed, not scaled by 1/h
-BASELINE_FORCE_RTOL = 1e-3  # force to 0.1 % of the load (ours: the case default 1e-10)
-# (W = H in units of a, uniform h in units of a), ordered by ndofs (half model, P2: 41k, 161k, 642k dofs).
-# W = H = 20 a is the smallest box whose size error alone stays below the target (graded Nitsche P2 at
-# W = H = 5, 10, 20, 40 a: rms 3.7 %, 1.1 %, 0.45 %, 0.23 %); 40 a at h = a/20 would be 2.6M dofs.
-BASELINE_LADDER = ((20.0, 0.2), (20.0, 0.1), (20.0, 0.05))
-OUR_LEVELS = (0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.0015625)
-# Cost growth, two mesh families (P2, the case's Nitsche solver):
-#   graded: meshes.block at h_c / a (ndofs ~ 1/h_c: the grading keeps the fine zone one layer thick);
-#   uniform: the baseline's uniform W = H = 20 a half box at h / a (ndofs ~ 1/h^2), up to ~1e6 dofs.
-SCALE = {"graded": (0.05, 0.0125, 0.003125, 0.00078125, 0.000390625), "uniform": (0.2, 0.1, 1.0 / 15.0, 0.05, 0.04)}
-SCALE_BOX = 20.0
-SMALL_NDOFS = 50_000  # below this a size is timed 3 times in its process (best kept)
-MPI_LEVELS = (None, 0.00078125)  # None: the case default h_c
-OPTION_LEVEL = 0.00078125  # size of the solver-options comparison (graded, ~9e4 dofs)
-# Reuse of the LU between Newton solves: GMRES preconditioned by the LU of the FIRST Jacobian, kept for the
-# whole run (snes_lag_preconditioner -2: rebuild at the next chance then never; persists across solves).
-# The later Jacobians differ from it only in the rows of the contact dofs whose state changed, so GMRES needs
-# about as many triangular solves as there are such dofs: a win when the contact zone holds few dofs, a loss
-# when it holds thousands (a graded a/1280 mesh did not finish in 3 min: GMRES ran into its iteration cap).
-# Section 5c measures it on two small meshes only. (SNES lag 2 with preonly was measured 10x slower: the
-# stale LU is then the exact inverse and Newton needs many more iterations; lag -1 is refused from options.)
-REUSE_LU = {
-    "ksp_type": "gmres",
-    "ksp_rtol": 1e-12,
-    "ksp_atol": 0.0,
-    "ksp_gmres_restart": 300,
-    "ksp_max_it": 300,
-    "snes_lag_preconditioner": -2,
-    "snes_lag_preconditioner_persists": True,
-}
-REUSE_MESHES = (("uniform", 0.2), ("graded", 0.003125))  # (family, h/a) of section 5c
-# label -> (petsc_options, solve_contact overrides)
-SOLVER_VARIANTS = {
-    "case (MUMPS LU per Newton iteration)": ({}, {}),
-    "MUMPS ICNTL(7)=5 (METIS ordering)": ({"mat_mumps_icntl_7": 5}, {}),
-    "PETSc LU, nd ordering, reuse_ordering": (
-        {"pc_factor_mat_solver_type": "petsc", "pc_factor_mat_ordering_type": "nd", "pc_factor_reuse_ordering": True},
-        {},
-    ),
-    "3 load steps (n_steps=3, the previous case default)": ({}, {"n_steps": 3}),
-}
-TARGETS = {"speedup_vs_baseline": 10.0, "default_warm_s": 3.0, "linear_solves": 4.0, "exponent": 1.3}
 LOG_EVENTS = ("MatLUFactorSym", "MatLUFactorNum", "MatSolve", "SNESJacobianEval", "SNESFunctionEval")
-PY = str(ROOT / ".venv" / "bin" / "python")
+_DEFAULT = BenchConfig()
+_CHECKOUT = Path(__file__).resolve().parents[2]  # the subprocesses import this same checkout
 _ids = itertools.count()
-MPIEXEC = str(ROOT / ".venv" / "bin" / "mpiexec")
 
 
 # ----------------------------------------------------------------------------------------------- helpers
 
 
-class ExponentFit(NamedTuple):
-    """Power law ``t = c ndofs^exponent`` fitted by least squares in log-log.
-
-    Attributes:
-        exponent: fitted exponent (1 = linear cost).
-        prefactor: c (s).
-        n_points: number of sizes fitted.
-        max_residual: largest |log t - fit| over the fitted sizes.
-    """
-
-    exponent: float
-    prefactor: float
-    n_points: int
-    max_residual: float
-
-
-def fit_exponent(ndofs: Sequence[float], times: Sequence[float], *, n_last: int | None = None) -> ExponentFit:
-    """Fit ``t = c ndofs^k`` over the ``n_last`` largest sizes (all by default).
-
-    Uses :func:`workbench.studies.convergence.fit_rate` (one log-log fit in one place).
-
-    Args:
-        ndofs: sizes, strictly increasing, > 0.
-        times: times (s), > 0.
-        n_last: number of largest sizes fitted, >= 2 (default: all).
-
-    Raises:
-        ValueError: fewer than two sizes, non-increasing sizes or a non-positive value.
-    """
-    from workbench.studies.convergence import fit_rate
-
-    n = np.asarray(ndofs, dtype=float)
-    if n.ndim != 1 or n.size < 2:
-        raise ValueError(f"ndofs must hold >= 2 sizes, got {n.size}")
-    if not np.all(np.diff(n) > 0):
-        raise ValueError(f"ndofs must be strictly increasing, got {n.tolist()}")
-    f = fit_rate(n, times, n_finest=n.size if n_last is None else n_last)
-    return ExponentFit(f.slope, float(math.exp(f.intercept)), f.n_points, f.max_residual)
-
-
-def first_reaching(rows: Sequence[dict], *, key: str = "rms", target: float = RMS_TARGET) -> dict | None:
+def first_reaching(rows: Sequence[dict], *, key: str = "rms", target: float = _DEFAULT.rms_target) -> dict | None:
     """The first row (ladder order: coarse to fine) with ``row[key] <= target``, or None."""
     for r in rows:
         v = r.get(key)
@@ -227,10 +136,10 @@ def _peak_rss_mb() -> float:
 # ------------------------------------------------------------------------------------------ the scenes
 
 
-def _case_run(h_contact: float | None = None):
+def _case_run(cfg: BenchConfig, h_contact: float | None = None):
     from cases import load_case
 
-    return load_case(CASE).runs(h_contact=h_contact)[0]
+    return load_case(cfg.case).runs(h_contact=h_contact)[0]
 
 
 def _configure(run, *, method: str, degree: int):
@@ -298,11 +207,26 @@ def _hertz_errors(result, run) -> dict:
     return compare_result(result, run).errors
 
 
-def _baseline_once(run, *, box: float, h: float, comm) -> dict:
+def _solve_on(run, mesh_data, theory, *, case: str, **overrides):
+    """Solve a block run on a given mesh through the case wiring: its scene's obstacle and load path (force
+    control to ``theory.P``), :func:`workbench.scenes.wiring.solve_run` with the ``overrides``."""
+    from workbench.scenes import SceneMesh, scene_for
+    from workbench.scenes.wiring import solve_run
+
+    scene = scene_for(run)
+    mesh = SceneMesh(files=None, estimate=theory, summary="")  # the mesh is given: only the estimate is read
+    return solve_run(run, mesh_data, scene.obstacle(run, mesh), scene.load_path(run, mesh), case=case, **overrides)
+
+
+def _baseline_run(run, *, kappa0: float):
+    """The baseline's settings as a case run: P2, penalty kappa0, small kinematics, one load step."""
+    return replace(run, solver=replace(run.solver, method="penalty", kinematics="small", kappa0=kappa0),
+                   discretisation=replace(run.discretisation, degree=2), loading=replace(run.loading, steps=1))
+
+
+def _baseline_once(run, cfg: BenchConfig, *, box: float, h: float, comm) -> dict:
     """One baseline solve (see module docstring, section 1); times in s."""
-    from fem.solver import solve_contact
     from workbench.scenes.block_theory import block_theory
-    from workbench.scenes.block import obstacle_for
 
     t0 = time.perf_counter()
     target = block_theory(run.geometry, run.material, P=run.loading.P, half_width=run.loading.half_width)
@@ -311,27 +235,9 @@ def _baseline_once(run, *, box: float, h: float, comm) -> dict:
     t_mesh = time.perf_counter() - t0
     nx, ny = math.ceil(box / 2.0 / h - 1e-9), math.ceil(box / h - 1e-9)
     diam = math.hypot(box * a0 / 2.0 / nx, box * a0 / ny)  # ufl.CellDiameter of every right triangle (mm)
-    kappa0 = BASELINE_KAPPA * diam  # kappa0 E / h = BASELINE_KAPPA E / (1 mm)
-    res = solve_contact(
-        md,
-        obstacle_for(run, target),
-        E=run.material.E,
-        nu=run.material.nu,
-        degree=2,
-        method="penalty",
-        kinematics="small",
-        traction=run.solver.traction,
-        kappa0=kappa0,
-        control="force",
-        target=target.P,
-        n_steps=1,
-        symmetric_half=True,
-        predictor="extrapolate",
-        active_set_predictor=False,
-        first_step_fraction=1.0,
-        force_rtol=BASELINE_FORCE_RTOL,
-        case="bench-baseline",
-    )
+    kappa0 = cfg.baseline_kappa * diam  # kappa0 E / h = baseline_kappa E / (1 mm)
+    res = _solve_on(_baseline_run(run, kappa0=kappa0), md, target, case="bench-baseline", predictor="extrapolate",
+                    active_set_predictor=False, first_step_fraction=1.0, force_rtol=cfg.baseline_force_rtol)
     errors = _hertz_errors(res, run)
     return {
         "config": "baseline",
@@ -345,16 +251,17 @@ def _baseline_once(run, *, box: float, h: float, comm) -> dict:
         "total_s": time.perf_counter() - t0,
         "newton_iterations": list(res.newton_iterations),
         "solves": len(res.load_steps),
-        "kappa_N_per_mm3": BASELINE_KAPPA * run.material.E,
+        "kappa_N_per_mm3": cfg.baseline_kappa * run.material.E,
         **errors,
     }
 
 
-def _ours_once(run, *, comm) -> dict:
-    from workbench.scenes.block import run_block
+def _ours_once(run, cfg: BenchConfig, *, comm) -> dict:
+    """One run of ours through the case pipeline (mesh from the cache, solve, comparison); times in s."""
+    from workbench.pipeline.run_case import run_one
 
     t0 = time.perf_counter()
-    o = run_block(run, name=f"bench_{CASE}", stage=None, comm=comm, progress=lambda s: None)
+    o = run_one(run, name=f"bench_{cfg.case}", mesh_cache=cfg.cache_dir, comm=comm, progress=lambda s: None)
     m = o.metrics
     return {
         "config": f"{m['method']} P{m['degree']}",
@@ -388,47 +295,49 @@ def _timed(fn: Callable[[], dict], *, repeats: int, budget_s: float) -> dict:
     return row
 
 
-def time_to_accuracy(*, repeats: int, comm, progress, ladder: Sequence = BASELINE_LADDER) -> dict:
+def time_to_accuracy(cfg: BenchConfig, *, comm, progress) -> dict:
     """Section 1: the baseline ladder and the four configurations of ours, each until rms <= target.
 
-    Besides the time to ``RMS_TARGET``, every baseline row is compared at ITS accuracy: the warm time of the
+    Besides the time to ``cfg.rms_target``, every baseline row is compared at ITS accuracy: the warm time of the
     first row of each configuration of ours with ``rms <=`` the baseline's rms (``same_accuracy``).
     """
-    run = _case_run()
-    out: dict[str, Any] = {"target_rms": RMS_TARGET, "baseline": [], "ours": {}}
+    repeats, target = cfg.repeats, cfg.rms_target
+    run = _case_run(cfg)
+    out: dict[str, Any] = {"target_rms": target, "baseline": [], "ours": {}}
     # warm the JIT of the baseline forms on a tiny box (the JIT does not depend on the mesh)
-    _baseline_once(run, box=10.0, h=0.5, comm=comm)
-    for box, h in ladder:
-        row = _timed(lambda box=box, h=h: _baseline_once(run, box=box, h=h, comm=comm), repeats=repeats, budget_s=3.0)
+    _baseline_once(run, cfg, box=10.0, h=0.5, comm=comm)
+    for box, h in cfg.baseline_ladder:
+        row = _timed(lambda box=box, h=h: _baseline_once(run, cfg, box=box, h=h, comm=comm), repeats=repeats,
+                     budget_s=3.0)
         out["baseline"].append(row)
         progress(
             f"baseline W=H={box:g}a h=a*{h:g}: ndofs {row['ndofs']}, warm {row['total_s']:.2f} s "
             f"(solver {row['solve_s']:.2f} s, {len(row['newton_iterations'])} solves, its "
             f"{row['newton_iterations']}), rms {row['rms']:.3e}"
         )
-        if row["rms"] <= RMS_TARGET:
+        if row["rms"] <= target:
             break
-    for method in ("nitsche", "penalty"):
-        for degree in (1, 2):
+    for method in cfg.our_methods:
+        for degree in cfg.our_degrees:
             rows = []
-            for level in OUR_LEVELS:
-                r = _configure(_case_run(level), method=method, degree=degree)
-                _ours_once(r, comm=comm)  # warm-up: JIT and mesh cache
-                row = _timed(lambda r=r: _ours_once(r, comm=comm), repeats=repeats, budget_s=2.0)
+            for level in cfg.our_levels:
+                r = _configure(_case_run(cfg, level), method=method, degree=degree)
+                _ours_once(r, cfg, comm=comm)  # warm-up: JIT and mesh cache
+                row = _timed(lambda r=r: _ours_once(r, cfg, comm=comm), repeats=repeats, budget_s=2.0)
                 rows.append(row)
                 progress(
                     f"{method} P{degree} h_c=a*{level:g}: ndofs {row['ndofs']}, warm {row['total_s']:.3f} s "
                     f"(solver {row['solve_s']:.3f} s), rms {row['rms']:.3e}"
                 )
-                if row["rms"] <= RMS_TARGET:
+                if row["rms"] <= target:
                     break
             out["ours"][f"{method} P{degree}"] = rows
     out["case_steps"] = run.loading.steps
-    base = first_reaching(out["baseline"])
+    base = first_reaching(out["baseline"], target=target)
     last = out["baseline"][-1]
     summary = {}
     for name, rows in out["ours"].items():
-        best = first_reaching(rows)
+        best = first_reaching(rows, target=target)
         summary[name] = {
             "reached": best is not None,
             "h_over_a": best["h_over_a"] if best else None,
@@ -469,12 +378,12 @@ def time_to_accuracy(*, repeats: int, comm, progress, ladder: Sequence = BASELIN
 # ------------------------------------------------------------------------- linear solve, log events
 
 
-def _block_mesh_data(run, *, comm):
-    """The cached graded mesh of a block run: :func:`workbench.scenes.block.block_mesh` (as run_block builds it)."""
+def _block_mesh_data(run, cfg: BenchConfig, *, comm):
+    """The cached graded mesh of a block run: :func:`workbench.scenes.block.block_mesh` (as run_one builds it)."""
     from workbench.mesh_io import read_mesh
     from workbench.scenes.block import block_mesh
 
-    files, _ = block_mesh(run, name=f"bench_{CASE}", comm=comm)
+    files, _ = block_mesh(run, name=f"bench_{cfg.case}", mesh_cache=cfg.cache_dir, comm=comm)
     return read_mesh(files.msh, comm)
 
 
@@ -539,20 +448,21 @@ def _case_P(run) -> float:
     return block_theory(run.geometry, run.material, P=run.loading.P, half_width=run.loading.half_width).P
 
 
-def contact_vs_linear(run, *, comm, repeats: int) -> dict:
+def contact_vs_linear(run, cfg: BenchConfig, *, comm) -> dict:
     """Section 2 at one size: warm contact solve, warm linear solve, iterations and LU counts."""
     from petsc4py import PETSc
 
+    repeats = cfg.repeats
     PETSc.Log.begin()
-    _ours_once(run, comm=comm)  # warm-up
+    _ours_once(run, cfg, comm=comm)  # warm-up
     before = _log_counts()
-    row = _timed(lambda: _ours_once(run, comm=comm), repeats=1, budget_s=0.0)
+    row = _timed(lambda: _ours_once(run, cfg, comm=comm), repeats=1, budget_s=0.0)
     events = _log_delta(before, _log_counts())
     if repeats > 1:
-        row2 = _timed(lambda: _ours_once(run, comm=comm), repeats=repeats - 1, budget_s=3.0)
+        row2 = _timed(lambda: _ours_once(run, cfg, comm=comm), repeats=repeats - 1, budget_s=3.0)
         row["solve_s"] = min(row["solve_s"], row2["solve_s"])
         row["total_s"] = min(row["total_s"], row2["total_s"])
-    lin = linear_solve(_block_mesh_data(run, comm=comm), run, repeats=repeats)
+    lin = linear_solve(_block_mesh_data(run, cfg, comm=comm), run, repeats=repeats)
     its = row["newton_iterations"]
     return {
         **row,
@@ -568,46 +478,25 @@ def contact_vs_linear(run, *, comm, repeats: int) -> dict:
 
 
 def _solve_case(run, mesh_data, *, petsc_options: dict | None = None, **overrides):
-    """``fem.solver.solve_contact`` with the run's settings (as workbench.scenes.block) on ``mesh_data``."""
-    from fem.solver import solve_contact
+    """The run's case settings on ``mesh_data`` (force control to its classical load) through the wiring."""
     from workbench.scenes.block_theory import block_theory
-    from workbench.scenes.block import obstacle_for
 
     th = block_theory(run.geometry, run.material, P=run.loading.P, half_width=run.loading.half_width)
-    s = run.solver
-    kw = dict(
-        E=run.material.E,
-        nu=run.material.nu,
-        degree=run.discretisation.degree,
-        method=s.method,
-        kinematics=s.kinematics,
-        traction=s.traction,
-        kappa0=s.kappa0,
-        gamma0=s.gamma0,
-        theta=s.theta,
-        control="force",
-        target=th.P,
-        n_steps=run.loading.steps,
-        symmetric_half=run.geometry.half_model,
-        petsc_options=petsc_options,
-        case="bench",
-    )
-    kw.update(overrides)
-    return solve_contact(mesh_data, obstacle_for(run, th), **kw)
+    return _solve_on(run, mesh_data, th, case="bench", petsc_options=petsc_options, **overrides)
 
 
-def _family_mesh(family: str, level: float, *, comm):
+def _family_mesh(family: str, level: float, cfg: BenchConfig, *, comm):
     """(run, mesh_data) of one size: ``graded`` = meshes.block at h_c = level a (the case's W = H = 40 a);
-    ``uniform`` = :func:`uniform_box_mesh` W = H = SCALE_BOX a at h = level a (the case run at its h_c)."""
+    ``uniform`` = :func:`uniform_box_mesh` W = H = scale_box a at h = level a (the case run at its h_c)."""
     if family == "graded":
-        run = _case_run(level)
-        return run, _block_mesh_data(run, comm=comm)
-    run = _case_run()
+        run = _case_run(cfg, level)
+        return run, _block_mesh_data(run, cfg, comm=comm)
+    run = _case_run(cfg)
     a0 = run.loading.half_width
-    return run, uniform_box_mesh(width=SCALE_BOX * a0, height=SCALE_BOX * a0, h=level * a0, comm=comm)
+    return run, uniform_box_mesh(width=cfg.scale_box * a0, height=cfg.scale_box * a0, h=level * a0, comm=comm)
 
 
-def _worker_scale(family: str, level: float) -> dict:
+def _worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
     """One size of section 3, in its own process: mesh, contact solve(s), linear solve, peak memory."""
     import dolfinx_solver  # noqa: F401
 
@@ -616,7 +505,7 @@ def _worker_scale(family: str, level: float) -> dict:
 
     comm = MPI.COMM_WORLD
     t0 = time.perf_counter()
-    run, md = _family_mesh(family, level, comm=comm)
+    run, md = _family_mesh(family, level, cfg, comm=comm)
     mesh_s = time.perf_counter() - t0
     PETSc.Log.begin()
     before = _log_counts()
@@ -624,7 +513,7 @@ def _worker_scale(family: str, level: float) -> dict:
     events = _log_delta(before, _log_counts())
     peak_first = _peak_rss_mb()  # mesh + one contact solve (its two MUMPS factors alive)
     times = [res.wall_time_s]
-    small = res.ndofs < SMALL_NDOFS
+    small = res.ndofs < cfg.small_ndofs
     times += [_solve_case(run, md).wall_time_s for _ in range(2 if small else 1)]  # warm: forms loaded
     lin = linear_solve(md, run, repeats=3 if small else 1)
     its = list(res.newton_iterations)
@@ -648,7 +537,7 @@ def _worker_scale(family: str, level: float) -> dict:
     }
 
 
-def _worker_cold() -> dict:
+def _worker_cold(cfg: BenchConfig) -> dict:
     """Section 5: in this process, the first (cold or disk-warm) run of the case then a warm one."""
     t0 = time.perf_counter()
     import dolfinx_solver  # noqa: F401
@@ -658,12 +547,12 @@ def _worker_cold() -> dict:
 
     t_import = time.perf_counter() - t0
     comm = MPI.COMM_WORLD
-    run = _case_run()
+    run = _case_run(cfg)
     t1 = time.perf_counter()
-    _block_mesh_data(run, comm=comm)
+    _block_mesh_data(run, cfg, comm=comm)
     t_mesh = time.perf_counter() - t1
-    first = _ours_once(run, comm=comm)
-    second = _ours_once(run, comm=comm)
+    first = _ours_once(run, cfg, comm=comm)
+    second = _ours_once(run, cfg, comm=comm)
     return {
         "import_s": t_import,
         "mesh_s": t_mesh,
@@ -675,17 +564,32 @@ def _worker_cold() -> dict:
     }
 
 
-def _subprocess_json(
-    args: list[str], *, env: dict | None = None, cwd: Path | None = None, timeout: float = 1200.0
-) -> dict:
-    """Run ``python -m workbench.studies.bench --worker ...`` and parse its ``BENCH_JSON`` line; adds ``process_s``."""
+def _env(extra: dict | None = None) -> dict:
+    """The environment of a subprocess: this checkout first on PYTHONPATH (it imports this same code)."""
     e = dict(os.environ)
-    e["PYTHONPATH"] = str(ROOT) + os.pathsep + e.get("PYTHONPATH", "")
-    e.update(env or {})
+    e["PYTHONPATH"] = str(_CHECKOUT) + os.pathsep + e.get("PYTHONPATH", "")
+    e.update(extra or {})
+    return e
+
+
+def _workbench(*args: str) -> list[str]:
+    """The command line of ``workbench ARGS`` in this interpreter (``python -m workbench``)."""
+    return [sys.executable, "-m", "workbench", *args]
+
+
+def _mpiexec() -> str:
+    """``mpiexec`` beside this interpreter (the venv's MPI), else the one on PATH."""
+    local = Path(sys.executable).parent / "mpiexec"
+    return str(local) if local.exists() else (shutil.which("mpiexec") or "mpiexec")
+
+
+def _subprocess_json(args: list[str], cfg: BenchConfig, *, env: dict | None = None, cwd: Path | None = None,
+                     timeout: float = 1200.0) -> dict:
+    """Run ``workbench bench --worker ...`` with ``cfg`` and parse its ``BENCH_JSON`` line; adds ``process_s``."""
+    cmd = _workbench("bench", "--worker-config", json.dumps(to_json(cfg)), *args)
     t0 = time.perf_counter()
-    cp = subprocess.run(
-        [PY, "-m", "workbench.studies.bench", *args], env=e, cwd=str(cwd or ROOT), capture_output=True, text=True, timeout=timeout
-    )
+    cp = subprocess.run(cmd, env=_env(env), cwd=None if cwd is None else str(cwd), capture_output=True, text=True,
+                        timeout=timeout)
     dt = time.perf_counter() - t0
     if cp.returncode != 0:
         raise RuntimeError(f"bench worker {args} failed (exit {cp.returncode}): {cp.stderr.strip()[-500:]}")
@@ -695,13 +599,13 @@ def _subprocess_json(
     raise RuntimeError(f"bench worker {args} printed no BENCH_JSON line")
 
 
-def cost_growth(*, families: dict[str, Sequence[float]], progress) -> dict:
+def cost_growth(cfg: BenchConfig, *, progress) -> dict:
     """Section 3: one subprocess per size; exponents of warm solver time, linear solve and memory."""
     out = {}
-    for family, levels in families.items():
+    for family, levels in cfg.scale.items():
         rows = []
         for level in levels:
-            row = _subprocess_json(["--worker", "scale", "--family", family, "--h-contact", repr(float(level))])
+            row = _subprocess_json(["--worker", "scale", "--family", family, "--h-contact", repr(float(level))], cfg)
             rows.append(row)
             progress(
                 f"scale {family} h=a*{level:.4g}: ndofs {row['ndofs']}, solver {row['solve_s']:.2f} s, "
@@ -720,18 +624,19 @@ def cost_growth(*, families: dict[str, Sequence[float]], progress) -> dict:
     return out
 
 
-def _cli_metrics(out: Path, *, np_: int, h_contact: float | None) -> dict:
-    cmd = [PY, "-m", "workbench", "run", CASE, "--out", str(out)]
+def _cli_metrics(out: Path, cfg: BenchConfig, *, np_: int, h_contact: float | None) -> dict:
+    """``workbench run <case> --out out`` (under ``mpiexec -n np_`` when np_ > 1); the case's metrics."""
+    cmd = _workbench("run", cfg.case, "--out", str(out))
     if h_contact is not None:
         cmd += ["--h-contact", repr(float(h_contact))]
     if np_ > 1:
-        cmd = [MPIEXEC, "-n", str(np_), *cmd]
+        cmd = [_mpiexec(), "-n", str(np_), *cmd]
     t0 = time.perf_counter()
-    cp = subprocess.run(cmd, cwd=str(ROOT), capture_output=True, text=True, timeout=1200)
+    cp = subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=1200)
     dt = time.perf_counter() - t0
     if cp.returncode not in (0, 1):  # 1 = a tolerance violated at a non-default size: still comparable
         raise RuntimeError(f"{' '.join(cmd)} failed (exit {cp.returncode}): {cp.stderr.strip()[-500:]}")
-    m = json.loads((out / CASE / "metrics.json").read_text())
+    m = json.loads((out / cfg.case / "metrics.json").read_text())
     pt = max(m["patches"], key=lambda p: p["P"])
     return {
         "np": np_,
@@ -746,15 +651,20 @@ def _cli_metrics(out: Path, *, np_: int, h_contact: float | None) -> dict:
     }
 
 
-def mpi_check(*, levels: Sequence[float | None], progress) -> dict:
-    """Section 4: serial against ``mpiexec -n 2`` through the CLI (warm: a serial warm-up run first)."""
+def mpi_check(cfg: BenchConfig, *, progress) -> dict:
+    """Section 4: serial against ``mpiexec -n 2`` through the CLI (warm: a serial warm-up run first).
+
+    Every CLI run of one size writes to the same temporary output folder, so they share its mesh cache (the
+    warm-up builds the mesh); each run's metrics are read right after it.
+    """
     rows = []
     with tempfile.TemporaryDirectory(prefix="bench_mpi_") as tmp:
-        for level in levels:
-            _cli_metrics(Path(tmp) / "warm", np_=1, h_contact=level)  # mesh cache and JIT
-            _cli_metrics(Path(tmp) / "warm2", np_=2, h_contact=level)  # JIT of the parallel run (same forms)
-            s = _cli_metrics(Path(tmp) / "s", np_=1, h_contact=level)
-            p = _cli_metrics(Path(tmp) / "p", np_=2, h_contact=level)
+        out = Path(tmp) / "cli"
+        for level in cfg.mpi_levels:
+            _cli_metrics(out, cfg, np_=1, h_contact=level)  # mesh cache and JIT
+            _cli_metrics(out, cfg, np_=2, h_contact=level)  # JIT of the parallel run (same forms)
+            s = _cli_metrics(out, cfg, np_=1, h_contact=level)
+            p = _cli_metrics(out, cfg, np_=2, h_contact=level)
             diff = {k: rel_diff(s[k], p[k]) for k in ("P", "p0", "half_width")}
             row = {
                 "h_over_a": level,
@@ -773,21 +683,20 @@ def mpi_check(*, levels: Sequence[float | None], progress) -> dict:
     return {"rows": rows}
 
 
-def cold_warm(*, progress) -> dict:
-    """Section 5a: fresh FFCx cache (XDG_CACHE_HOME) and mesh cache (cwd), then the same caches again."""
+def cold_warm(cfg: BenchConfig, *, progress) -> dict:
+    """Section 5a: fresh FFCx cache (XDG_CACHE_HOME) and mesh cache, then the same caches again; then the
+    whole CLI with warm caches (a warm-up run of the CLI first fills its output folder's mesh cache)."""
     with tempfile.TemporaryDirectory(prefix="bench_cold_") as tmp:
         env = {"XDG_CACHE_HOME": str(Path(tmp) / "xdg")}
-        cold = _subprocess_json(["--worker", "cold"], env=env, cwd=Path(tmp))
-        disk_warm = _subprocess_json(["--worker", "cold"], env=env, cwd=Path(tmp))
-    t0 = time.perf_counter()
-    cp = subprocess.run(
-        [PY, "-m", "workbench", "run", CASE, "--out", str(Path(tempfile.gettempdir()) / "bench_cli")],
-        cwd=str(ROOT),
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    cli_s = time.perf_counter() - t0
+        fresh = replace(cfg, mesh_cache=Path(tmp) / "mesh_cache")
+        cold = _subprocess_json(["--worker", "cold"], fresh, env=env, cwd=Path(tmp))
+        disk_warm = _subprocess_json(["--worker", "cold"], fresh, env=env, cwd=Path(tmp))
+    with tempfile.TemporaryDirectory(prefix="bench_cli_") as tmp:
+        cmd = _workbench("run", cfg.case, "--out", str(Path(tmp) / "cli"))
+        subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=600)  # warm-up: mesh cache
+        t0 = time.perf_counter()
+        cp = subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=600)
+        cli_s = time.perf_counter() - t0
     out = {"cold_process": cold, "disk_warm_process": disk_warm, "cli_warm_process_s": cli_s, "cli_exit": cp.returncode}
     progress(
         f"cold: process {cold['process_s']:.1f} s (first run {cold['first_total_s']:.2f} s, mesh "
@@ -798,21 +707,23 @@ def cold_warm(*, progress) -> dict:
     return out
 
 
-def solver_variants(*, level: float, comm, repeats: int, progress) -> dict:
-    """Section 5b: warm solver time and factorisation counts per option set (one graded size).
+def solver_variants(cfg: BenchConfig, *, comm, progress) -> dict:
+    """Section 5b: warm solver time and factorisation counts per option set (one graded size,
+    ``cfg.option_level``).
 
-    PETSc options go through ``solve_contact(..., petsc_options=...)`` (the SNES/KSP of the Newton solve; the
+    PETSc options go through the wiring's ``petsc_options`` override (the SNES/KSP of the Newton solve; the
     Hertz predictor's own MUMPS solve keeps its defaults).
     """
     from petsc4py import PETSc
 
+    level, repeats = cfg.option_level, cfg.repeats
     PETSc.Log.begin()
-    run = _case_run(level)
-    md = _block_mesh_data(run, comm=comm)
+    run = _case_run(cfg, level)
+    md = _block_mesh_data(run, cfg, comm=comm)
     _solve_case(run, md)  # warm-up: forms loaded once (the options do not change the forms)
     lin = linear_solve(md, run, repeats=repeats)
     rows = []
-    for label, (opts, over) in SOLVER_VARIANTS.items():
+    for label, (opts, over) in cfg.solver_variants.items():
         before = _log_counts()
         res = _solve_case(run, md, petsc_options=opts, **over)
         events = _log_delta(before, _log_counts())
@@ -840,17 +751,17 @@ def solver_variants(*, level: float, comm, repeats: int, progress) -> dict:
     return {"h_over_a": level, "linear": lin, "rows": rows}
 
 
-def lu_reuse(*, comm, progress) -> dict:
-    """Section 5c: the case solver against :data:`REUSE_LU` (GMRES + LU of the first Jacobian) per mesh."""
+def lu_reuse(cfg: BenchConfig, *, comm, progress) -> dict:
+    """Section 5c: the case solver against ``cfg.reuse_lu`` (GMRES + LU of the first Jacobian) per mesh."""
     from petsc4py import PETSc
 
     PETSc.Log.begin()
     rows = []
-    for family, level in REUSE_MESHES:
-        run, md = _family_mesh(family, level, comm=comm)
+    for family, level in cfg.reuse_meshes:
+        run, md = _family_mesh(family, level, cfg, comm=comm)
         _solve_case(run, md)  # warm-up
         row: dict[str, Any] = {"family": family, "h_over_a": level}
-        for key, opts in (("case", {}), ("reuse", REUSE_LU)):
+        for key, opts in (("case", {}), ("reuse", cfg.reuse_lu)):
             before = _log_counts()
             try:
                 res = _solve_case(run, md, petsc_options=opts)
@@ -879,82 +790,55 @@ def lu_reuse(*, comm, progress) -> dict:
             for k in ("case", "reuse")
         }
         progress(f"LU reuse {family} h=a*{level:g}: {brief}")
-    return {"options": REUSE_LU, "rows": rows}
+    return {"options": cfg.reuse_lu, "rows": rows}
 
 
 # ------------------------------------------------------------------------------------------ the study
 
 
-def run_bench(
-    *,
-    repeats: int = 3,
-    scale: dict[str, Sequence[float]] | None = None,
-    mpi_levels: Sequence[float | None] = MPI_LEVELS,
-    option_level: float = OPTION_LEVEL,
-    ladder: Sequence = BASELINE_LADDER,
-    sections: Sequence[str] = ("accuracy", "linear", "scale", "mpi", "cache", "options"),
-    progress: Callable[[str], None] = print,
-) -> dict:
-    """Run the benchmark sections and return the JSON-ready data (no files written).
-
-    Args:
-        repeats: warm repetitions per timing (best kept), >= 1.
-        scale: family (graded, uniform) -> h / a of the cost-growth sizes, strictly decreasing, in (0, 1]
-            (default :data:`SCALE`).
-        mpi_levels: h_c / a of the MPI comparisons (None: the case default).
-        option_level: h_c / a of the PETSc-options comparison.
-        ladder: baseline (box/a, h/a) rungs, cheapest first.
-        sections: subset of accuracy, linear, scale, mpi, cache, options.
-        progress: one-line status output.
-    """
+def run_bench(cfg: BenchConfig | None = None, *, progress: Callable[[str], None] = print) -> dict:
+    """Run the benchmark sections of ``cfg`` (default :class:`BenchConfig`) and return the JSON-ready data (no
+    files written)."""
     import dolfinx_solver  # noqa: F401
 
     from mpi4py import MPI
 
-    if int(repeats) != repeats or repeats < 1:
-        raise ValueError(f"repeats must be an integer >= 1, got {repeats!r}")
-    scale = SCALE if scale is None else scale
-    for family, levels in scale.items():
-        if family not in SCALE:
-            raise ValueError(f"scale family must be one of {sorted(SCALE)}, got {family!r}")
-        if any(not 0 < v <= 1 for v in levels) or np.any(np.diff(levels) >= 0):
-            raise ValueError(f"scale[{family!r}] must be strictly decreasing values in (0, 1], got {list(levels)}")
-    known = {"accuracy", "linear", "scale", "mpi", "cache", "options"}
-    if not set(sections) <= known:
-        raise ValueError(f"sections must be a subset of {sorted(known)}, got {list(sections)}")
+    cfg = BenchConfig() if cfg is None else cfg
+    sections = cfg.sections
     comm = MPI.COMM_WORLD
     t0 = time.perf_counter()
     out: dict[str, Any] = {
-        "case": CASE,
-        "rms_target": RMS_TARGET,
-        "targets": TARGETS,
-        "repeats": repeats,
+        "config": to_json(cfg),
+        "case": cfg.case,
+        "rms_target": cfg.rms_target,
+        "targets": cfg.targets,
+        "repeats": cfg.repeats,
         "baseline": {
-            "kappa": f"{BASELINE_KAPPA:g} E / mm",
-            "ladder": BASELINE_LADDER,
-            "force_rtol": BASELINE_FORCE_RTOL,
+            "kappa": f"{cfg.baseline_kappa:g} E / mm",
+            "ladder": cfg.baseline_ladder,
+            "force_rtol": cfg.baseline_force_rtol,
         },
         "cpu_count": os.cpu_count(),
         "load_avg_start": os.getloadavg(),
     }
     if "accuracy" in sections:
-        out["accuracy"] = time_to_accuracy(repeats=repeats, comm=comm, progress=progress, ladder=ladder)
+        out["accuracy"] = time_to_accuracy(cfg, comm=comm, progress=progress)
     if "linear" in sections:
-        row = contact_vs_linear(_case_run(), comm=comm, repeats=repeats)
+        row = contact_vs_linear(_case_run(cfg), cfg, comm=comm)
         out["linear"] = row
         progress(
             f"default: solver {row['solve_s']:.3f} s = {row['linear_solves_equivalent']:.1f} linear solves "
             f"({row['linear_s']:.4f} s); Newton its {row['newton_iterations']}"
         )
     if "scale" in sections:
-        out["scale"] = cost_growth(families=scale, progress=progress)
+        out["scale"] = cost_growth(cfg, progress=progress)
     if "mpi" in sections:
-        out["mpi"] = mpi_check(levels=mpi_levels, progress=progress)
+        out["mpi"] = mpi_check(cfg, progress=progress)
     if "cache" in sections:
-        out["cache"] = cold_warm(progress=progress)
+        out["cache"] = cold_warm(cfg, progress=progress)
     if "options" in sections:
-        out["options"] = solver_variants(level=option_level, comm=comm, repeats=repeats, progress=progress)
-        out["lu_reuse"] = lu_reuse(comm=comm, progress=progress)
+        out["options"] = solver_variants(cfg, comm=comm, progress=progress)
+        out["lu_reuse"] = lu_reuse(cfg, comm=comm, progress=progress)
     out["load_avg_end"] = os.getloadavg()
     out["bench_wall_time_s"] = time.perf_counter() - t0
     return out
@@ -964,50 +848,45 @@ def run_bench(
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m workbench.studies.bench [--repeats N] [--quick] [--sections ...]``; writes results/bench/."""
-    p = argparse.ArgumentParser(
-        prog="python -m workbench.studies.bench", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
-    p.add_argument("--repeats", type=int, default=3, help="warm repetitions per timing (best kept)")
+    """CLI ``workbench bench [--repeats N] [--quick] [--sections ...] [--out DIR]``; writes ``<results>/bench/``."""
+    p = argparse.ArgumentParser(prog="workbench bench", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--repeats", type=int, default=_DEFAULT.repeats, help="warm repetitions per timing (best kept)")
     p.add_argument("--quick", action="store_true", help="small sizes only (development)")
-    p.add_argument("--sections", nargs="+", default=["accuracy", "linear", "scale", "mpi", "cache", "options"])
-    p.add_argument("--out", type=Path, default=OUT_DIR)
+    p.add_argument("--sections", nargs="+", default=list(BENCH_SECTIONS), help="sections (default: %(default)s)")
+    p.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/bench)")
+    p.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
     p.add_argument("--worker", choices=("scale", "cold"), help=argparse.SUPPRESS)
+    p.add_argument("--worker-config", default=None, help=argparse.SUPPRESS)
     p.add_argument("--h-contact", type=float, default=None, help=argparse.SUPPRESS)
-    p.add_argument("--family", choices=tuple(SCALE), default="graded", help=argparse.SUPPRESS)
+    p.add_argument("--family", choices=SCALE_FAMILIES, default="graded", help=argparse.SUPPRESS)
     args = p.parse_args(argv)
-    if args.worker == "scale":
-        print("BENCH_JSON " + json.dumps(_worker_scale(args.family, args.h_contact), default=float), flush=True)
+    if args.worker:
+        cfg = from_json(BenchConfig, json.loads(args.worker_config) if args.worker_config else None, strict=True)
+        data = _worker_scale(cfg, args.family, args.h_contact) if args.worker == "scale" else _worker_cold(cfg)
+        print("BENCH_JSON " + json.dumps(data, default=float), flush=True)
         return 0
-    if args.worker == "cold":
-        print("BENCH_JSON " + json.dumps(_worker_cold(), default=float), flush=True)
-        return 0
-    kw: dict[str, Any] = {}
-    if args.quick:
-        kw = {
-            "scale": {"graded": SCALE["graded"][:3], "uniform": (0.4, 0.2)},
-            "mpi_levels": (None,),
-            "option_level": 0.0125,
-            "ladder": BASELINE_LADDER[:1],
-        }
     try:
-        data = run_bench(
-            repeats=args.repeats, sections=args.sections, progress=lambda s: print(f"[bench] {s}", flush=True), **kw
-        )
+        cfg = BenchConfig(repeats=args.repeats, sections=tuple(args.sections), out=args.out,
+                          mesh_cache=args.mesh_cache)
+        if args.quick:
+            cfg = cfg.quick()
+        data = run_bench(cfg, progress=lambda s: print(f"[bench] {s}", flush=True))
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     from workbench.studies.bench_report import to_markdown
 
-    write_json(args.out / "bench.json", data)
-    write_text(args.out / "report.md", to_markdown(data))
+    out = cfg.out_dir
+    write_json(out / "bench.json", data)
+    write_text(out / "report.md", to_markdown(data))
     try:
         from workbench.studies.bench_plot import plot_bench
 
-        plot_bench(data, args.out)
+        plot_bench(data, out)
     except ImportError:
         pass
-    print(f"[bench] wrote {args.out / 'report.md'}")
+    print(f"[bench] wrote {out / 'report.md'}")
     return 0
 
 

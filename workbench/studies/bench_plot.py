@@ -1,8 +1,8 @@
-"""Plots of the performance benchmark (reads ``results/bench/bench.json``; files only, Agg backend).
+"""Plots of the performance benchmark (reads ``<results>/bench/bench.json``; files only, Agg backend).
 
-Run: ``python -m workbench.studies.bench_plot [JSON]`` -> ``time_to_accuracy.png`` (RMS/p0 against warm time, baseline
-and the four configurations of ours) and ``cost_growth.png`` (solver, fast-variant and linear-solve time and
-peak memory against ndofs, log-log, with the fitted power laws) next to the JSON. ``python -m workbench.studies.bench``
+Run: ``python -m workbench.studies.bench_plot [JSON]`` -> ``time_to_accuracy.png`` (RMS/p0 against warm time,
+baseline and the four configurations of ours) and ``cost_growth.png`` (solver, fast-variant and linear-solve
+time and peak memory against ndofs, log-log, with the fitted power laws) next to the JSON. ``workbench bench``
 calls :func:`plot_bench` itself.
 """
 
@@ -18,11 +18,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402
 
+from workbench.paths import default_paths  # noqa: E402
 from workbench.reports.plots import load_study_json, save_figure  # noqa: E402
 
 __all__ = ["main", "plot_bench"]
 
-DEFAULT_JSON = Path("results") / "bench" / "bench.json"
 STYLE = {
     "baseline": ("k", "x", ":"),
     "penalty P1": ("tab:orange", "s", "--"),
@@ -108,7 +108,8 @@ def _save(fig, path: Path) -> Path:
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m workbench.studies.bench_plot [JSON]``."""
-    loaded = load_study_json(sys.argv[1:] if argv is None else argv, DEFAULT_JSON, producer="workbench.studies.bench")
+    loaded = load_study_json(sys.argv[1:] if argv is None else argv, default_paths().study("bench") / "bench.json",
+                             producer="workbench.studies.bench")
     if loaded is None:
         return 2
     path, data = loaded

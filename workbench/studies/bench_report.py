@@ -1,14 +1,16 @@
-"""Markdown report of the performance benchmark (:mod:`workbench.studies.bench`): formatting only, no computing.
+"""Markdown report of the performance benchmark: formatting only, no computing, no study code imported.
 
-:func:`to_markdown` turns the data of :func:`workbench.studies.bench.run_bench` (also ``results/bench/bench.json``) into
-``results/bench/report.md``, with a final table of the targets, each met / not met with its measured value.
+:func:`to_markdown` turns the benchmark JSON (``<results>/bench/bench.json``, the data of
+:func:`workbench.studies.bench.run_bench`) into ``report.md``, with a final table of the targets, each met / not
+met with its measured value. The settings (targets, baseline stiffness, box size, ...) are read from the
+JSON's ``config`` (:class:`workbench.studies.config.BenchConfig`; its defaults for keys an older JSON lacks).
 """
 
 from __future__ import annotations
 
 import math
 
-from workbench.studies.bench import BASELINE_FORCE_RTOL, BASELINE_KAPPA, RMS_TARGET, SCALE_BOX, SMALL_NDOFS, TARGETS
+from workbench.studies.config import BenchConfig, from_json
 
 __all__ = ["to_markdown"]
 
@@ -29,14 +31,14 @@ def _events(ev: dict) -> str:
     return f"{ev['MatLUFactorSym']['count']}/{ev['MatLUFactorNum']['count']}"
 
 
-def _md_accuracy(acc: dict, targets: list) -> list[str]:
+def _md_accuracy(acc: dict, targets: list, cfg: BenchConfig) -> list[str]:
     base = acc["baseline_reached"]
     L = [
         "## 1. Time to accuracy",
         "",
         f"Baseline: uniform right triangles over the whole half box (W = H = box a, no grading), P2, penalty "
-        f"with fixed kappa = {BASELINE_KAPPA:g} E/mm (not scaled by 1/h), force control to "
-        f"{BASELINE_FORCE_RTOL:g} P (the solver's force corrections: tangent of the last state, else secant), "
+        f"with fixed kappa = {cfg.baseline_kappa:g} E/mm (not scaled by 1/h), force control to "
+        f"{cfg.baseline_force_rtol:g} P (the solver's force corrections: tangent of the last state, else secant), "
         "full-step semismooth Newton from zero, no predictor. Ours: the case settings (Hertz predictor, "
         f"active-set predictor, {acc.get('case_steps', '?')} load step(s), force to 1e-10 P) on the graded mesh "
         "of meshes.block (W = H = 40 a). Warm total = mesh (cached) + solve + comparison.",
@@ -69,7 +71,7 @@ def _md_accuracy(acc: dict, targets: list) -> list[str]:
     if base is None:
         last = acc["baseline"][-1]
         L.append(
-            f"The baseline did NOT reach rms <= {RMS_TARGET:.1%} on its ladder (finest rung {last['ndofs']} "
+            f"The baseline did NOT reach rms <= {cfg.rms_target:.1%} on its ladder (finest rung {last['ndofs']} "
             f"dofs: rms {_f(last['rms'])} in {_f(last['total_s'])} s). 'lower bound' = that time / ours "
             "to the target: the baseline needs more than that."
         )
@@ -94,20 +96,23 @@ def _md_accuracy(acc: dict, targets: list) -> list[str]:
                 f"{_f(r['ours_total_s'])} | {_f(r['ratio_total'])} | {_f(r['ratio_solve'])} |"
             )
     L.append("")
-    label = ">= 10x faster than the baseline to rms <= 0.5 % (best configuration, warm total)"
+    tg = cfg.targets
+    label = (f">= {tg['speedup_vs_baseline']:g}x faster than the baseline to rms <= {100 * cfg.rms_target:g} % "
+             "(best configuration, warm total)")
     if base is None:
         label += " [lower bound]"
-    targets.append((label, _f(best), None if best is None else best >= TARGETS["speedup_vs_baseline"]))
+    targets.append((label, _f(best), None if best is None else best >= tg["speedup_vs_baseline"]))
     return L
 
 
-def _md_linear(lin: dict, targets: list) -> list[str]:
+def _md_linear(lin: dict, targets: list, cfg: BenchConfig) -> list[str]:
     ev = lin["events"]
+    n = cfg.targets["linear_solves"]
     targets.append(
         (
-            "contact solve <= 4 linear solves (default case)",
+            f"contact solve <= {n:g} linear solves (default case)",
             _f(lin["linear_solves_equivalent"]),
-            lin["linear_solves_equivalent"] <= TARGETS["linear_solves"],
+            lin["linear_solves_equivalent"] <= n,
         )
     )
     return [
@@ -125,13 +130,13 @@ def _md_linear(lin: dict, targets: list) -> list[str]:
     ]
 
 
-def _md_scale(sc: dict, targets: list) -> list[str]:
+def _md_scale(sc: dict, targets: list, cfg: BenchConfig) -> list[str]:
     L = [
         "## 3. Cost growth (P2, the case's Nitsche solver, one process per size)",
         "",
         f"graded: meshes.block at decreasing h_c (W = H = 40 a); uniform: the baseline's half box W = H = "
-        f"{SCALE_BOX:g} a. 'solver' = case settings. Times: fresh process with warm JIT cache, best of 3 "
-        f"in-process solves below {SMALL_NDOFS} dofs, else of 2. Peak RSS = VmHWM of that process "
+        f"{cfg.scale_box:g} a. 'solver' = case settings. Times: fresh process with warm JIT cache, best of 3 "
+        f"in-process solves below {cfg.small_ndofs} dofs, else of 2. Peak RSS = VmHWM of that process "
         "(ru_maxrss is inherited from the parent on Linux): after mesh + the first contact solve, and at the "
         "end (contact solves and linear solves, whose factors may all still be alive).",
         "",
@@ -162,14 +167,16 @@ def _md_scale(sc: dict, targets: list) -> list[str]:
                 continue
             k = f["solve_s"][fit]["exponent"]
             what = "all sizes" if fit == "all" else "largest 3 sizes"
-            targets.append((f"cost exponent <= 1.3 ({family}, case solver, {what})", _f(k), k <= TARGETS["exponent"]))
+            targets.append((f"cost exponent <= {cfg.targets['exponent']:g} ({family}, case solver, {what})", _f(k),
+                            k <= cfg.targets["exponent"]))
         big = fam["rows"][-1]
         for key, what in (("linear_solves_equivalent", "case solver"),):
             targets.append(
                 (
-                    f"contact solve <= 4 linear solves ({family}, {big['ndofs']} dofs, {what})",
+                    f"contact solve <= {cfg.targets['linear_solves']:g} linear solves ({family}, {big['ndofs']} dofs, "
+                    f"{what})",
                     _f(big[key]),
-                    big[key] <= TARGETS["linear_solves"],
+                    big[key] <= cfg.targets["linear_solves"],
                 )
             )
     L.append("")
@@ -195,7 +202,7 @@ def _md_mpi(mp: dict) -> list[str]:
     return L + [""]
 
 
-def _md_cache(ca: dict, op: dict | None, targets: list) -> list[str]:
+def _md_cache(ca: dict, op: dict | None, targets: list, cfg: BenchConfig) -> list[str]:
     L = ["## 5. Repeated work", ""]
     if ca:
         c, w = ca["cold_process"], ca["disk_warm_process"]
@@ -213,17 +220,18 @@ def _md_cache(ca: dict, op: dict | None, targets: list) -> list[str]:
         ]
         targets.append(
             (
-                "default hertz_cylinder (rms <= 0.5 %) in <= 3 s warm (whole CLI process)",
+                f"default {cfg.case} (rms <= {100 * cfg.rms_target:g} %) in <= "
+                f"{cfg.targets['default_warm_s']:g} s warm (whole CLI process)",
                 _f(ca["cli_warm_process_s"]),
-                ca["cli_warm_process_s"] <= TARGETS["default_warm_s"],
+                ca["cli_warm_process_s"] <= cfg.targets["default_warm_s"],
             )
         )
     if op:
         L += [
             f"Solver options at h_c = a*{op['h_over_a']:g} (graded, {op['rows'][0]['ndofs']} dofs; one "
             "linear "
-            f"solve {_f(op['linear']['linear_s'])} s). PETSc options go through "
-            "`solve_contact(..., petsc_options=...)` and reach the Newton solve only (the Hertz predictor's "
+            f"solve {_f(op['linear']['linear_s'])} s). PETSc options go through the wiring's "
+            "`petsc_options` override and reach the Newton solve only (the Hertz predictor's "
             "MUMPS solve keeps its defaults).",
             "",
             "| variant | solver (s) | linear solves | Newton its | LU sym/num | symbolic (s) | numeric (s) | rms |",
@@ -263,35 +271,36 @@ def _md_reuse(lr: dict) -> list[str]:
         "",
         "GMRES needs about one triangular solve per contact dof whose state differs from the first "
         "Jacobian, so this wins only when the contact zone holds few dofs (see the comment at "
-        "REUSE_LU in workbench/studies/bench.py).",
+        "reuse_lu in workbench/studies/config.py, BenchConfig).",
         "",
     ]
 
 
 def to_markdown(data: dict) -> str:
-    """The benchmark report (Markdown) from :func:`run_bench` data."""
+    """The benchmark report (Markdown) from the benchmark JSON (its ``config``; defaults where it has none)."""
+    cfg = from_json(BenchConfig, data.get("config"))
     L = [
-        "# Performance benchmark (hertz_cylinder)",
+        f"# Performance benchmark ({cfg.case})",
         "",
-        f"`python -m workbench.studies.bench` (`make bench`): {_f(data.get('bench_wall_time_s'), '.0f')} s on "
+        f"`workbench bench`: {_f(data.get('bench_wall_time_s'), '.0f')} s on "
         f"{data.get('cpu_count')} cores, load average {_f(data['load_avg_start'][0], '.2f')} at start and "
         f"{_f(data.get('load_avg_end', [math.nan])[0], '.2f')} at the end (the CPU is shared: times are the "
         "best "
         f"of the repeats and carry that noise). Error: RMS(p - p_H)/p0 at the measured load; target "
-        f"{RMS_TARGET:.1%}. Warm: JIT and mesh caches filled, forms loaded once in the process.",
+        f"{cfg.rms_target:.1%}. Warm: JIT and mesh caches filled, forms loaded once in the process.",
         "",
     ]
     targets: list = []
     if data.get("accuracy"):
-        L += _md_accuracy(data["accuracy"], targets)
+        L += _md_accuracy(data["accuracy"], targets, cfg)
     if data.get("linear"):
-        L += _md_linear(data["linear"], targets)
+        L += _md_linear(data["linear"], targets, cfg)
     if data.get("scale"):
-        L += _md_scale(data["scale"], targets)
+        L += _md_scale(data["scale"], targets, cfg)
     if data.get("mpi"):
         L += _md_mpi(data["mpi"])
     if data.get("cache") or data.get("options"):
-        L += _md_cache(data.get("cache"), data.get("options"), targets)
+        L += _md_cache(data.get("cache"), data.get("options"), targets, cfg)
     if data.get("lu_reuse"):
         L += _md_reuse(data["lu_reuse"])
     L += ["## Targets", "", "| target | measured | status |", "|---|---|---|"]

@@ -1,11 +1,13 @@
 """Convective-effect table (Ciavarella & Hills): b/b0 at fixed load, and the paper's figures checked.
 
-Run: ``python -m workbench.studies.convective_table`` -> results/analytic/convective.{json,md} (written atomically).
-Computing (:func:`compute`) is separate from formatting (:func:`to_markdown`).
+Run: ``workbench convective-table [--out DIR]`` -> ``<results>/analytic/convective.{json,md}`` (written
+atomically). What is tabulated is :class:`ConvectiveTableConfig`; computing (:func:`compute`) is separate from
+formatting (:func:`to_markdown`).
 """
 
 from __future__ import annotations
 
+import argparse
 import math
 import sys
 from pathlib import Path
@@ -15,16 +17,9 @@ from scipy import optimize
 
 from analytic import convective, materials, wedge
 from workbench.atomic import write_json, write_text
+from workbench.studies.config import ConvectiveTableConfig, to_json
 
-__all__ = ["compute", "main", "to_markdown"]
-
-OUT_DIR = Path("results") / "analytic"
-THETAS = {"pi/20": math.pi / 20, "pi/10": math.pi / 10, "pi/5": math.pi / 5}
-WEDGE_BETAS = (-0.5, -0.25, -0.1)
-PARABOLA_B0_OVER_R = (0.05, 0.1, 0.25, 0.4)
-PARABOLA_BETAS = (-0.5, -0.25)
-N_NODES = 65536
-SELF_CONVERGENCE_NODES = (1024, 4096, 16384, 65536, 262144)
+__all__ = ["ConvectiveTableConfig", "compute", "main", "to_markdown"]
 
 
 def _row(sol: convective.ConvectiveSolution, **extra: Any) -> dict[str, Any]:
@@ -40,41 +35,43 @@ def _row(sol: convective.ConvectiveSolution, **extra: Any) -> dict[str, Any]:
     }
 
 
-def _parabola_converged_at_b_over_R(b_over_R: float, beta: float) -> tuple[float, float]:
+def _parabola_converged_at_b_over_R(b_over_R: float, beta: float, *, n_nodes: int) -> tuple[float, float]:
     """(b0/R, converged b/b0) such that the CONVERGED b/R equals ``b_over_R`` (the paper quotes b/R)."""
 
     def mismatch(r0: float) -> float:
         prof = convective.parabola_profile(r0)
-        return r0 * convective.converged_b_over_b0(prof, beta=beta, n_nodes=N_NODES) - b_over_R
+        return r0 * convective.converged_b_over_b0(prof, beta=beta, n_nodes=n_nodes) - b_over_R
 
     r0 = optimize.brentq(mismatch, 0.5 * b_over_R, b_over_R, xtol=1e-14)
     return r0, b_over_R / r0
 
 
-def compute() -> dict[str, Any]:
-    """All numbers of the table (no formatting)."""
+def compute(cfg: ConvectiveTableConfig | None = None) -> dict[str, Any]:
+    """All numbers of the table (no formatting); ``cfg`` defaults to :class:`ConvectiveTableConfig`."""
+    cfg = ConvectiveTableConfig() if cfg is None else cfg
+    n_nodes = cfg.n_nodes
     wedge_rows = []
     for conv in ("paper", "exact"):
-        for name, th in THETAS.items():
+        for name, th in cfg.thetas.items():
             m = wedge.wedge_slope(th, convention=conv)
-            for beta in WEDGE_BETAS:
-                sol = convective.solve(convective.wedge_profile(m), beta=beta, n_nodes=N_NODES)
+            for beta in cfg.wedge_betas:
+                sol = convective.solve(convective.wedge_profile(m), beta=beta, n_nodes=n_nodes)
                 wedge_rows.append(_row(sol, convention=conv, theta=name, theta_rad=th, m=m))
     parabola_rows = []
-    for r0 in PARABOLA_B0_OVER_R:
-        for beta in PARABOLA_BETAS:
-            sol = convective.solve(convective.parabola_profile(r0), beta=beta, n_nodes=N_NODES)
+    for r0 in cfg.parabola_b0_over_R:
+        for beta in cfg.parabola_betas:
+            sol = convective.solve(convective.parabola_profile(r0), beta=beta, n_nodes=n_nodes)
             parabola_rows.append(_row(sol, b0_over_R=r0))
 
     # paper figures
     th, beta = math.pi / 5, -0.5
-    w = convective.solve(convective.wedge_profile(th), beta=beta, n_nodes=N_NODES)
+    w = convective.solve(convective.wedge_profile(th), beta=beta, n_nodes=n_nodes)
     printed_form = 1.0 / (1.0 - (4.0 / math.pi**2) * th * abs(beta) * math.log(2.0))
-    r0_q, conv_q = _parabola_converged_at_b_over_R(0.25, -0.5)
-    r0_4, conv_4 = _parabola_converged_at_b_over_R(0.4, -0.5)
+    r0_q, conv_q = _parabola_converged_at_b_over_R(0.25, -0.5, n_nodes=n_nodes)
+    r0_4, conv_4 = _parabola_converged_at_b_over_R(0.4, -0.5, n_nodes=n_nodes)
     # similarity: converged wedge b/b0 depends on m*beta only
-    sim_a = convective.converged_b_over_b0(convective.wedge_profile(math.pi / 10), beta=-0.5, n_nodes=N_NODES)
-    sim_b = convective.converged_b_over_b0(convective.wedge_profile(math.pi / 5), beta=-0.25, n_nodes=N_NODES)
+    sim_a = convective.converged_b_over_b0(convective.wedge_profile(math.pi / 10), beta=-0.5, n_nodes=n_nodes)
+    sim_b = convective.converged_b_over_b0(convective.wedge_profile(math.pi / 5), beta=-0.25, n_nodes=n_nodes)
     checks = [
         {
             "claim": "eq. (7): rigid indenter, nu2 = 0 -> beta = -1/2",
@@ -146,10 +143,11 @@ def compute() -> dict[str, Any]:
         ("parabola b0/R=0.25, beta=-0.5", convective.parabola_profile(0.25), -0.5),
     ):
         selfconv[key] = [
-            r._asdict() for r in convective.self_convergence(prof, beta=b, n_nodes=SELF_CONVERGENCE_NODES)
+            r._asdict() for r in convective.self_convergence(prof, beta=b, n_nodes=cfg.self_convergence_nodes)
         ]
     return {
-        "n_nodes": N_NODES,
+        "config": to_json(cfg),
+        "n_nodes": n_nodes,
         "wedge": wedge_rows,
         "parabola": parabola_rows,
         "paper_checks": checks,
@@ -221,12 +219,16 @@ def to_markdown(data: dict[str, Any]) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Compute and write results/analytic/convective.{json,md}."""
-    del argv
-    data = compute()
-    write_json(OUT_DIR / "convective.json", data)
-    write_text(OUT_DIR / "convective.md", to_markdown(data))
-    print(f"wrote {OUT_DIR / 'convective.json'} and {OUT_DIR / 'convective.md'}")
+    """CLI ``workbench convective-table [--out DIR]``: compute and write convective.{json,md}."""
+    ap = argparse.ArgumentParser(prog="workbench convective-table", description=__doc__.splitlines()[0])
+    ap.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/analytic)")
+    args = ap.parse_args(argv)
+    cfg = ConvectiveTableConfig(out=args.out)
+    data = compute(cfg)
+    out = cfg.out_dir
+    write_json(out / "convective.json", data)
+    write_text(out / "convective.md", to_markdown(data))
+    print(f"wrote {out / 'convective.json'} and {out / 'convective.md'}")
     return 0
 
 

@@ -1,23 +1,27 @@
 """Convergence study (issue "Error against run time"): error against ndofs and WARM wall time.
 
-Run: ``python -m workbench.studies.convergence`` (``make convergence``) -> ``results/convergence/``: convergence.json,
-convergence.csv (one row per case x series x method x degree x level) and, from the JSON, report.md
-(:mod:`workbench.studies.convergence_report`) and error_vs_time/ndofs.png (:mod:`workbench.studies.convergence_plot`); atomic.
+Run: ``workbench convergence [options]`` -> ``<results>/convergence/``: convergence.json (the config and every
+row), convergence.csv (one row per case x series x method x degree x level) and, from the JSON, report.md
+(:mod:`workbench.studies.convergence_report`) and error_vs_time/ndofs.png
+(:mod:`workbench.studies.convergence_plot`); atomic. What is run is :class:`ConvergenceConfig`.
 
 Study: for ``hertz_cylinder`` and ``wedge_convective``, method {penalty, nitsche} x Lagrange degree {1, 2} x
 contact element size ``h_c`` (fraction of the classical half-width a or b0), in two series:
 
 * ``case``: the case file as it is (kappa0 = 1e3, gamma0 = 10, mesh growth 1.3, Hertz block 40 a with the
-  exact circle, wedge block 160 b0), refined in h_c only (``DEFAULT_LEVELS``). Its errors stop at the
-  model floors (finite block, circle against parabola) and at the fixed far-field grading.
+  exact circle, wedge block 160 b0), refined in h_c only (``levels``). Its errors stop at the model floors
+  (finite block, circle against parabola) and at the fixed far-field grading.
 * ``ideal``: the model floors removed (block 640 a, Hertz parabola) AND the grading refined with h_c,
-  growth = 1 + ``GROWTH_PER_H`` h_c (:func:`ideal_growth`), so that the whole size field
-  h(d) = h_c a + (growth - 1) d scales with h_c: a genuine h-refinement family (``IDEAL_LEVELS``).
+  growth = 1 + ``growth_per_h`` h_c (:func:`ideal_growth`), so that the whole size field
+  h(d) = h_c a + (growth - 1) d scales with h_c: a genuine h-refinement family (``ideal_levels``).
 
-Each run is solved once to warm the JIT and file caches (``cold_s``), then ``repeats`` more identical times;
-``time_s`` is the median of those warm solver times (``fem.solver`` load stepping only, no meshing).
+Each run goes through the case pipeline (:func:`workbench.pipeline.run_case.run_one`: its scene's mesh, the
+wiring's solve, its scene's comparison) once to warm the JIT and file caches (``cold_s``), then ``repeats``
+more identical times; ``time_s`` is the median of those warm solver times (``fem.solver`` load stepping only,
+no meshing). A case's runs are judged together by its scene (``scene_for(run).judge``: b/b0).
 
-Errors (relative, dimensionless; formulas in :mod:`workbench.scenes.block_theory` and :mod:`workbench.scenes.convective`):
+Errors (relative, dimensionless; formulas in :mod:`workbench.scenes.block_theory` and
+:mod:`workbench.scenes.convective`):
     p_max, half_width, rms (RMS(p - p_th)/p_ref over |x| <= 1.05 max(a_fem, a), trapezoid over the samples),
     l2 (the same mean with the contact-facet Gauss weights, :func:`l2_pressure_error`) and, Hertz only,
     l2_inner (the same on |x| <= 0.8 a, away from the square-root edges); p_ref = p0 (Hertz) or P/(2b)
@@ -26,7 +30,8 @@ Errors (relative, dimensionless; formulas in :mod:`workbench.scenes.block_theory
     timed by the small + convective pair (``time_pair_s``).
 
 Observed rates: least-squares slope of log(error) against log(h_c) and against log(ndofs) over the finest
-three levels (:func:`fit_rate`), judged against ``EXPECTED_RATES`` +- ``RATE_BAND`` (:func:`judge_rates`).
+three levels (:func:`workbench.studies.rates.fit_rate`), judged against ``expected_rates`` +- ``rate_band``
+(:func:`judge_rates`).
 """
 
 from __future__ import annotations
@@ -47,118 +52,24 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from workbench.atomic import write_json, write_text
+from workbench.studies.config import ConvergenceConfig, to_json
+from workbench.studies.rates import fit_rate
 
-__all__ = ["CASES", "DEFAULT_LEVELS", "EXPECTED_RATES", "IDEAL_LEVELS", "METRICS", "RateFit", "cheapest",
-           "fit_rate", "ideal_growth", "judge_rates", "l2_pressure_error", "main", "observed_rates",
-           "run_study", "to_csv", "write_outputs"]
+__all__ = ["ConvergenceConfig", "cheapest", "ideal_growth", "judge_rates", "l2_pressure_error", "main",
+           "observed_rates", "run_study", "to_csv", "write_outputs"]
 
-OUT_DIR = Path("results") / "convergence"
-CASES = ("hertz_cylinder", "wedge_convective")
-DEFAULT_LEVELS = (0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625, 0.003125)  # series `case`
-IDEAL_LEVELS = (0.4, 0.2, 0.1, 0.05, 0.025)  # series `ideal`: growth 1.8 ... 1.05
-GROWTH_PER_H = 2.0  # ideal series: growth - 1 = GROWTH_PER_H h_c
-GROWTH_RANGE = (1.05, 2.0)  # cases.schema Discretisation.growth
-METHODS = ("penalty", "nitsche")
-DEGREES = (1, 2)
-N_FINEST = 3
-RMS_TARGET = 0.005  # issue: cheapest configuration with RMS/p_ref <= 0.5 %
-INNER = 0.8  # l2_inner: |x| <= INNER a
-METRICS = {  # error columns per case (row keys)
-    "hertz_cylinder": ("p_max", "half_width", "rms", "l2", "l2_inner"),
-    "wedge_convective": ("b_over_b0", "rms_convective", "half_width", "rms", "l2"),
-}
-TIME_OF = {"b_over_b0": "time_pair_s", "rms_convective": "time_pair_s"}  # default "time_s"
-BIG = {"width_factor": 640.0, "height_factor": 640.0}
-SERIES = {  # geometry overrides of each series (the ideal series also refines the grading: ideal_growth)
-    "hertz_cylinder": {"case": {}, "ideal": {**BIG, "indenter": "parabola"}},
-    "wedge_convective": {"case": {}, "ideal": BIG},
-}
-# Expected rates of the error against h_c (derivation in workbench/studies/convergence_report.py, RATE_NOTES):
-# the square-root edge of the Hertz pressure caps any L2 pressure error at h^1 (P1 and P2); the log apex
-# singularity of the wedge pressure caps it at h^(1/2). The Hertz case series sits on model floors (no rate).
-EXPECTED_RATES = {
-    "hertz_cylinder/ideal": {"rms": 1.0, "l2": 1.0},
-    "wedge_convective/ideal": {"rms": 0.5, "l2": 0.5},
-    "wedge_convective/case": {"rms": 0.5, "l2": 0.5},
-}
-RATE_BAND = 0.15
-FLOORS = {  # finest case level, Nitsche P2: decomposition of the model floors (geometry overrides)
-    "hertz_cylinder": {"case (W = H = 40 a, circle)": {}, "W = H = 640 a, circle": BIG,
-                       "W = H = 640 a, parabola": {**BIG, "indenter": "parabola"}},
-    "wedge_convective": {"W = H = 40 b0": {"width_factor": 40.0, "height_factor": 40.0},
-                         "case (W = H = 160 b0)": {}, "W = H = 640 b0": BIG},
-}
-KAPPA0_SWEEP = (1e2, 1e3, 1e4, 1e5)
-KAPPA0_LEVEL = 0.0125
-GRADING_PROBE = {"case": "hertz_cylinder", "series": "ideal", "degrees": (1, 2)}  # ideal geometry, growth 1.3
-# One ideal level beyond the study, growth 1 + GROWTH_PER_H h_c = 1.025 (below the case schema's 1.05: a
-# diagnostic only): slopes refitted over its finest three levels show where the ideal rates are heading.
-# Nitsche P2 is also solved at h_c perturbed by +-10 % around the two finest levels (same growth rule): the
-# spread of rms/h_c measures how much the position of the contact edge within its element moves the error.
-EXTENSION = {"case": "hertz_cylinder", "series": "ideal", "level": 0.0125,
-             "perturbed": (0.0275, 0.0225, 0.0135, 0.0115)}
+_DEFAULT = ConvergenceConfig()
 
 
-def ideal_growth(h_contact: float) -> float:
-    """Mesh growth of the ideal series: 1 + GROWTH_PER_H h_c, so the size field scales with h_c.
+def ideal_growth(h_contact: float, *, config: ConvergenceConfig = _DEFAULT) -> float:
+    """Mesh growth of the ideal series: 1 + growth_per_h h_c, so the size field scales with h_c.
 
     Args:
-        h_contact: Contact element size as a fraction of the half-width, in [0.025, 0.5] (so that the growth
-            stays in the case schema's range [1.05, 2]).
+        h_contact: Contact element size as a fraction of the half-width, in [0.025, 0.5] by default (so that
+            the growth stays in the case schema's range [1.05, 2]).
+        config: The study's config (growth_per_h, growth_range).
     """
-    g = 1.0 + GROWTH_PER_H * float(h_contact)
-    if not GROWTH_RANGE[0] - 1e-12 <= g <= GROWTH_RANGE[1] + 1e-12:
-        lo, hi = ((r - 1.0) / GROWTH_PER_H for r in GROWTH_RANGE)
-        raise ValueError(f"h_contact must be in [{lo:g}, {hi:g}] for the ideal series, got {h_contact}")
-    return float(np.clip(g, *GROWTH_RANGE))
-
-
-class RateFit(NamedTuple):
-    """Least-squares line log(err) = intercept + slope log(x) over the finest points.
-
-    Attributes:
-        slope: Observed rate (err ~ x^slope): > 0 against h, < 0 against ndofs.
-        intercept: Natural-log intercept.
-        n_points: Number of points fitted.
-        max_residual: Largest |log err - fit| over the fitted points (0 for an exact power law).
-    """
-
-    slope: float
-    intercept: float
-    n_points: int
-    max_residual: float
-
-
-def fit_rate(x: Sequence[float], err: Sequence[float], *, n_finest: int = N_FINEST) -> RateFit:
-    """Slope of log(err) against log(x) fitted over the last ``n_finest`` points (scikit-fem style).
-
-    Args:
-        x: Mesh measure of each level, ordered coarse to fine (h_c decreasing or ndofs increasing), > 0.
-        err: Error of each level (> 0 and finite on the fitted levels).
-        n_finest: Number of finest levels fitted, >= 2.
-
-    Raises:
-        ValueError: Mismatched or too short inputs, non-monotone x, or a non-positive/non-finite value.
-    """
-    x, err = np.asarray(x, dtype=float), np.asarray(err, dtype=float)
-    if int(n_finest) != n_finest or n_finest < 2:
-        raise ValueError(f"n_finest must be an integer >= 2, got {n_finest!r}")
-    if x.ndim != 1 or x.shape != err.shape:
-        raise ValueError(f"x and err must be 1D of equal length, got shapes {x.shape} and {err.shape}")
-    if x.size < n_finest:
-        raise ValueError(f"x has {x.size} levels; need at least n_finest = {n_finest}")
-    xs, es = x[-n_finest:], err[-n_finest:]
-    if not np.all(np.isfinite(xs) & (xs > 0)):
-        raise ValueError(f"x must be finite and > 0 on the fitted levels, got {xs.tolist()}")
-    dx = np.diff(xs)
-    if not (np.all(dx > 0) or np.all(dx < 0)):
-        raise ValueError(f"x must be strictly monotone (coarse to fine), got {xs.tolist()}")
-    if not np.all(np.isfinite(es) & (es > 0)):
-        raise ValueError(f"err must be finite and > 0 on the fitted levels, got {es.tolist()}")
-    lx, le = np.log(xs), np.log(es)
-    slope, intercept = np.polyfit(lx, le, 1)
-    resid = float(np.max(np.abs(le - (intercept + slope * lx))))
-    return RateFit(float(slope), float(intercept), int(n_finest), resid)
+    return config.ideal_growth(h_contact)
 
 
 def l2_pressure_error(samples, theory, *, half_width_fem: float, x_max: float | None = None) -> float:
@@ -190,18 +101,18 @@ def l2_pressure_error(samples, theory, *, half_width_fem: float, x_max: float | 
 
 
 class _Timed(NamedTuple):
-    outcome: Any       # the last workbench.scenes.records.Outcome
+    outcome: Any       # the last workbench.scenes.base.Outcome
     cold_s: float      # solver time of the first solve (s)
     warm_s: list       # solver times of the repeated identical solves (s); [cold_s] when repeats = 0
     spread: float      # max relative change of the FEM half-width across the solves (determinism check)
 
 
-def _timed_run(run, *, name: str, repeats: int, comm) -> _Timed:
+def _timed_run(run, *, name: str, repeats: int, comm, mesh_cache: Path) -> _Timed:
     """First (warm-up) solve, then ``repeats`` identical solves; returns the last outcome and the times."""
-    from workbench.scenes.block import run_block
+    from workbench.pipeline.run_case import run_one
 
     def solve():
-        return run_block(run, name=name, stage=None, comm=comm, progress=lambda s: None)
+        return run_one(run, name=name, mesh_cache=mesh_cache, comm=comm, progress=lambda s: None)
 
     first = last = solve()
     a0, warm, spread = first.metrics["patch_half_width"], [], 0.0
@@ -220,10 +131,10 @@ def _configure(run, *, method: str, degree: int, geometry: dict, growth: float |
     return replace(run, solver=solver, discretisation=disc, geometry=replace(run.geometry, **geometry))
 
 
-def _measure(case, *, series: str, geometry: dict, method: str, degree: int, level: float, repeats: int,
-             comm, growth: float | None = None, kappa0: float | None = None) -> dict:
+def _measure(case, cfg: ConvergenceConfig, *, series: str, geometry: dict, method: str, degree: int, level: float,
+             repeats: int, comm, growth: float | None = None, kappa0: float | None = None) -> dict:
     """One configuration: every run of the case, timed; returns its CSV/JSON row (NaN errors on failure)."""
-    from workbench.scenes.convective import case_level_comparisons
+    from workbench.scenes import scene_for
 
     row = {"case": case.name, "series": series, "method": method, "degree": degree, "h_contact": level,
            "growth": growth if growth is not None else case.discretisation.growth,
@@ -235,7 +146,7 @@ def _measure(case, *, series: str, geometry: dict, method: str, degree: int, lev
     try:
         timed = {run.label: _timed_run(_configure(run, method=method, degree=degree, geometry=geometry,
                                                   growth=growth, kappa0=kappa0),
-                                       name=case.name, repeats=repeats, comm=comm)
+                                       name=case.name, repeats=repeats, comm=comm, mesh_cache=cfg.cache_dir)
                  for run in case.runs(h_contact=level)}
     except RuntimeError as exc:  # fem.solver.ContactSolveError: record, keep the study going
         row["failed"] = str(exc).splitlines()[0]
@@ -258,9 +169,10 @@ def _measure(case, *, series: str, geometry: dict, method: str, degree: int, lev
     )
     if o.theory.kind != "wedge":  # the wedge pressure is log-singular at x = 0: no smooth inner band
         row["l2_inner"] = l2_pressure_error(smp, o.theory, half_width_fem=a_fem,
-                                            x_max=INNER * float(o.theory.half_width))
+                                            x_max=cfg.inner * float(o.theory.half_width))
     if len(timed) > 1:
-        cmp = case_level_comparisons(case, [x.outcome for x in timed.values()])
+        outcomes = [x.outcome for x in timed.values()]
+        cmp = scene_for(outcomes[0].run).judge(case, outcomes)
         row.update(b_over_b0=float(cmp.errors.get("b_over_b0", math.nan)),
                    rms_convective=float(cmp.errors.get("rms_convective", math.nan)),
                    b_over_b0_fem=float(cmp.analytic.get("b_over_b0_fem", math.nan)),
@@ -275,8 +187,8 @@ def _group(rows: list[dict], *keys: str) -> dict[tuple, list[dict]]:
     return out
 
 
-def observed_rates(rows: list[dict], *, metrics: dict[str, Sequence[str]] = METRICS,
-                   n_finest: int = N_FINEST) -> list[dict]:
+def observed_rates(rows: list[dict], *, metrics: dict[str, Sequence[str]] = _DEFAULT.metrics,
+                   n_finest: int = _DEFAULT.n_finest) -> list[dict]:
     """Fitted slopes per case x series x method x degree x metric, against h_c and against ndofs.
 
     Rows of one configuration are sorted coarse to fine (h_c decreasing). A metric with a non-finite or zero
@@ -300,8 +212,8 @@ def observed_rates(rows: list[dict], *, metrics: dict[str, Sequence[str]] = METR
     return out
 
 
-def judge_rates(rates: list[dict], *, expected: dict[str, dict[str, float]] = EXPECTED_RATES,
-                band: float = RATE_BAND) -> list[dict]:
+def judge_rates(rates: list[dict], *, expected: dict[str, dict[str, float]] = _DEFAULT.expected_rates,
+                band: float = _DEFAULT.rate_band) -> list[dict]:
     """Each rate record with ``expected`` (slope against h_c, or None) and ``verdict``.
 
     verdict: ``"within"`` when |slope_h - expected| <= band, ``"outside"`` otherwise, ``"no fit"`` when the
@@ -322,17 +234,18 @@ def judge_rates(rates: list[dict], *, expected: dict[str, dict[str, float]] = EX
     return out
 
 
-def _extension_rates(rows: list[dict], ext: list[dict]) -> list[dict]:
-    """Rates of the ideal series refitted with the extension level (its finest three levels), judged."""
+def _extension_rates(rows: list[dict], ext: list[dict], cfg: ConvergenceConfig) -> list[dict]:
+    """Rates of the ideal series refitted with the extension level (its finest levels), judged."""
     if not ext:
         return []
-    case, series = EXTENSION["case"], EXTENSION["series"]
+    case, series = cfg.extension["case"], cfg.extension["series"]
     label = f"{series} + extension"
     sel = [{**r, "series": label} for r in rows if (r["case"], r["series"]) == (case, series)] + ext
-    return judge_rates(observed_rates(sel), expected={f"{case}/{label}": EXPECTED_RATES[f"{case}/{series}"]})
+    return judge_rates(observed_rates(sel, metrics=cfg.metrics, n_finest=cfg.n_finest),
+                       expected={f"{case}/{label}": cfg.expected_rates[f"{case}/{series}"]}, band=cfg.rate_band)
 
 
-def cheapest(rows: list[dict], *, metric: str = "rms", target: float = RMS_TARGET) -> dict[str, dict | None]:
+def cheapest(rows: list[dict], *, metric: str = "rms", target: float = _DEFAULT.rms_target) -> dict[str, dict | None]:
     """Per ``case/series``, the row with the smallest warm time among those with ``row[metric] <= target``."""
     out = {}
     for (case, series), sel in sorted(_group(rows, "case", "series").items()):
@@ -341,19 +254,13 @@ def cheapest(rows: list[dict], *, metric: str = "rms", target: float = RMS_TARGE
     return out
 
 
-def run_study(*, cases: Sequence[str] = CASES, levels: Sequence[float] = DEFAULT_LEVELS,
-              ideal_levels: Sequence[float] = IDEAL_LEVELS, repeats: int = 3, diagnostics: bool = True,
-              progress: Callable[[str], None] = print) -> dict:
-    """Run the whole study and return the JSON-ready data (no files written).
+def run_study(cfg: ConvergenceConfig | None = None, *, progress: Callable[[str], None] = print) -> dict:
+    """Run the whole study of ``cfg`` (default :class:`ConvergenceConfig`) and return the JSON-ready data (no
+    files written).
 
-    Args:
-        cases: Case names (block scenes).
-        levels: h_c fractions of the ``case`` series, coarse to fine, each in (0, 1].
-        ideal_levels: h_c fractions of the ``ideal`` series, coarse to fine, each in [0.025, 0.5].
-        repeats: Timed warm solves per run after the warm-up solve, >= 1 (the median is kept).
-        diagnostics: Also run the model-floor decomposition (finest case level), the penalty kappa0 sweep and
-            the grading probe (ideal geometry, fixed growth).
-        progress: One-line status output.
+    The case series at ``cfg.levels``, the ideal series at ``cfg.ideal_levels`` (timed ``cfg.repeats`` times
+    after a warm-up), and with ``cfg.diagnostics`` the model-floor decomposition (finest case level), the
+    penalty kappa0 sweep, the grading probe (ideal geometry, fixed growth) and the extension level.
     """
     import dolfinx_solver  # noqa: F401  (before mpi4py/dolfinx)
 
@@ -361,16 +268,10 @@ def run_study(*, cases: Sequence[str] = CASES, levels: Sequence[float] = DEFAULT
 
     from cases import load_case
 
-    series_levels = {"case": [float(v) for v in levels], "ideal": [float(v) for v in ideal_levels]}
-    for key, lv in series_levels.items():
-        if len(lv) < N_FINEST or any(not 0 < v <= 1 for v in lv) or np.any(np.diff(lv) >= 0):
-            raise ValueError(f"{key} levels must be >= {N_FINEST} strictly decreasing values in (0, 1], "
-                             f"got {lv}")
-    for v in series_levels["ideal"]:
-        ideal_growth(v)
-    if int(repeats) != repeats or repeats < 1:
-        raise ValueError(f"repeats must be an integer >= 1, got {repeats!r}")
-    loaded = [load_case(c) for c in cases]  # validate all before running any
+    cfg = ConvergenceConfig() if cfg is None else cfg
+    series_levels = {"case": [float(v) for v in cfg.levels], "ideal": [float(v) for v in cfg.ideal_levels]}
+    repeats, n_finest = cfg.repeats, cfg.n_finest
+    loaded = [load_case(c) for c in cfg.cases]  # validate all before running any
     comm, t0 = MPI.COMM_WORLD, time.perf_counter()
 
     def say(r: dict) -> None:
@@ -384,62 +285,66 @@ def run_study(*, cases: Sequence[str] = CASES, levels: Sequence[float] = DEFAULT
 
     rows, floors, sweep, probe, ext, perturbed, section_s = [], [], [], [], [], [], {}
     for case in loaded:
-        for series, geometry in SERIES.get(case.name, {"case": {}}).items():
+        for series, geometry in cfg.series.get(case.name, {"case": {}}).items():
             ts = time.perf_counter()
-            for method in METHODS:
-                for degree in DEGREES:
+            for method in cfg.methods:
+                for degree in cfg.degrees:
                     for level in series_levels[series]:
-                        growth = ideal_growth(level) if series == "ideal" else None
-                        rows.append(_measure(case, series=series, geometry=geometry, method=method,
+                        growth = cfg.ideal_growth(level) if series == "ideal" else None
+                        rows.append(_measure(case, cfg, series=series, geometry=geometry, method=method,
                                              degree=degree, level=level, repeats=repeats, comm=comm,
                                              growth=growth))
                         say(rows[-1])
             section_s[f"{case.name}/{series}"] = time.perf_counter() - ts
-        if not diagnostics:
+        if not cfg.diagnostics:
             continue
         ts = time.perf_counter()
-        for label, geometry in FLOORS.get(case.name, {}).items():
-            floors.append(_measure(case, series=label, geometry=geometry, method="nitsche", degree=2,
+        for label, geometry in cfg.floors.get(case.name, {}).items():
+            floors.append(_measure(case, cfg, series=label, geometry=geometry, method="nitsche", degree=2,
                                    level=series_levels["case"][-1], repeats=0, comm=comm))
             say(floors[-1])
-        for degree in DEGREES:
-            for kappa0 in KAPPA0_SWEEP:
-                r = _measure(case, series="case", geometry={}, method="penalty", degree=degree,
-                             level=KAPPA0_LEVEL, repeats=0, comm=comm, kappa0=kappa0)
+        for degree in cfg.degrees:
+            for kappa0 in cfg.kappa0_sweep:
+                r = _measure(case, cfg, series="case", geometry={}, method="penalty", degree=degree,
+                             level=cfg.kappa0_level, repeats=0, comm=comm, kappa0=kappa0)
                 sweep.append({**r, "series": "kappa0 sweep"})
                 say(sweep[-1])
-        if case.name == GRADING_PROBE["case"]:
-            g = GRADING_PROBE
+        if case.name == cfg.grading_probe["case"]:
+            g = cfg.grading_probe
             for degree in g["degrees"]:
-                for level in series_levels["ideal"][-N_FINEST:]:
-                    r = _measure(case, series=g["series"], geometry=SERIES[case.name][g["series"]],
+                for level in series_levels["ideal"][-n_finest:]:
+                    r = _measure(case, cfg, series=g["series"], geometry=cfg.series[case.name][g["series"]],
                                  method="nitsche", degree=degree, level=level, repeats=0, comm=comm)
                     probe.append({**r, "series": f"{g['series']}, fixed growth"})
                     say(probe[-1])
-        if case.name == EXTENSION["case"]:
-            lvl, series = EXTENSION["level"], EXTENSION["series"]
-            for method in METHODS:
-                for degree in DEGREES:
-                    r = _measure(case, series=series, geometry=SERIES[case.name][series], method=method,
+        if case.name == cfg.extension["case"]:
+            lvl, series = cfg.extension["level"], cfg.extension["series"]
+            for method in cfg.methods:
+                for degree in cfg.degrees:
+                    r = _measure(case, cfg, series=series, geometry=cfg.series[case.name][series], method=method,
                                  degree=degree, level=lvl, repeats=0, comm=comm,
-                                 growth=1.0 + GROWTH_PER_H * lvl)
+                                 growth=1.0 + cfg.growth_per_h * lvl)
                     ext.append({**r, "series": f"{series} + extension"})
                     say(ext[-1])
-            for h in EXTENSION["perturbed"]:
-                r = _measure(case, series=series, geometry=SERIES[case.name][series], method="nitsche",
-                             degree=2, level=h, repeats=0, comm=comm, growth=1.0 + GROWTH_PER_H * h)
+            for h in cfg.extension["perturbed"]:
+                r = _measure(case, cfg, series=series, geometry=cfg.series[case.name][series], method="nitsche",
+                             degree=2, level=h, repeats=0, comm=comm, growth=1.0 + cfg.growth_per_h * h)
                 perturbed.append({**r, "series": f"{series}, h_c perturbed"})
                 say(perturbed[-1])
         section_s[f"{case.name}/diagnostics"] = time.perf_counter() - ts
     return {
         "description": "error against ndofs and warm solver time; see workbench/studies/convergence.py",
-        "levels": series_levels, "repeats": repeats, "n_finest": N_FINEST, "metrics": METRICS,
-        "time_of": TIME_OF, "series": SERIES, "growth_per_h": GROWTH_PER_H, "inner": INNER,
-        "rms_target": RMS_TARGET, "rate_band": RATE_BAND, "expected_rates": EXPECTED_RATES,
-        "rows": rows, "rates": judge_rates(observed_rates(rows)), "cheapest_rms": cheapest(rows),
-        "floors": floors, "kappa0_sweep": sweep, "kappa0_level": KAPPA0_LEVEL, "grading_probe": probe,
-        "grading_rates": observed_rates(probe), "extension": ext, "perturbed": perturbed,
-        "extension_rates": _extension_rates(rows, ext), "extension_setting": EXTENSION,
+        "config": to_json(cfg),
+        "levels": series_levels, "repeats": repeats, "n_finest": n_finest, "metrics": cfg.metrics,
+        "time_of": cfg.time_of, "series": cfg.series, "growth_per_h": cfg.growth_per_h, "inner": cfg.inner,
+        "rms_target": cfg.rms_target, "rate_band": cfg.rate_band, "expected_rates": cfg.expected_rates,
+        "rows": rows, "rates": judge_rates(observed_rates(rows, metrics=cfg.metrics, n_finest=n_finest),
+                                           expected=cfg.expected_rates, band=cfg.rate_band),
+        "cheapest_rms": cheapest(rows, target=cfg.rms_target),
+        "floors": floors, "kappa0_sweep": sweep, "kappa0_level": cfg.kappa0_level, "grading_probe": probe,
+        "grading_rates": observed_rates(probe, metrics=cfg.metrics, n_finest=n_finest), "extension": ext,
+        "perturbed": perturbed, "extension_rates": _extension_rates(rows, ext, cfg),
+        "extension_setting": cfg.extension,
         "section_wall_time_s": section_s, "study_wall_time_s": time.perf_counter() - t0,
     }
 
@@ -471,7 +376,7 @@ def _finite_or_none(obj: Any) -> Any:
     return obj
 
 
-def write_outputs(data: dict, *, out_dir: Path = OUT_DIR, plot: bool = True) -> None:
+def write_outputs(data: dict, *, out_dir: Path, plot: bool = True) -> None:
     """Write convergence.json, convergence.csv, report.md (and the plots) atomically."""
     data = _finite_or_none(data)
     write_json(out_dir / "convergence.json", data)
@@ -486,34 +391,40 @@ def write_outputs(data: dict, *, out_dir: Path = OUT_DIR, plot: bool = True) -> 
 
 
 def main(argv: list[str] | None = None) -> int:
-    """CLI: run the study and write ``results/convergence/``; exit 2 on bad arguments."""
-    p = argparse.ArgumentParser(prog="python -m workbench.studies.convergence", description=__doc__,
+    """CLI ``workbench convergence [options]``: run the study and write ``<results>/convergence/``; exit 2 on bad
+    arguments."""
+    d = _DEFAULT
+    p = argparse.ArgumentParser(prog="workbench convergence", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--cases", nargs="+", default=list(CASES), help="block cases (default: %(default)s)")
-    p.add_argument("--levels", nargs="+", type=float, default=list(DEFAULT_LEVELS),
+    p.add_argument("--cases", nargs="+", default=list(d.cases), help="block cases (default: %(default)s)")
+    p.add_argument("--levels", nargs="+", type=float, default=list(d.levels),
                    help="h_c fractions of the case series, coarse to fine (default: %(default)s)")
-    p.add_argument("--ideal-levels", nargs="+", type=float, default=list(IDEAL_LEVELS),
+    p.add_argument("--ideal-levels", nargs="+", type=float, default=list(d.ideal_levels),
                    help="h_c fractions of the ideal series, in [0.025, 0.5] (default: %(default)s)")
-    p.add_argument("--repeats", type=int, default=3, help="timed warm solves per run (default: 3)")
+    p.add_argument("--repeats", type=int, default=d.repeats,
+                   help="timed warm solves per run (default: %(default)s)")
     p.add_argument("--no-diagnostics", action="store_true",
                    help="skip the model floors, the kappa0 sweep and the grading probe")
     p.add_argument("--no-plot", action="store_true", help="skip the plots")
-    p.add_argument("--out", type=Path, default=OUT_DIR, help="output folder (default: %(default)s)")
+    p.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/convergence)")
+    p.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
     p.add_argument("--rewrite", action="store_true", help="only rewrite report.md and plots from the JSON")
     args = p.parse_args(argv)
     try:
+        cfg = ConvergenceConfig(cases=tuple(args.cases), levels=tuple(args.levels),
+                                ideal_levels=tuple(args.ideal_levels), repeats=args.repeats,
+                                diagnostics=not args.no_diagnostics, plot=not args.no_plot, out=args.out,
+                                mesh_cache=args.mesh_cache)
         if args.rewrite:
-            data = json.loads((args.out / "convergence.json").read_text())
+            data = json.loads((cfg.out_dir / "convergence.json").read_text())
         else:
-            data = run_study(cases=args.cases, levels=args.levels, ideal_levels=args.ideal_levels,
-                             repeats=args.repeats, diagnostics=not args.no_diagnostics,
-                             progress=lambda s: print(s, flush=True))
+            data = run_study(cfg, progress=lambda s: print(s, flush=True))
     except (ValueError, FileNotFoundError) as exc:  # includes cases.CaseError
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    write_outputs(data, out_dir=args.out, plot=not args.no_plot)
-    print(f"wrote {args.out}/convergence.json, convergence.csv, report.md"
-          + ("" if args.no_plot else ", error_vs_time.png, error_vs_ndofs.png"))
+    write_outputs(data, out_dir=cfg.out_dir, plot=cfg.plot)
+    print(f"wrote {cfg.out_dir}/convergence.json, convergence.csv, report.md"
+          + ("" if not cfg.plot else ", error_vs_time.png, error_vs_ndofs.png"))
     return 0
 
 

@@ -1,7 +1,7 @@
-"""Plots of the convergence study (reads ``results/convergence/convergence.json``; files only, Agg backend).
+"""Plots of the convergence study (reads ``<results>/convergence/convergence.json``; files only, Agg backend).
 
-Run: ``python -m workbench.studies.convergence_plot [JSON]`` -> ``error_vs_time.png`` and ``error_vs_ndofs.png`` next to
-the JSON. One row of panels per case x series, one panel per error metric, one line per method x degree,
+Run: ``python -m workbench.studies.convergence_plot [JSON]`` -> ``error_vs_time.png`` and ``error_vs_ndofs.png``
+next to the JSON. One row of panels per case x series, one panel per error metric, one line per method x degree,
 log-log axes; each line joins the h_c levels in refinement order.
 """
 
@@ -16,11 +16,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402
 
+from workbench.paths import default_paths  # noqa: E402
 from workbench.reports.plots import load_study_json, save_figure  # noqa: E402
 
 __all__ = ["main", "plot_study"]
 
-DEFAULT_JSON = Path("results") / "convergence" / "convergence.json"
 STYLE = {("penalty", 1): ("tab:orange", "s", "--"), ("penalty", 2): ("tab:red", "s", "-"),
          ("nitsche", 1): ("tab:cyan", "o", "--"), ("nitsche", 2): ("tab:blue", "o", "-")}
 LABELS = {"p_max": "peak pressure error", "half_width": "half-width error", "rms": "RMS(p - p_th) / p_ref",
@@ -97,8 +97,10 @@ def plot_study(data: dict, *, out_dir: Path) -> list[Path]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """CLI: plot the study JSON (default results/convergence/convergence.json); exit 2 if it is missing."""
-    loaded = load_study_json(sys.argv[1:] if argv is None else argv, DEFAULT_JSON, producer="workbench.studies.convergence")
+    """CLI: plot the study JSON (default ``<results>/convergence/convergence.json``); exit 2 if it is missing."""
+    loaded = load_study_json(sys.argv[1:] if argv is None else argv,
+                             default_paths().study("convergence") / "convergence.json",
+                             producer="workbench.studies.convergence")
     if loaded is None:
         return 2
     path, data = loaded

@@ -1,8 +1,10 @@
-"""Markdown report of the convergence study (reads the JSON of :mod:`workbench.studies.convergence`; formatting only).
+"""Markdown report of the convergence study (reads its JSON only; formatting, no study code imported).
 
-Run: ``python -m workbench.studies.convergence_report [JSON]`` -> ``report.md`` next to the JSON (``make convergence``
-writes it through :func:`workbench.studies.convergence.write_outputs`). Every number in the report is read from the
-JSON; the only constants typed here are the derivations of the expected rates (:data:`RATE_NOTES`).
+Run: ``python -m workbench.studies.convergence_report [JSON]`` -> ``report.md`` next to the JSON
+(``workbench convergence`` writes it through :func:`workbench.studies.convergence.write_outputs`; default JSON
+``<results>/convergence/convergence.json``). Every number in the report is read from the JSON; the only
+constants typed here are the derivations of the expected rates (:data:`RATE_NOTES`). The run-time slope uses
+the shared fit of :mod:`workbench.studies.rates`.
 """
 
 from __future__ import annotations
@@ -13,10 +15,10 @@ import sys
 from pathlib import Path
 
 from workbench.atomic import write_text
+from workbench.paths import default_paths
+from workbench.studies.rates import fit_rate
 
 __all__ = ["RATE_NOTES", "discussion", "main", "to_markdown"]
-
-DEFAULT_JSON = Path("results") / "convergence" / "convergence.json"
 HZ, WD = "hertz_cylinder", "wedge_convective"
 
 RATE_NOTES = """\
@@ -235,8 +237,6 @@ def _edge_constant(data: dict) -> list[dict]:
 
 
 def _p_run_time(data: dict) -> list[str]:
-    from workbench.studies.convergence import fit_rate
-
     out = []
     for series in ("case", "ideal"):
         n2 = sorted((r for r in data["rows"] if (r["case"], r["series"], r["method"], r["degree"])
@@ -447,14 +447,14 @@ def to_markdown(data: dict) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """CLI: rewrite report.md from the study JSON (default results/convergence/convergence.json); exit 2 if
+    """CLI: rewrite report.md from the study JSON (default ``<results>/convergence/convergence.json``); exit 2 if
     it is missing."""
     import json
 
     argv = sys.argv[1:] if argv is None else argv
-    path = Path(argv[0]) if argv else DEFAULT_JSON
+    path = Path(argv[0]) if argv else default_paths().study("convergence") / "convergence.json"
     if not path.is_file():
-        print(f"error: {path} does not exist; run `python -m workbench.studies.convergence` first", file=sys.stderr)
+        print(f"error: {path} does not exist; run `workbench convergence` first", file=sys.stderr)
         return 2
     out = path.parent / "report.md"
     write_text(out, to_markdown(json.loads(path.read_text())))

@@ -1,6 +1,6 @@
-"""Numerical-stability sweep on stiff and extreme cases: ``python -m workbench.studies.stability`` (``make stability``).
+"""Numerical-stability sweep on stiff and extreme cases: ``workbench stability [--study NAME ...] [--out DIR]``.
 
-Writes ``results/stability/stability.json`` (one record per run) and ``results/stability/report.md``, then
+Writes ``<results>/stability/stability.json`` (the config and one record per run) and ``report.md``, then
 :mod:`workbench.studies.stability_plot` draws ``method.png`` and ``incompressible.png`` from the JSON.
 Every run either converges within its accuracy band or carries a NAMED reason: a solver failure
 (``diverged: ... SNES reason -5 (DIVERGED_MAX_IT)``), a warning of the solver's own checks
@@ -10,19 +10,22 @@ outside its band with none of these is counted ``SILENT`` -- the sweep's failure
 
 Scene (unless a study says otherwise): rigid exact circle R = 10 mm on a block (half model, W = H = 40 a,
 clamped bottom), plane strain, E = 200 GPa, nu = 0.3, a/R = 0.05, force control to the Hertz load of a, P2,
-h_contact = a/10, Nitsche gamma0 = 10, theta = 1, ``small`` kinematics, ``halfplane`` traction. Errors are
-:func:`workbench.scenes.block_theory.compare_block` against Hertz (or the wedge) at the MEASURED load.
+h_contact = a/10, Nitsche gamma0 = 10, theta = 1, ``small`` kinematics, ``halfplane`` traction. Each run is a
+:class:`Spec`, which becomes a case run (:meth:`Spec.run`, a :class:`cases.schema.Run`): its solve is
+:func:`workbench.scenes.wiring.solve_run` (with the study's overrides: formulation, iterations, cut-backs,
+predictor), its errors :func:`workbench.scenes.block.compare_result` against Hertz (or the wedge) at the
+MEASURED load; its mesh is :mod:`meshes.block` sized from the target half-width (:func:`_mesh`).
 
-Accuracy band: p_max, half-width and RMS/p0 errors <= 2 % (BAND). Why 2 %: at h = a/10 with P2 the edge is
-located within a fraction of one Gauss spacing (a/20 = 5 % of a) by the square-root edge model; the defaults
-measure 0.02 % (peak) and 0.4 % (half-width), so 2 % separates a sound run from a degraded one by a factor 5.
+What is swept, and the accuracy bands, are :class:`StabilityConfig` (band 2 %: see there).
 
 Studies: ``method`` (penalty kappa0, Nitsche gamma0 x theta, with a 1-norm condition estimate of the
-Jacobian, :mod:`fem.conditioning`), ``incompressible`` (nu -> 1/2, P1/P2 displacement vs Taylor-Hood mixed),
-``convective`` (wedge b/b0, small vs convective kinematics, as beta -> 0), ``loads`` (a/R over 2.6 decades,
-mesh scaled with a), ``resolution`` (h_c from 2a to a/8: the "contact unresolved" warning), ``scale`` (E over
-nine decades: non-dimensional results), ``conformal`` (close-to-conformal design, first Table 1 steps: the
-0.00043 mm indentation and relative radius ~228 mm), ``faults`` (Newton cut-back, an unrecoverable step).
+Jacobian, :mod:`fem.conditioning`), ``augmented_lagrangian`` (kappa0 over five decades: every run must
+converge, :func:`classify_augmented_lagrangian`), ``incompressible`` (nu -> 1/2, P1/P2 displacement vs
+Taylor-Hood mixed), ``convective`` (wedge b/b0, small vs convective kinematics, as beta -> 0), ``loads`` (a/R
+over 2.6 decades, mesh scaled with a), ``resolution`` (h_c from 2a to a/8: the "contact unresolved" warning),
+``scale`` (E over nine decades: non-dimensional results), ``conformal`` (close-to-conformal design, first
+Table 1 steps: the 0.00043 mm indentation and relative radius ~228 mm), ``faults`` (Newton cut-back, an
+unrecoverable step).
 """
 
 from __future__ import annotations
@@ -37,25 +40,19 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
 from analytic import convective, materials, wedge
-from cases.schema import Geometry, Material
+from cases.schema import Discretisation, Geometry, Loading, Material, Run, Solver
 from workbench.atomic import write_json, write_text
-from workbench.scenes.block_theory import block_theory, compare_block
+from workbench.paths import default_paths
+from workbench.scenes.base import LoadPath
+from workbench.scenes.block_theory import block_theory
+from workbench.studies.config import STABILITY_STUDIES, StabilityConfig, to_json
 
-__all__ = ["Spec", "BAND", "BAND_P1", "BAND_WEDGE", "STUDIES", "specs", "run_block_spec", "classify", "run_sweep",
-           "report_markdown", "convective_ratios", "scale_invariance", "run_conformal", "main"]
+__all__ = ["STUDIES", "Spec", "StabilityConfig", "classify", "classify_augmented_lagrangian", "convective_ratios",
+           "main", "report_markdown", "run_block_spec", "run_conformal", "run_sweep", "scale_invariance", "specs"]
 
-OUT = Path("results/stability")
-MESH_CACHE = Path("results/mesh_cache")
-BAND = 0.02  # relative error band of p_max, half-width and RMS/p0 (see module docstring)
-# P1 (one Gauss point per facet, first-order pressure) at h = a/40 measures 2.0-2.4 % (half-width, RMS/p0) at
-# nu = 0 and 0.3, where nothing locks: its band is 4 %, so locking shows as leaving it.
-BAND_P1 = 0.04
-# Wedge (log-singular apex pressure): the RMS/p_mean tolerance of cases/wedge_convective.toml (3 %).
-BAND_WEDGE = 0.03
-STUDIES = ("method", "incompressible", "convective", "loads", "resolution", "scale", "conformal", "faults")
+STUDIES = STABILITY_STUDIES
+AL = "augmented_lagrangian"  # the method and the study of its stiffness sweep
 
 
 @dataclass(frozen=True)
@@ -104,106 +101,131 @@ class Spec:
     d: float = 0.0
     active_set_predictor: bool = True
     condition: bool = False
-    band: float | None = BAND
+    band: float | None = StabilityConfig.band
     model_limit: str | None = None
     expect_failure: bool = False
 
+    @property
+    def target_half_width(self) -> float:
+        """The classical half-width the mesh is sized from (mm): a = a_over_R R, or the wedge's b."""
+        return self.half_width if self.indenter == "wedge" else self.a_over_R * self.R
 
-def specs() -> list[Spec]:
-    """Every block run of the sweep, study by study."""
+    def run(self) -> Run:
+        """This spec as a case run (half model, ``halfplane`` traction, labelled by its indenter): what the wiring
+        reads. Built directly, not loaded, so a study may go beyond a case file's ranges (h_c = 2 a)."""
+        size = self.size_factor
+        if self.indenter == "wedge":
+            geo = Geometry(scene="block", indenter="wedge", wedge_angle=self.wedge_angle, wedge_slope="paper",
+                           width_factor=size, height_factor=size, half_model=True)
+        else:
+            geo = Geometry(scene="block", indenter=self.indenter, radius=self.R, width_factor=size,
+                           height_factor=size, half_model=True)
+        if self.control == "force":
+            loading = Loading(control="force", half_width=self.target_half_width, steps=self.n_steps)
+        else:
+            loading = Loading(control="displacement", d=(self.d,), steps=self.n_steps)
+        return Run(label=self.indenter, material=Material(E=self.E, nu=self.nu), geometry=geo, loading=loading,
+                   discretisation=Discretisation(degree=self.degree, h_contact=1.0 / self.h_ratio),
+                   solver=Solver(method=self.method, kinematics=self.kinematics, traction="halfplane",
+                                 kappa0=self.kappa0, gamma0=self.gamma0, theta=self.theta))
+
+    def solver_overrides(self) -> dict:
+        """The study's keywords beyond the case run (:func:`workbench.scenes.wiring.solve_run` overrides)."""
+        return dict(formulation=self.formulation, max_it=self.max_it, max_cutbacks=self.max_cutbacks,
+                    active_set_predictor=self.active_set_predictor,
+                    first_step_fraction=1.0 if not self.active_set_predictor else 0.1)
+
+
+def _decade(v: float) -> str:
+    """``1e3`` for a power of ten, else ``%g``."""
+    k = round(math.log10(v))
+    return f"1e{k}" if v == 10.0**k else f"{v:g}"
+
+
+def specs(cfg: StabilityConfig | None = None) -> list[Spec]:
+    """Every block run of the sweep, study by study (``cfg``: :class:`StabilityConfig`, default values)."""
+    cfg = StabilityConfig() if cfg is None else cfg
     out = []
-    for k in range(9):  # 1. method parameters
-        out.append(Spec("method", f"penalty kappa0=1e{k}", method="penalty", kappa0=10.0**k, condition=True))
-    for theta in (1, 0, -1):
-        for g in (0.1, 1.0, 10.0, 100.0, 1e3, 1e4):
-            out.append(Spec("method", f"nitsche gamma0={g:g} theta={theta}", gamma0=g, theta=theta, condition=True))
-    for nu in (0.0, 0.3, 0.45, 0.49, 0.499, 0.4999):  # 2. near-incompressibility
-        for deg, form, h in ((1, "displacement", 40.0), (2, "displacement", 10.0), (2, "mixed", 10.0)):
+    for k in cfg.penalty_kappa0:  # 1. method parameters
+        out.append(Spec("method", f"penalty kappa0={_decade(k)}", method="penalty", kappa0=k, condition=True,
+                        band=cfg.band))
+    for theta in cfg.nitsche_theta:
+        for g in cfg.nitsche_gamma0:
+            out.append(Spec("method", f"nitsche gamma0={g:g} theta={theta}", gamma0=g, theta=theta, condition=True,
+                            band=cfg.band))
+    for k in cfg.al_kappa0:  # 1b. augmented Lagrangian: every stiffness must converge
+        out.append(Spec(AL, f"{AL} kappa0={_decade(k)}", method=AL, kappa0=k, band=cfg.band))
+    for nu in cfg.incompressible_nu:  # 2. near-incompressibility
+        for deg, form, h in cfg.incompressible_elements:
             out.append(Spec("incompressible", f"nu={nu:g} P{deg} {form}", nu=nu, degree=deg, formulation=form,
-                            h_ratio=h, band=BAND_P1 if deg == 1 else BAND))
-    for nu, size in [(nu, 160.0) for nu in (0.0, 0.3, 0.45, 0.49, 0.499)] + [(0.499, 20.0), (0.499, 40.0),
-                                                                               (0.499, 80.0)]:
+                            h_ratio=h, band=cfg.band_p1 if deg == 1 else cfg.band))
+    for nu, size in cfg.convective_runs:
         for kin in ("small", "convective"):
             out.append(Spec("convective", f"wedge nu={nu:g} block {size:g}b {kin}", indenter="wedge",
-                            wedge_angle=math.pi / 5, nu=nu, h_ratio=40.0, size_factor=size,
-                            formulation="mixed" if nu >= 0.45 else "displacement", kinematics=kin,
-                            band=BAND_WEDGE if kin == "small" else None))
-    for aR in (1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.2, 0.4):  # 3. loads
-        limit = (f"model limit: a/R = {aR:g} > 0.1, the exact circle departs from Hertz's parabola "
-                 "(see the parabola run at the same a/R)") if aR > 0.1 else None
-        out.append(Spec("loads", f"circle a/R={aR:g}", a_over_R=aR, model_limit=limit))
-    for aR in (0.2, 0.4):
-        out.append(Spec("loads", f"parabola a/R={aR:g}", indenter="parabola", a_over_R=aR))
-    for hr in (0.5, 1.0, 2.0, 4.0, 8.0, 16.0):  # 3b. resolution warning
-        out.append(Spec("resolution", f"h_c = a/{hr:g}", h_ratio=hr))
-    for k in range(-3, 7):  # 4. scale invariance, E = 1e-3 ... 1e6 MPa
-        out.append(Spec("scale", f"E=1e{k}", E=10.0**k))
-    out.append(Spec("faults", "cut-back: single step, max_it=4", control="displacement", d=0.06, n_steps=1,
-                    max_it=4, active_set_predictor=False))
-    out.append(Spec("faults", "unrecoverable: max_it=1, 1 cut-back", control="displacement", d=0.06, n_steps=1,
-                    max_it=1, max_cutbacks=1, active_set_predictor=False, expect_failure=True))
+                            wedge_angle=cfg.convective_wedge_angle, nu=nu, h_ratio=cfg.convective_h_ratio,
+                            size_factor=size,
+                            formulation="mixed" if nu >= cfg.convective_mixed_from_nu else "displacement",
+                            kinematics=kin, band=cfg.band_wedge if kin == "small" else None))
+    for aR in cfg.loads_a_over_R:  # 3. loads
+        limit = (f"model limit: a/R = {aR:g} > {cfg.model_limit_a_over_R:g}, the exact circle departs from "
+                 "Hertz's parabola (see the parabola run at the same a/R)") if aR > cfg.model_limit_a_over_R else None
+        out.append(Spec("loads", f"circle a/R={aR:g}", a_over_R=aR, model_limit=limit, band=cfg.band))
+    for aR in cfg.parabola_a_over_R:
+        out.append(Spec("loads", f"parabola a/R={aR:g}", indenter="parabola", a_over_R=aR, band=cfg.band))
+    for hr in cfg.resolution_h_ratio:  # 3b. resolution warning
+        out.append(Spec("resolution", f"h_c = a/{hr:g}", h_ratio=hr, band=cfg.band))
+    for E in cfg.scale_E:  # 4. scale invariance
+        out.append(Spec("scale", f"E={_decade(E)}", E=E, band=cfg.band))
+    out.append(Spec("faults", "cut-back: single step, max_it=4", control="displacement", d=cfg.fault_d, n_steps=1,
+                    max_it=4, active_set_predictor=False, band=cfg.band))
+    out.append(Spec("faults", "unrecoverable: max_it=1, 1 cut-back", control="displacement", d=cfg.fault_d,
+                    n_steps=1, max_it=1, max_cutbacks=1, active_set_predictor=False, expect_failure=True,
+                    band=cfg.band))
     return out
 
 
-def _geometry(spec: Spec) -> Geometry:
-    if spec.indenter == "wedge":
-        return Geometry(scene="block", indenter="wedge", wedge_angle=spec.wedge_angle, wedge_slope="paper")
-    return Geometry(scene="block", indenter=spec.indenter, radius=spec.R)
+def run_block_spec(spec: Spec, *, comm, mesh_cache: Path | None = None) -> dict:
+    """Run one block spec; returns its record (parameters, converged, iterations, time, errors, warnings).
 
-
-def _target_half_width(spec: Spec) -> float:
-    return spec.half_width if spec.indenter == "wedge" else spec.a_over_R * spec.R
-
-
-def run_block_spec(spec: Spec, *, comm) -> dict:
-    """Run one block spec; returns its record (parameters, converged, iterations, time, errors, warnings)."""
-    from fem.obstacles import CircleObstacle, ParabolaObstacle, WedgeObstacle
-    from fem.solver import ContactSolveError, solve_contact
-    from meshes.block import build_block_mesh
+    Args:
+        spec: The run.
+        comm: MPI communicator.
+        mesh_cache: Mesh cache folder (default ``<results>/mesh_cache``).
+    """
+    from fem.solver import ContactSolveError
     from workbench.mesh_io import read_mesh
+    from workbench.scenes.block import compare_result, obstacle_for
+    from workbench.scenes.wiring import solve_run
 
-    geo, mat = _geometry(spec), Material(E=spec.E, nu=spec.nu)
-    a = _target_half_width(spec)
-    th0 = block_theory(geo, mat, half_width=a)
-    size = spec.size_factor * a
-    files = build_block_mesh(width=size, height=size, contact_half_width=a, h_contact=a / spec.h_ratio,
-                             half_model=True, apex_refinement=spec.indenter == "wedge", out_dir=MESH_CACHE,
-                             name=f"stability_{spec.indenter}", stats_dir=None, comm=comm)
+    run = spec.run()
+    a = spec.target_half_width
+    th0 = block_theory(run.geometry, run.material, half_width=a)  # the target: Hertz (or wedge) load of a
+    files = _mesh(spec, comm=comm, mesh_cache=mesh_cache if mesh_cache is not None else default_paths().mesh_cache)
     mesh_data = read_mesh(files.msh, comm)
-    if spec.indenter == "circle":
-        obstacle = CircleObstacle(center=(0.0, spec.R), radius=spec.R)
-    elif spec.indenter == "parabola":
-        obstacle = ParabolaObstacle(radius=spec.R)
-    else:
-        obstacle = WedgeObstacle(slope=th0.m)
+    load = LoadPath(spec.control, th0.P if spec.control == "force" else spec.d, spec.n_steps, symmetric_half=True)
     rec = {"study": spec.study, "label": spec.label, "params": dataclasses.asdict(spec),
            "cells": files.stats.get("cells"), "target_half_width": a, "P_target": th0.P}
     t0 = time.perf_counter()
     try:
-        res = solve_contact(mesh_data, obstacle, E=spec.E, nu=spec.nu, degree=spec.degree, method=spec.method,
-                            kinematics=spec.kinematics, traction="halfplane", kappa0=spec.kappa0,
-                            gamma0=spec.gamma0, theta=spec.theta, formulation=spec.formulation,
-                            control=spec.control, target=th0.P if spec.control == "force" else spec.d,
-                            n_steps=spec.n_steps, symmetric_half=True, max_it=spec.max_it,
-                            max_cutbacks=spec.max_cutbacks, active_set_predictor=spec.active_set_predictor,
-                            first_step_fraction=1.0 if not spec.active_set_predictor else 0.1,
-                            case=spec.label)
+        res = solve_run(run, mesh_data, obstacle_for(run, th0), load, case=spec.label, **spec.solver_overrides())
     except ContactSolveError as exc:
         return rec | {"converged": False, "error": f"diverged: {exc}", "time_s": time.perf_counter() - t0,
+                      "warnings": [], "errors": {}, "iterations": None}
+    except ValueError as exc:  # the AL sweep records a method the solver refuses (e.g. not available) and goes on
+        if spec.method != AL:
+            raise
+        return rec | {"converged": False, "error": f"refused: {exc}", "time_s": time.perf_counter() - t0,
                       "warnings": [], "errors": {}, "iterations": None}
     rec |= {"converged": True, "error": None, "time_s": time.perf_counter() - t0, "ndofs": res.ndofs,
             "iterations": int(sum(res.newton_iterations)), "max_iterations": int(max(res.newton_iterations)),
             "solves": len(res.newton_iterations),
             "cutbacks": sum(1 for r in res.load_steps if r["kind"] == "cutback"),
             "warnings": list(res.warnings), "P": res.P, "d": res.d}
-    x, p = res.samples.s, res.samples.p
-    keep = x > 0
-    x, p = np.concatenate([-x[keep][::-1], x]), np.concatenate([p[keep][::-1], p])
-    main = max(res.patches, key=lambda pt: pt.P) if res.patches else None
-    hw, pmax = (main.half_width, main.p_max) if main else (math.nan, math.nan)
-    th, err = compare_block(x=x, p=p, P=res.P, P_pressure=res.P_pressure, half_width_fem=hw, p_max_fem=pmax,
-                            geometry=geo, material=mat)
-    rec |= {"errors": err, "half_width": hw, "p_max": pmax, "n_patches": len(res.patches),
+    if spec.method == AL:
+        rec["uzawa"] = _uzawa(res)
+    cmp = compare_result(res, run)
+    hw, pmax, th = cmp.half_width, cmp.p_max, cmp.theory
+    rec |= {"errors": cmp.errors, "half_width": hw, "p_max": pmax, "n_patches": len(res.patches),
             "half_width_theory": th.half_width, "p_ref_theory": th.p_ref,
             "nondim": {"p_max/E*": pmax / th.E_star, "a/R": hw / spec.R, "P/(E* R)": res.P / (th.E_star * spec.R)}}
     if spec.condition:
@@ -212,6 +234,30 @@ def run_block_spec(spec: Spec, *, comm) -> dict:
         c = jacobian_condition(res, mesh_data)
         rec["condition"] = c._asdict()
     return rec
+
+
+def _mesh(spec: Spec, *, comm, mesh_cache: Path):
+    """The (cached) block mesh of a spec, sized from the TARGET half-width a itself: W = H = size_factor a,
+    h_c = a / h_ratio (:func:`workbench.scenes.block.block_mesh` sizes from the half-width recomputed from the
+    load, which differs from a in the last bit and would move the published sweep's meshes)."""
+    from meshes.block import build_block_mesh
+
+    a = spec.target_half_width
+    size = spec.size_factor * a
+    return build_block_mesh(width=size, height=size, contact_half_width=a, h_contact=a / spec.h_ratio,
+                            half_model=True, apex_refinement=spec.indenter == "wedge", out_dir=mesh_cache,
+                            name=f"stability_{spec.indenter}", stats_dir=None, comm=comm)
+
+
+def _uzawa(res) -> dict:
+    """The augmented Lagrangian's own loop from its load-step records: Newton solves per load level (``uzawa``),
+    their total, and the largest final gap violation over max|u| (``uzawa_gap``); empty if not recorded."""
+    steps = [r for r in res.load_steps if "uzawa" in r]
+    if not steps:
+        return {}
+    gaps = [r["uzawa_gap"] for r in steps if r.get("uzawa_gap") is not None]
+    return {"solves": [int(r["uzawa"]) for r in steps], "total": int(sum(r["uzawa"] for r in steps)),
+            "gap_max": max(gaps) if gaps else None}
 
 
 def classify(rec: dict) -> str:
@@ -236,12 +282,53 @@ def classify(rec: dict) -> str:
     return "SILENT"
 
 
-def convective_ratios(records: list[dict]) -> list[dict]:
-    """FEM b/b0 at the same load (each half-width over its classical value at its own load) vs theory."""
+def classify_augmented_lagrangian(rec: dict) -> str:
+    """The augmented-Lagrangian sweep's own classification: every stiffness must converge.
+
+    A run that does not converge is ``FAILED (must converge): <reason>``, an expectation violated (counted
+    with the SILENT runs: the sweep exits 1), not a named pass as a diverged penalty run is. A converged run
+    is classified as any other (:func:`classify`: ``ok``, ``named (warning)`` or ``SILENT``).
+    """
+    if not rec["converged"]:
+        return f"FAILED (must converge): {rec['error'].splitlines()[0]}"
+    return classify(rec)
+
+
+def augmented_lagrangian_summary(records: list[dict]) -> dict:
+    """The AL sweep in one record: per kappa0 its Newton and Uzawa iterations and its errors; how far the
+    errors move over the converged runs; and the largest relative deviation of d, p_max and the half-width
+    from the middle kappa0's run (an augmented Lagrangian enforces the constraint at convergence whatever
+    kappa0, so its answer should not depend on kappa0; the penalty's does)."""
+    recs = [r for r in records if r["study"] == AL]
+    rows = []
+    for r in recs:
+        e = r.get("errors", {})
+        rows.append({"kappa0": r["params"]["kappa0"], "converged": r["converged"],
+                     "iterations": r.get("iterations"), "max_iterations": r.get("max_iterations"),
+                     "solves": r.get("solves"), "uzawa": r.get("uzawa", {}).get("total"),
+                     "uzawa_gap": r.get("uzawa", {}).get("gap_max"), "p_max": e.get("p_max"),
+                     "half_width": e.get("half_width"), "rms": e.get("rms"), "load_balance": e.get("load_balance"),
+                     "time_s": r.get("time_s"), "status": r.get("status")})
+    ok = [x for x in rows if x["converged"]]
+    spread = {k: (max(x[k] for x in ok) - min(x[k] for x in ok)) if ok else None
+              for k in ("p_max", "half_width", "rms")}
+    conv = [r for r in recs if r["converged"]]
+    deviation = None
+    if conv:
+        ref = conv[len(conv) // 2]
+        deviation = max(abs(r[k] / ref[k] - 1.0) for r in conv for k in ("d", "p_max", "half_width"))
+    return {"runs": len(rows), "converged": len(ok), "all_converged": bool(rows) and len(ok) == len(rows),
+            "error_spread": spread, "max_rel_deviation": deviation,
+            "reference_kappa0": conv[len(conv) // 2]["params"]["kappa0"] if conv else None, "rows": rows}
+
+
+def convective_ratios(records: list[dict], *, main_block: float = 160.0) -> list[dict]:
+    """FEM b/b0 at the same load (each half-width over its classical value at its own load) vs theory; the
+    ``main_block`` rows first."""
     rows = []
     by = {(r["params"]["nu"], r["params"]["size_factor"], r["params"]["kinematics"]): r
           for r in records if r["study"] == "convective"}
-    for nu, size in sorted({k[:2] for k in by}, key=lambda k: (k[1] != 160.0, k)):
+    for nu, size in sorted({k[:2] for k in by}, key=lambda k: (k[1] != main_block, k)):
         s, c = by.get((nu, size, "small")), by.get((nu, size, "convective"))
         if not (s and c and s["converged"] and c["converged"]):
             continue
@@ -256,34 +343,37 @@ def convective_ratios(records: list[dict]) -> list[dict]:
     return rows
 
 
-def scale_invariance(records: list[dict]) -> list[dict]:
-    """Non-dimensional results of the E sweep relative to the E = 1e3 MPa run (round-off expected)."""
+def scale_invariance(records: list[dict], *, reference_E: float = 1e3) -> list[dict]:
+    """Non-dimensional results of the E sweep relative to the ``reference_E`` (MPa) run (round-off expected)."""
     runs = [r for r in records if r["study"] == "scale" and r["converged"]]
-    ref = next((r for r in runs if r["params"]["E"] == 1e3), None)
+    ref = next((r for r in runs if r["params"]["E"] == reference_E), None)
     if ref is None:
         return []
     return [{"E": r["params"]["E"], **{k: abs(v / ref["nondim"][k] - 1.0) for k, v in r["nondim"].items()},
              "iterations": r["iterations"]} for r in runs]
 
 
-def run_conformal(*, comm, progress) -> list[dict]:
-    """Close-to-conformal design through its first Table 1 steps d = 0.46, 0.47, 0.48 mm at the defaults.
+def run_conformal(cfg: StabilityConfig | None = None, *, comm, progress) -> list[dict]:
+    """Close-to-conformal design through its first Table 1 steps d = 0.46, 0.47, 0.48 mm at the defaults
+    (``cfg.conformal_d``), through the case pipeline's :func:`workbench.pipeline.run_case.run_one`.
 
     d = 0.46 is the paper's first row (indentation 0.00043 mm); the primary pair's relative radius is ~228 mm,
     hundreds of times the contact half-width. One record per step (P, peak, patches, Newton iterations).
     """
     from cases.schema import load_case
     from fem.solver import ContactSolveError
-    from workbench.scenes.concave import run_concave
+    from workbench.pipeline.run_case import run_one
 
+    cfg = StabilityConfig() if cfg is None else cfg
     case = load_case("close_to_conformal")
     run = case.runs(h_contact=case.discretisation.ci_level)[0]
-    run = dataclasses.replace(run, loading=dataclasses.replace(run.loading, d=(0.46, 0.47, 0.48)))
+    run = dataclasses.replace(run, loading=dataclasses.replace(run.loading, d=tuple(cfg.conformal_d)))
     t0 = time.perf_counter()
     base = {"study": "conformal", "params": {"design": "close_to_conformal", "h_contact": run.discretisation.h_contact,
                                              "method": run.solver.method, "band": None}}
     try:
-        out = run_concave(run, name="stability_close_to_conformal", stage=None, comm=comm, progress=progress)
+        out = run_one(run, name="stability_close_to_conformal", mesh_cache=cfg.cache_dir, comm=comm,
+                      progress=progress)
     except ContactSolveError as exc:
         return [base | {"label": "close_to_conformal d=0.46..0.48", "converged": False,
                         "error": f"diverged: {exc}", "warnings": [], "errors": {}, "iterations": None,
@@ -296,7 +386,8 @@ def run_conformal(*, comm, progress) -> list[dict]:
     for s, snap in zip(out.metrics["steps"], out.result.snapshots, strict=True):
         hw = [e["half_width"] for e in s["patches"]]
         recs.append(base | {"label": f"close_to_conformal d={s['d']:.2f}", "converged": True, "error": None,
-                            "iterations": s["iterations"], "time_s": out.metrics["wall_time_s"] / 3,
+                            "iterations": s["iterations"],
+                            "time_s": out.metrics["wall_time_s"] / len(out.metrics["steps"]),
                             "warnings": list(snap.warnings),
                             "errors": {"load_balance": abs(s["P"] - s["P_pressure"]) / abs(s["P"])},
                             "d": s["d"], "delta_lcp": s["delta_lcp"], "P": s["P"], "p_max": s["p_max"],
@@ -307,22 +398,24 @@ def run_conformal(*, comm, progress) -> list[dict]:
     return recs
 
 
-def run_sweep(*, studies=STUDIES, comm=None, progress=print) -> list[dict]:
-    """Run the selected studies; returns one record per run, each with its ``status``."""
+def run_sweep(cfg: StabilityConfig | None = None, *, comm=None, progress=print) -> list[dict]:
+    """Run the studies of ``cfg`` (default: all); returns one record per run, each with its ``status``."""
+    cfg = StabilityConfig() if cfg is None else cfg
     if comm is None:
         from mpi4py import MPI
 
         comm = MPI.COMM_WORLD
+    studies = cfg.studies
     records = []
-    todo = [s for s in specs() if s.study in studies]
+    todo = [s for s in specs(cfg) if s.study in studies]
     for i, spec in enumerate(todo, 1):
-        rec = run_block_spec(spec, comm=comm)
-        rec["status"] = classify(rec)
+        rec = run_block_spec(spec, comm=comm, mesh_cache=cfg.cache_dir)
+        rec["status"] = (classify_augmented_lagrangian if spec.study == AL else classify)(rec)
         records.append(rec)
         progress(f"[{i:3d}/{len(todo)}] {spec.study:14s} {spec.label:38s} {rec['status'][:60]:60s} "
                  f"{rec['time_s']:.2f} s")
     if "conformal" in studies:
-        for rec in run_conformal(comm=comm, progress=progress):
+        for rec in run_conformal(cfg, comm=comm, progress=progress):
             rec["status"] = classify(rec)
             records.append(rec)
             progress(f"[conformal] {rec['label']}: P = {rec.get('P', math.nan):.4g} N/mm, "
@@ -340,6 +433,11 @@ _DESCRIPTIONS = {
     "method": "Method parameters on the Hertz scene (P2, h = a/10): penalty kappa0 and Nitsche gamma0 x theta. "
               "cond_1(J) is the Hager-Higham 1-norm estimate of the free-dof Jacobian at the solution; "
               "ratio = cond_1(J) / cond_1(K) with K the elastic stiffness alone (fem.conditioning).",
+    AL: "Augmented Lagrangian (solve_contact(method='augmented_lagrangian')) on the Hertz scene (P2, h = a/10): "
+        "p = [lambda - kappa g]_+ with kappa = kappa0 E / h over five decades. At convergence the multiplier "
+        "enforces the constraint whatever kappa0, so every run must converge (a failure is FAILED, not named) "
+        "and its errors should not move with kappa0 (the penalty's do: method study). its = Newton iterations "
+        "summed over all solves (max per solve).",
     "convective": "Wedge theta = pi/5 (face slope theta), h = b/40 (band 3 %), block W = H = 160 b (and 20-80 b at "
                   "nu = 0.499: the finite block's own tangential surface displacement adds a beta-independent "
                   "offset to b/b0), small and convective kinematics (mixed for nu >= 0.45). The classical "
@@ -393,14 +491,35 @@ def _defaults_section(records: list[dict]) -> list[str]:
     return out
 
 
+def _al_section(al: dict) -> list[str]:
+    """The augmented-Lagrangian table: kappa0, convergence, iterations, errors, status; the error spread."""
+    lines = ["| kappa0 | converged | Newton its (max) | Uzawa solves | final gap / max abs u | time (s) | "
+             "p_max err | half-width err | RMS/p0 | load balance | status |", "|" + "---|" * 11]
+    for r in al["rows"]:
+        its = f"{r['iterations']} ({r['max_iterations']})" if r["converged"] else "-"
+        lines.append(f"| {r['kappa0']:g} | {r['converged']} | {its} | {r['uzawa'] or '-'} | "
+                     f"{_fmt(r['uzawa_gap'], '.1e')} | {_fmt(r['time_s'], '.2f')} | {_fmt(r['p_max'])} | "
+                     f"{_fmt(r['half_width'])} | {_fmt(r['rms'])} | {_fmt(r['load_balance'])} | {r['status']} |")
+    verdict = ("every run converged" if al["all_converged"]
+               else f"**{al['runs'] - al['converged']} of {al['runs']} runs did NOT converge**")
+    spread = ", ".join(f"{k} {_fmt(v)}" for k, v in al["error_spread"].items())
+    dev = (f"; d, p_max and half-width differ from the kappa0 = {al['reference_kappa0']:g} run by at most "
+           f"{_fmt(al['max_rel_deviation'], '.1e')} (relative)" if al.get("max_rel_deviation") is not None else "")
+    return lines + ["", f"{verdict}; spread (max - min) of the errors over the converged runs: {spread}{dev}.",
+                    ""]
+
+
 def report_markdown(summary: dict, records: list[dict]) -> str:
     """The Markdown report: summary, then one table per study with every run."""
     lines = ["# Numerical stability sweep", "",
              f"{summary['runs']} runs in {summary['wall_time_s']:.0f} s: **{summary['ok']} ok** (converged, errors "
              f"<= {summary['band']:.0%} band, no warning), **{summary['named']} named** (failure, warning or model "
-             f"limit, reason given), **{summary['silent']} SILENT** (converged out of band, nothing named).", "",
-             "Errors: relative, against the classical theory at the measured load (workbench.scenes.block_theory). its = Newton "
-             "iterations summed over all solves (max per solve). Status: see workbench/studies/stability.py.", ""]
+             f"limit, reason given), **{summary['silent']} SILENT** (converged out of band, nothing named)"
+             + (f", **{summary['failed']} FAILED** (augmented Lagrangian runs that must converge and did not)"
+                if summary.get("failed") else "") + ".", "",
+             "Errors: relative, against the classical theory at the measured load (workbench.scenes.block_theory). "
+             "its = Newton iterations summed over all solves (max per solve). Status: see "
+             "workbench/studies/stability.py.", ""]
     lines += _defaults_section(records)
     for study in STUDIES:
         recs = [r for r in records if r["study"] == study]
@@ -427,6 +546,9 @@ def report_markdown(summary: dict, records: list[dict]) -> str:
                       "indentation matches Table 1 at d = 0.46 (0.00043 mm). The paper's first row implies a secant "
                       "stiffness P/delta about 5x that of its own second and third rows, whereas a Hertz-type "
                       "contact stiffens with load; the FEM's P/delta rises monotonically.", ""]
+            continue
+        if study == AL and summary.get(AL):
+            lines += _al_section(summary[AL])
             continue
         cond = study == "method"
         head = "| run | converged | its (max) | cut-backs | time (s) | p_max err | half-width err | RMS/p0 | "
@@ -472,31 +594,37 @@ def report_markdown(summary: dict, records: list[dict]) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """CLI: ``python -m workbench.studies.stability [--study NAME ...] [--out DIR]``; exit 1 if any run is SILENT."""
-    ap = argparse.ArgumentParser(prog="python -m workbench.studies.stability", description=__doc__.splitlines()[0])
+    """CLI ``workbench stability [--study NAME ...] [--out DIR] [--mesh-cache DIR]``; exit 1 if any run is SILENT
+    or an augmented-Lagrangian run FAILED."""
+    ap = argparse.ArgumentParser(prog="workbench stability", description=__doc__.splitlines()[0])
     ap.add_argument("--study", action="append", choices=STUDIES, help="run only these studies (repeatable)")
-    ap.add_argument("--out", type=Path, default=OUT, help="output folder (default results/stability)")
+    ap.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/stability)")
+    ap.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
     args = ap.parse_args(argv)
+    cfg = StabilityConfig(studies=tuple(args.study or STUDIES), out=args.out, mesh_cache=args.mesh_cache)
     t0 = time.perf_counter()
-    records = run_sweep(studies=tuple(args.study or STUDIES))
+    records = run_sweep(cfg)
     summary = {
         "runs": len(records),
         "ok": sum(r["status"] == "ok" for r in records),
         "named": sum(r["status"].startswith("named") for r in records),
         "silent": sum(r["status"] == "SILENT" for r in records),
+        "failed": sum(r["status"].startswith("FAILED") for r in records),
         "wall_time_s": time.perf_counter() - t0,
-        "band": BAND,
-        "convective": convective_ratios(records),
-        "scale": scale_invariance(records),
+        "band": cfg.band,
+        "convective": convective_ratios(records, main_block=max((b for _, b in cfg.convective_runs), default=0.0)),
+        "scale": scale_invariance(records, reference_E=cfg.scale_reference_E),
+        AL: augmented_lagrangian_summary(records) if AL in cfg.studies else None,
     }
-    write_json(args.out / "stability.json", {"summary": summary, "records": records})
-    write_text(args.out / "report.md", report_markdown(summary, records))
+    out = cfg.out_dir
+    write_json(out / "stability.json", {"config": to_json(cfg), "summary": summary, "records": records})
+    write_text(out / "report.md", report_markdown(summary, records))
     from workbench.studies.stability_plot import main as plot_main  # plotting is separate; it reads the JSON back
 
-    plot_main(["--dir", str(args.out)])
+    plot_main(["--dir", str(out)])
     print(f"stability: {summary['runs']} runs, {summary['ok']} ok, {summary['named']} named, "
-          f"{summary['silent']} SILENT in {summary['wall_time_s']:.0f} s -> {args.out}")
-    return 1 if summary["silent"] else 0
+          f"{summary['silent']} SILENT, {summary['failed']} FAILED in {summary['wall_time_s']:.0f} s -> {out}")
+    return 1 if summary["silent"] or summary["failed"] else 0
 
 
 if __name__ == "__main__":

@@ -1,0 +1,85 @@
+"""The studies' shape: no study imports another, reports and plots read JSON only, no study depends on the working
+directory, every study has a typed config whose defaults are what it runs."""
+
+from __future__ import annotations
+
+import dataclasses
+import subprocess
+import sys
+from pathlib import Path
+
+import grimp
+import pytest
+
+from workbench.cli import STUDIES
+from workbench.paths import default_paths
+from workbench.studies.config import BenchConfig, ConvectiveTableConfig, ConvergenceConfig, StabilityConfig
+
+STUDY_DIR = Path(__file__).resolve().parents[1] / "workbench" / "studies"
+RUNNERS = {"workbench.studies.bench", "workbench.studies.convergence", "workbench.studies.stability",
+           "workbench.studies.convective_table"}
+# what each runner may import of the other study modules: its own report and plot, the shared config and rates
+OWN = {"workbench.studies.bench": {"workbench.studies.bench_report", "workbench.studies.bench_plot"},
+       "workbench.studies.convergence": {"workbench.studies.convergence_report", "workbench.studies.convergence_plot"},
+       "workbench.studies.stability": {"workbench.studies.stability_plot"},
+       "workbench.studies.convective_table": set()}
+SHARED = {"workbench.studies.config", "workbench.studies.rates"}
+
+
+@pytest.fixture(scope="module")
+def graph():
+    return grimp.build_graph("workbench", "fem", "meshes", "cases", "analytic")
+
+
+def _studies_imported_by(graph, module: str) -> set[str]:
+    return {m for m in graph.find_modules_directly_imported_by(module) if m.startswith("workbench.studies.")}
+
+
+def test_the_cli_runs_every_study():
+    assert set(STUDIES.values()) == RUNNERS
+
+
+@pytest.mark.parametrize("study", sorted(RUNNERS))
+def test_a_study_imports_no_other_study(graph, study):
+    assert _studies_imported_by(graph, study) <= OWN[study] | SHARED
+
+
+@pytest.mark.parametrize("module", ["bench_report", "bench_plot", "convergence_report", "convergence_plot",
+                                    "stability_plot", "config", "rates"])
+def test_reports_plots_and_shared_modules_import_no_study(graph, module):
+    """Reports and plots read the study JSON; config and rates are leaves every study may import."""
+    assert _studies_imported_by(graph, f"workbench.studies.{module}") <= SHARED
+
+
+def test_no_study_path_is_relative_to_the_working_directory():
+    """Output folders come from workbench.paths (``--out`` overrides): no ``Path("results...")`` literal."""
+    for path in STUDY_DIR.glob("*.py"):
+        text = path.read_text()
+        assert 'Path("results' not in text and "Path('results" not in text, path.name
+
+
+def test_default_folders_are_the_workbench_paths():
+    paths = default_paths()
+    assert ConvergenceConfig().out_dir == paths.study("convergence")
+    assert StabilityConfig().out_dir == paths.study("stability")
+    assert BenchConfig().out_dir == paths.study("bench")
+    assert ConvectiveTableConfig().out_dir == paths.analytic
+    assert StabilityConfig().cache_dir == BenchConfig().cache_dir == paths.mesh_cache
+    assert ConvergenceConfig(out=Path("rel")).out_dir.is_absolute()
+
+
+@pytest.mark.parametrize("cls", [ConvergenceConfig, StabilityConfig, BenchConfig, ConvectiveTableConfig])
+def test_configs_are_frozen(cls):
+    cfg = cls()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        cfg.out = Path("x")  # type: ignore[misc]
+
+
+def test_convective_table_from_another_directory(tmp_path):
+    """``workbench convective-table --out DIR`` run from an unrelated working directory writes only to DIR."""
+    out = tmp_path / "ct"
+    proc = subprocess.run([sys.executable, "-m", "workbench", "convective-table", "--out", str(out)], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert sorted(p.name for p in out.iterdir()) == ["convective.json", "convective.md"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ct"]
