@@ -54,8 +54,8 @@ import ufl
 from mpi4py import MPI
 
 from fem.errors import ContactSolveError
-from fem.methods import register
 from fem.methods.base import ContactMethod, MethodTerms, SampleRule, contact_law
+from fem.methods.registry import register
 
 __all__ = ["AugmentedLagrangian", "nodal_rule"]
 

@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import ufl
 
-from fem.methods import register
 from fem.methods.base import ContactMethod, MethodTerms, contact_law
+from fem.methods.registry import register
 
 __all__ = ["Nitsche"]
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import ufl
 
-from fem.methods import register
 from fem.methods.base import ContactMethod, MethodTerms, contact_law
+from fem.methods.registry import register
 
 __all__ = ["Penalty"]
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 import subprocess
 import sys
 import time
+
 from cases import case_names, load_case
 from workbench.atomic import write_text
 from workbench.paths import OutputPaths

@@ -193,7 +193,7 @@ def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path
 
 def _run_metrics(run: Run, result, mesh: ConcaveMesh, steps: list[dict]) -> dict:
     """The run's JSON entry of ``metrics.json["runs"]``."""
-    ld, disc, sol = run.loading, run.discretisation, run.solver
+    disc, sol = run.discretisation, run.solver
     last = steps[-1]
     E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
     return {
