@@ -13,9 +13,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from analytic.circle import circle_pressure
 from cases.schema import Case, Run
 from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
-from workbench.scenes.block_theory import BlockTheory, block_theory, compare_block
+from workbench.scenes.block_theory import BlockTheory, block_theory, compare_block, exact_circle
 
 __all__ = ["BlockComparison", "BlockScene", "block_mesh", "compare_result", "obstacle_for"]
 
@@ -106,6 +107,7 @@ def _run_metrics(run: Run, result, cmp: BlockComparison, files) -> dict:
         "analytic": {
             "kind": theory.kind, "P": theory.P, "E_star": theory.E_star, "half_width": theory.half_width,
             "p_ref": theory.p_ref, "R": theory.R, "m": theory.m,
+            **({"exact_circle": exact_circle(theory)._asdict()} if run.geometry.indenter == "circle" else {}),
         },
         "errors": errors,
     }
@@ -138,6 +140,10 @@ class BlockScene:
         x, p, snn = cmp.x[order], cmp.p[order], cmp.sigma_nn[order]
         theory = cmp.theory
         predictions = {f"{theory.kind} (at measured P)": theory.pressure(x)}
+        if run.geometry.indenter == "circle":
+            ex = exact_circle(theory)
+            predictions["exact circle (at measured P)"] = circle_pressure(x, b=ex.half_width, R=theory.R,
+                                                                          E_star=theory.E_star)
         lim = 1.6 * max(cmp.half_width if math.isfinite(cmp.half_width) else 0.0, theory.half_width)
         series = Series(run.label, x, p, snn, predictions, "x (mm, material)", (-lim, lim))
         return Outcome(run.label, run, metrics, [series], theory, cmp, result)

@@ -9,6 +9,8 @@ Error measures (all relative, dimensionless):
     rms         sqrt( (1/L) int_L (p_fem - p_th)^2 dx ) / p_ref over the sampled patch region
                 L = samples with |x - c| <= 1.05 max(a_fem, a); p_ref = p0 (Hertz) or P/(2b) (wedge)
     load_balance |P - P_pressure| / P
+    *_vs_exact_circle   the same against the exact circle's half-plane theory (:mod:`analytic.circle`),
+                the profile a circle indenter really has (information; the tolerances apply to Hertz)
 """
 
 from __future__ import annotations
@@ -20,9 +22,11 @@ import numpy as np
 
 from analytic import hertz as hz
 from analytic import materials, wedge
+from analytic.circle import CircleContact, circle_contact, circle_pressure
 
 __all__ = [
     "BlockTheory",
+    "exact_circle",
     "block_theory",
     "compare_block",
     "rms_error",
@@ -124,4 +128,17 @@ def compare_block(*, x: np.ndarray, p: np.ndarray, P: float, P_pressure: float, 
     }
     if th.kind == "hertz":
         errors["p_max"] = abs(p_max_fem - th.p_ref) / th.p_ref
+    if geometry.indenter == "circle":  # the theory of the profile the FEM really has (for information)
+        ex = exact_circle(th)
+        errors["p_max_vs_exact_circle"] = abs(p_max_fem - ex.p0) / ex.p0
+        errors["half_width_vs_exact_circle"] = abs(half_width_fem - ex.half_width) / ex.half_width
+        errors["rms_vs_exact_circle"] = rms_error(
+            x, p, circle_pressure(x, b=ex.half_width, R=th.R, E_star=th.E_star), center=0.0,
+            half_width=max(half_width_fem, ex.half_width), p_ref=ex.p0)
     return th, errors
+
+
+def exact_circle(th: BlockTheory) -> CircleContact:
+    """The exact circle's half-plane contact at the load of ``th`` (:mod:`analytic.circle`; Hertz is its
+    parabolic approximation, off by about 3 (a/R)^2 / 16 in the half-width)."""
+    return circle_contact(th.P, th.R, th.E_star)
