@@ -1,5 +1,5 @@
 """fem.probe.stress_at_points on the flat-punch patch test (uniform stress, exact in the FE space) and against
-McEwen's Hertz field on the symmetry axis of the default Hertz scene."""
+the plane-strain out-of-plane stress."""
 
 import dolfinx_solver  # noqa: F401
 
@@ -10,7 +10,7 @@ from fem.elasticity import lame
 from fem.obstacles import PlaneObstacle
 from fem.probe import stress_at_points
 from fem.solver import solve_contact
-from tests.test_fem_patch import D, E, H, NU, TOL_ROUNDOFF, W, structured_block
+from tests.test_fem_patch import NU, TOL_ROUNDOFF, D, E, H, W, structured_block
 
 
 @pytest.mark.parametrize("degree", [1, 2])
