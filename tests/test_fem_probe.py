@@ -1,5 +1,5 @@
-"""fem.probe.stress_at_points on the flat-punch patch test (uniform stress, exact in the FE space) and against
-the plane-strain out-of-plane stress."""
+"""fem.probe.stress_at_points on the flat-punch patch test: the uniform stress (exact in the FE space), the
+plane-strain out-of-plane stress included, to round-off; NaN outside the body."""
 
 import dolfinx_solver  # noqa: F401
 
