@@ -125,11 +125,13 @@ def test_classify_flags_a_silent_run():
 
 def test_default_config_reproduces_the_published_sweep():
     """The typed config's defaults are the sweep as published: 88 runs before the AL sweep, labels as before,
-    plus five augmented-Lagrangian runs, one per decade of kappa0."""
+    plus five augmented-Lagrangian runs, one per decade of kappa0, and (issue 15) the penalty sweep extended
+    from 1e8 to 1e10 (two runs)."""
     all_specs = specs()
     labels = [s.label for s in all_specs]
-    assert len(labels) == len(set(labels)) == 88 + 5
-    assert "penalty kappa0=1e8" in labels and "E=1e-3" in labels and "nitsche gamma0=0.1 theta=-1" in labels
+    assert len(labels) == len(set(labels)) == 88 + 5 + 2
+    assert "penalty kappa0=1e8" in labels and "penalty kappa0=1e10" in labels and "E=1e-3" in labels
+    assert "nitsche gamma0=0.1 theta=-1" in labels
     al = [s for s in all_specs if s.study == "augmented_lagrangian"]
     k = [s.kappa0 for s in al]
     assert [s.method for s in al] == ["augmented_lagrangian"] * 5

@@ -77,6 +77,10 @@ class AugmentedLagrangian(ContactMethod):
 
     name = "augmented_lagrangian"
     supports_tangent = False  # the multiplier changes with d too: force corrections use the secant
+    # Uzawa update ``lambda <- relaxation * p`` (1: the augmented Lagrangian; a stiff penalty relaxes it,
+    # :class:`fem.methods.penalty.NodalPenaltyUzawa`) and the name used in its error messages.
+    relaxation: float = 1.0
+    label: str = "augmented Lagrangian"
 
     def __init__(self, *, E, kappa0: float = 1e3, uzawa_rtol: float = 1e-10, uzawa_max_it: int = 100, **params):
         super().__init__(E=E)
@@ -106,8 +110,8 @@ class AugmentedLagrangian(ContactMethod):
         q = lam - kappa * kin.gap
         p = contact_law(q, kin.X, mask)
         vq = ufl.TestFunction(Q)
-        self._forms = {name: dolfinx.fem.form(f * vq * ds_c) for name, f in
-                       (("w", 1.0), ("p", p), ("g", kin.gap))}
+        fields = {"w": 1.0, "p": p, "g": kin.gap} | self.nodal_fields(kin)
+        self._forms = {name: dolfinx.fem.form(f * vq * ds_c) for name, f in fields.items()}
         self._n_owned = Q.dofmap.index_map.size_local
         self._comm = V.mesh.comm
         self._u = kin.u
@@ -116,6 +120,15 @@ class AugmentedLagrangian(ContactMethod):
         self._idx = np.flatnonzero(w > 0)  # owned contact dofs
         self._w = w[self._idx]
         return MethodTerms(argument=q, pressure=p, F_c=p * ufl.dot(kin.n_c, v) * ds_c)
+
+    def nodal_fields(self, kin) -> dict:
+        """Extra UFL fields f whose nodal averages ``int^nodal f N_i ds / w_i`` :meth:`law_gap` reads (none)."""
+        return {}
+
+    def law_gap(self, gap: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """The nodal gaps (mm) that must meet the contact conditions at a fixed point, from the nodal gaps and
+        pressures (MPa): the gaps themselves (the constraint ``g_i = 0`` where ``p_i > 0``)."""
+        return gap
 
     def state_functions(self) -> list:
         return [self.multiplier]
@@ -136,9 +149,10 @@ class AugmentedLagrangian(ContactMethod):
     def update(self) -> tuple[float, float, np.ndarray]:
         """Candidate multiplier from the current state: (largest nodal gap violation relative to max|u|, relative
         multiplier change, the new nodal values, not yet assigned)."""
-        new = self._nodal("p")[self._idx] / self._w
+        p_nodal = self._nodal("p")[self._idx] / self._w
+        new = self.relaxation * p_nodal
         old = self.multiplier.x.array[self._idx]
-        gap = self._nodal("g")[self._idx] / self._w
+        gap = self.law_gap(self._nodal("g")[self._idx] / self._w, p_nodal)
         scale = self._max(new)
         change = self._max(np.abs(new - old))
         violation = self._max(np.concatenate([np.abs(gap[new > 0]), np.maximum(-gap, 0.0)]))
@@ -154,7 +168,7 @@ class AugmentedLagrangian(ContactMethod):
             if gap <= self.uzawa_rtol:
                 break
             if n >= self.uzawa_max_it:
-                raise ContactSolveError(f"augmented Lagrangian: the gap violation is still {gap:.3g} max|u| "
+                raise ContactSolveError(f"{self.label}: the gap violation is still {gap:.3g} max|u| "
                                         f"(> uzawa_rtol = {self.uzawa_rtol:g}) after {n} Uzawa iterations; "
                                         "raise kappa0 or uzawa_max_it")
             self.multiplier.x.array[self._idx] = new

@@ -169,7 +169,8 @@ class StabilityConfig:
     Attributes:
         studies: The studies run, in report order.
         band, band_p1, band_wedge: Accuracy bands (relative).
-        penalty_kappa0: Penalty factors of the ``method`` study (nine decades).
+        penalty_kappa0: Penalty factors of the ``method`` study (1e0 ... 1e10; above 1e5 the penalty is solved by
+            relaxed Uzawa updates of its nodal law, :mod:`fem.methods.penalty`).
         nitsche_gamma0, nitsche_theta: Nitsche factors x variants of the ``method`` study.
         al_kappa0: Augmented-Lagrangian factors (five decades), every run expected to converge.
         incompressible_nu: Poisson ratios of the ``incompressible`` study.
@@ -190,7 +191,7 @@ class StabilityConfig:
     band: float = 0.02
     band_p1: float = 0.04
     band_wedge: float = 0.03
-    penalty_kappa0: tuple[float, ...] = tuple(10.0**k for k in range(9))
+    penalty_kappa0: tuple[float, ...] = tuple(10.0**k for k in range(11))
     nitsche_gamma0: tuple[float, ...] = (0.1, 1.0, 10.0, 100.0, 1e3, 1e4)
     nitsche_theta: tuple[int, ...] = (1, 0, -1)
     al_kappa0: tuple[float, ...] = tuple(10.0**k for k in range(1, 6))
