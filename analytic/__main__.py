@@ -35,9 +35,25 @@ def _emit(data: dict[str, Any], as_json: bool) -> None:
             print(f"{key:32s} {value}")
 
 
+def _body(args: argparse.Namespace) -> None:
+    """Check the deformable body's --E and --nu under their command-line names (ValueError, one line)."""
+    from analytic import materials
+
+    materials.validate_modulus(args.E, "--E")
+    materials.validate_poisson(args.nu, "--nu")
+
+
 def _cmd_hertz(args: argparse.Namespace) -> dict[str, Any]:
     from analytic import hertz, materials
 
+    _body(args)
+    if (args.E2 is None) != (args.nu2 is None):
+        given, missing = ("--E2", "--nu2") if args.nu2 is None else ("--nu2", "--E2")
+        raise ValueError(f"{given} is given without {missing}: an elastic indenter needs both --E2 (MPa, > 0) "
+                         "and --nu2 (-1 < --nu2 < 0.5); omit both for a rigid indenter")
+    if args.E2 is not None:
+        materials.validate_modulus(args.E2, "--E2")
+        materials.validate_poisson(args.nu2, "--nu2")
     E1 = math.inf if args.E2 is None else args.E2
     nu1 = 0.0 if args.nu2 is None else args.nu2
     E_star = materials.composite_modulus(args.E, args.nu, E1=E1, nu1=nu1)
@@ -56,6 +72,7 @@ def _cmd_hertz(args: argparse.Namespace) -> dict[str, Any]:
 def _cmd_wedge(args: argparse.Namespace) -> dict[str, Any]:
     from analytic import materials, wedge
 
+    _body(args)
     m = wedge.wedge_slope(args.theta, convention=args.convention)
     E_star = materials.composite_modulus(args.E, args.nu)
     c = wedge.wedge(args.P, m, E_star)

@@ -76,13 +76,27 @@ def test_table1_json(capsys):
         (["wedge", "--P", "1", "--theta", "2", "--E", "1", "--nu", "0.3"], "theta"),
         (["convective", "--profile", "parabola", "--b0-over-R", "0.2", "--beta", "-0.7"], "beta"),
         (["convective", "--profile", "wedge", "--beta", "-0.5"], "theta"),
-        (["hertz", "--P", "1", "--R", "1", "--E", "1", "--nu", "0.7"], "nu2"),
+        # the command-line field is named (issue 15: it used to say nu2 and E1, the library's names)
+        (["hertz", "--P", "1", "--R", "1", "--E", "1", "--nu", "0.7"], "--nu"),
+        (["hertz", "--P", "1", "--R", "1", "--E", "1", "--nu", "0.3", "--E2", "-5", "--nu2", "0.3"], "--E2"),
+        (["hertz", "--P", "1", "--R", "1", "--E", "1", "--nu", "0.3", "--E2", "5", "--nu2", "0.6"], "--nu2"),
+        (["hertz", "--P", "1", "--R", "1", "--E", "-1", "--nu", "0.3"], "--E"),
+        (["wedge", "--P", "1", "--theta", "0.1", "--E", "1", "--nu", "0.5"], "--nu"),
     ],
 )
 def test_bad_values_exit_2_one_line(capsys, argv, field):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and f"{field} = " in err[0] and "out of range" in err[0]
+
+
+@pytest.mark.parametrize("extra, given, missing", [(["--nu2", "0.3"], "--nu2", "--E2"),
+                                                   (["--E2", "1000"], "--E2", "--nu2")])
+def test_half_given_indenter_is_refused(capsys, extra, given, missing):
+    """``--nu2`` without ``--E2`` (or the reverse) was silently ignored (a rigid indenter was used): refused."""
+    assert main(["hertz", "--P", "1", "--R", "1", "--E", "1", "--nu", "0.3", *extra]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"{given} is given without {missing}" in err[0]
 
 
 def test_argparse_error_is_one_line(capsys):
