@@ -87,8 +87,9 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
 
 
 def run_one(run: Run, *, name: str, mesh_cache: Path, comm, progress=print, stats_dir: Path | None = None,
-            **solver_overrides) -> Outcome:
-    """Mesh, solve and compare one run through its scene (``solver_overrides``: extra solver keywords)."""
+            frames: list | None = None, **solver_overrides) -> Outcome:
+    """Mesh, solve and compare one run through its scene (``solver_overrides``: extra solver keywords;
+    ``frames``: a list that receives every converged step for the VTK time series)."""
     from workbench.mesh_io import read_mesh
 
     scene = scene_for(run)
@@ -96,7 +97,8 @@ def run_one(run: Run, *, name: str, mesh_cache: Path, comm, progress=print, stat
     progress(f"[{run.label}] {mesh.summary}")
     mesh_data = read_mesh(mesh.files.msh, comm)
     result = solve_run(run, mesh_data, scene.obstacle(run, mesh), scene.load_path(run, mesh),
-                       case=f"{name}[{run.label}]", on_step=step_printer(progress, run.label), **solver_overrides)
+                       case=f"{name}[{run.label}]", on_step=step_printer(progress, run.label), frames=frames,
+                       **solver_overrides)
     for w in result.warnings:
         progress(f"[{run.label}] WARNING: {w}")
     return scene.compare(run, result, mesh, progress=progress)
@@ -137,8 +139,11 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
             stage = Path(comm.bcast(str(stage) if comm.rank == 0 else None, root=0))
             outcomes = []
             for run in case.runs(h_contact=h_contact):
-                outcome = run_one(run, name=case.name, mesh_cache=paths.mesh_cache, comm=comm, progress=progress)
-                write_vtk(outcome.result, stage / "vtk" / _safe(run.label))
+                frames: list = []
+                outcome = run_one(run, name=case.name, mesh_cache=paths.mesh_cache, comm=comm, progress=progress,
+                                  frames=frames)
+                write_vtk(outcome.result, stage / "vtk" / _safe(run.label), frames=frames,
+                          record_at=getattr(run.loading, "d", None))
                 outcomes.append(outcome)
             metrics = case_metrics(case, outcomes, h_contact=h_contact, wall_time_s=time.perf_counter() - t0)
             metrics["mpi_processes"] = comm.size

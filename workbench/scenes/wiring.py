@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from cases.schema import Run
+from cases.schema import Run, effective_formulation
 from fem.options import ContactOptions
 from workbench.scenes.base import LoadPath
 
@@ -18,27 +18,35 @@ __all__ = ["solver_options", "solve_run", "step_printer"]
 def solver_options(run: Run, load: LoadPath, **overrides) -> ContactOptions:
     """The solver options of ``run`` driven along ``load`` (``overrides``: any other ContactOptions field).
 
-    Material (E in MPa, nu), element degree, the contact method and its parameters, kinematics and traction
-    come from the run; control, target (N/mm or mm), steps, snapshots and the half model from ``load``.
+    Material (E in MPa, nu), element degree, the contact method and its parameters, kinematics, traction and
+    the bulk formulation (``"auto"`` resolved by nu, :func:`cases.schema.effective_formulation`) come from the run;
+    control, target (N/mm or mm), steps, snapshots and the half model from ``load``.
     """
     sol, disc = run.solver, run.discretisation
     opts = dict(E=run.material.E, nu=run.material.nu, degree=disc.degree, method=sol.method,
                 kinematics=sol.kinematics, traction=sol.traction, kappa0=sol.kappa0, gamma0=sol.gamma0,
                 theta=sol.theta, control=load.control, target=load.target, n_steps=load.n_steps,
-                symmetric_half=load.symmetric_half)
+                symmetric_half=load.symmetric_half, formulation=effective_formulation(run))
     if load.record_at is not None:
         opts["record_at"] = load.record_at
     return ContactOptions(**(opts | overrides))
 
 
 def solve_run(run: Run, mesh_data, obstacle, load: LoadPath, *, case: str, on_step: Callable | None = None,
-              **overrides):
+              frames: list | None = None, **overrides):
     """Solve one run's contact problem: :func:`solver_options` plus any study-specific ``overrides``
-    (e.g. ``petsc_options``, ``predictor``, ``formulation``)."""
+    (e.g. ``petsc_options``, ``predictor``, ``formulation``). ``frames``: a list that receives the converged
+    state of every step (:class:`fem.output.Frame`, for the VTK time series); the result is the same."""
     from fem.solver import solve_contact
 
-    return solve_contact(mesh_data, obstacle,
-                         options=solver_options(run, load, on_step=on_step, case=case, **overrides))
+    options = solver_options(run, load, on_step=on_step, case=case, **overrides)
+    if frames is None:
+        return solve_contact(mesh_data, obstacle, options=options)
+    from fem.output import solve_recording
+
+    result, recorded = solve_recording(mesh_data, obstacle, options=options)
+    frames.extend(recorded)
+    return result
 
 
 def step_printer(progress: Callable[[str], None], label: str) -> Callable[[dict], None]:
