@@ -8,6 +8,7 @@ It reads only the files the run saved in the case folder, ``metrics.json`` and `
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -36,16 +37,33 @@ def load_series(folder: Path) -> list[dict] | None:
             for sr in json.loads(f.read_text())["series"]]
 
 
-def pressure_panels(series: list[dict]) -> list[dict]:
-    """The panels of :func:`workbench.reports.plots.plot_pressure_panels`, one per series."""
+def _b_marks(metrics: dict | None, label: str) -> list[tuple[str, float]]:
+    """Contact edges x = b0 (b/b0) of the headline b/b0 values (FEM, converged, first order, the paper's
+    printed value) on the convective run's panel; b0 is the classical half-width of the small-kinematics run."""
+    an = (metrics or {}).get("analytic", {})
+    if label != "convective" or "b_over_b0_fem" not in an:
+        return []
+    b0 = ((an.get("runs") or {}).get("small") or {}).get("half_width")
+    if not b0:
+        return []
+    names = (("b_over_b0_fem", "FEM"), ("b_over_b0_converged", "converged theory"),
+             ("b_over_b0_first_order", "first order"), ("b_over_b0_paper", "paper (printed)"))
+    return [(f"b/b0 {text} = {an[key]:.4g}", b0 * an[key]) for key, text in names if an.get(key) is not None]
+
+
+def pressure_panels(series: list[dict], metrics: dict | None = None) -> list[dict]:
+    """The panels of :func:`workbench.reports.plots.plot_pressure_panels`, one per series (with the b/b0
+    contact edges of a convective case marked, see :func:`_b_marks`)."""
     return [{"label": sr["label"], "x": sr["x"], "p_fem": sr["p"], "sigma_nn": sr["sigma_nn"],
-             "xlabel": sr["xlabel"], "xlim": sr["xlim"],
+             "xlabel": sr["xlabel"], "xlim": sr["xlim"], "marks": _b_marks(metrics, sr["label"]),
              "predictions": {k: (sr["x"], v) for k, v in sr["predictions"].items() if v is not None}}
             for sr in series]
 
 
-def case_report_markdown(metrics: dict) -> str:
-    """The case report as Markdown from ``metrics.json``: description, plot, runs, patches, errors, checks."""
+def case_report_markdown(metrics: dict, *, renders: list[tuple[str, str]] | None = None,
+                         render_error: str | None = None, view_script: bool = False) -> str:
+    """The case report as Markdown from ``metrics.json``: description, plot, renders, runs, patches, errors,
+    checks. ``renders``: (caption, file name) of the pyvista renders; ``render_error``: why they are missing."""
     lines = [f"# {metrics['case']}", "", metrics.get("description", ""), "",
              f"Verdict: **{'PASS' if metrics['pass'] else 'FAIL'}** against the case tolerances. "
              f"Wall time {metrics['wall_time_s']:.1f} s on {metrics.get('mpi_processes', 1)} process(es) "
@@ -57,8 +75,17 @@ def case_report_markdown(metrics: dict) -> str:
         lines += ["## Warnings", "", *[f"- {label}: {w}" for label, w in warns], ""]
     lines += ["![pressure](pressure.png)", "",
               "Data: [pressure.csv](pressure.csv), [series.json](series.json) · "
-              "metrics: [metrics.json](metrics.json) · ParaView: `vtk/` (open the `.pvd` files) · "
-              "log: [run.log](run.log)", "", "## Runs", "",
+              "metrics: [metrics.json](metrics.json) · ParaView: `vtk/<run>/body.pvd` and `contact_surface.pvd` "
+              "(one time step per converged load step)"
+              + (", or run `pvpython view.py` ([view.py](view.py))" if view_script else "")
+              + " · log: [run.log](run.log)", ""]
+    if renders or render_error:
+        lines += ["## The deformed body (pyvista renders of `vtk/`)", ""]
+        for caption, name in renders or []:
+            lines += [f"![{caption}]({name})", "", f"*{caption}.*", ""]
+        if render_error:
+            lines += [f"Render failed: `{render_error}`", ""]
+    lines += ["## Runs", "",
               "| run | method | kinematics | traction | degree | ndofs | Newton its (per solve) | load steps | "
               "P (N/mm) | P_pressure (N/mm) | patches | time (s) |",
               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -89,7 +116,9 @@ def case_report_markdown(metrics: dict) -> str:
 
 
 def write_case_report(folder: Path) -> list[Path]:
-    """Write ``pressure.png``, ``report.md`` and ``report.html`` of the case in ``folder``.
+    """Write ``pressure.png``, ``report.md`` and ``report.html`` of the case in ``folder``, and, when it has
+    ``vtk/*/frames.json``, ``view.py`` (ParaView) and the pyvista renders ``render_<run>.png`` /
+    ``steps_<run>.png``.
 
     Reads ``folder/metrics.json`` and ``folder/series.json``. Without ``series.json`` (a folder written before
     it existed) the plot is not drawn and an existing ``pressure.png`` is left as it is.
@@ -105,9 +134,21 @@ def write_case_report(folder: Path) -> list[Path]:
     written = []
     series = load_series(folder)
     if series:
-        plot_pressure_panels(pressure_panels(series), folder / "pressure.png", title=name)
+        plot_pressure_panels(pressure_panels(series, metrics), folder / "pressure.png", title=name)
         written.append(folder / "pressure.png")
-    md = case_report_markdown(metrics)
+    renders, render_error, view = [], None, None
+    if list((folder / "vtk").glob("*/frames.json")):
+        from workbench.reports.paraview_view import write_view_script
+        from workbench.reports.renders import render_case
+
+        view = write_view_script(folder)
+        try:
+            renders = [(caption, png.name) for caption, png in render_case(folder)]
+            written += [folder / name for _, name in renders]
+        except Exception as exc:  # a missing OpenGL stack must not lose the report; the report says why
+            render_error = f"{type(exc).__name__}: {exc}".splitlines()[0]
+            print(f"warning: {name}: pyvista render failed: {render_error}", file=sys.stderr)
+    md = case_report_markdown(metrics, renders=renders, render_error=render_error, view_script=view is not None)
     write_text(folder / "report.md", md)
     write_text(folder / "report.html", markdown_to_html(md, title=name))
     return [*written, folder / "report.md", folder / "report.html"]

@@ -33,7 +33,7 @@ def load_study_json(argv: list[str], default: Path, *, producer: str):
     return path, json.loads(path.read_text())
 
 
-def save_figure(fig, path: Path, *, dpi: int = 110) -> Path:
+def save_figure(fig, path: Path, *, dpi: int = 150) -> Path:
     """Lay out ``fig``, write it to ``path`` atomically, close it, and return the path."""
     path = Path(path)
     fig.tight_layout()
@@ -43,37 +43,77 @@ def save_figure(fig, path: Path, *, dpi: int = 110) -> Path:
     return path
 
 
+SINGULAR_RATIO = 2.5
+"""A pressure axis is logarithmic when the peak exceeds this times the mean over the contact (a singularity: the
+wedge apex gives about 4, Hertz 4/pi = 1.27)."""
+
+
+def _singular(p) -> bool:
+    p = np.asarray(p, dtype=float)
+    on = p[np.isfinite(p) & (p > 0)]
+    return on.size > 3 and float(on.max()) > SINGULAR_RATIO * float(on.mean())
+
+
 def plot_pressure_panels(panels: list[dict], path: Path, *, title: str) -> None:
-    """One panel per run: FEM pressure against every analytic prediction.
+    """One column per run: FEM pressure against every analytic prediction, and below it the residual
+    (FEM - theory) / p0 of the first prediction, or of the convective one where present (p0: that
+    prediction's peak).
 
     Args:
         panels: dicts with ``label``, ``x`` (mm), ``p_fem`` (MPa), optional ``sigma_nn`` (MPa),
-            ``predictions`` (name -> (x, p) arrays), ``xlabel`` and ``xlim``.
-        path: PNG file to write (atomically).
+            ``predictions`` (name -> (x, p) arrays), ``xlabel``, ``xlim`` and optional ``marks``: a list of
+            (label, x) drawn as vertical lines (e.g. the contact edge b = b0 (b/b0) of each theory).
+        path: PNG file to write (atomically, 150 dpi).
         title: Figure title.
+
+    A pressure axis is logarithmic where a singularity dominates it (:data:`SINGULAR_RATIO`); legends sit to
+    the right of the axes, never on the data.
     """
     n = len(panels)
-    ncol = min(n, 3)
+    ncol = min(n, 2)
     nrow = int(np.ceil(n / ncol))
-    fig, axes = plt.subplots(nrow, ncol, figsize=(5.2 * ncol, 3.8 * nrow), squeeze=False)
-    for ax, panel in zip(axes.flat, panels, strict=False):
-        x = np.asarray(panel["x"])
-        ax.plot(x, panel["p_fem"], "k.", ms=2.5, label="FEM (contact law)")
+    fig = plt.figure(figsize=(7.6 * ncol, 5.4 * nrow))
+    grid = fig.add_gridspec(nrow * 2, ncol, height_ratios=[3, 1.3] * nrow)
+    for k, panel in enumerate(panels):
+        r, c = divmod(k, ncol)
+        ax = fig.add_subplot(grid[2 * r, c])
+        res = fig.add_subplot(grid[2 * r + 1, c], sharex=ax)
+        x = np.asarray(panel["x"], dtype=float)
+        p = np.asarray(panel["p_fem"], dtype=float)
+        ax.plot(x, p, "k.", ms=2.5, label="FEM (contact law)")
         if panel.get("sigma_nn") is not None:
             ax.plot(x, panel["sigma_nn"], "-", color="0.6", lw=0.8, label=r"FEM $-\sigma_{nn}$")
-        for (name, (xp, pp)), style in zip(panel.get("predictions", {}).items(), ("-", "--", "-.", ":"),
-                                           strict=False):
+        preds = list(panel.get("predictions", {}).items())
+        for (name, (xp, pp)), style in zip(preds, ("-", "--", "-.", ":"), strict=False):
             ax.plot(xp, pp, style, lw=1.4, label=name)
-        ax.set_xlabel(panel.get("xlabel", "x (mm)"))
+        for (name, xm), colour in zip(panel.get("marks", []), ("C3", "C4", "C5", "C6", "C8"), strict=False):
+            ax.axvline(xm, color=colour, lw=1.0, ls=(0, (4, 2)), label=name)
         ax.set_ylabel("p (MPa)")
         ax.set_title(panel["label"], fontsize=10)
         if panel.get("xlim"):
             ax.set_xlim(*panel["xlim"])
-        ax.set_ylim(bottom=0)
+        if _singular(p):
+            ax.set_yscale("log")
+            ax.set_ylim(bottom=1e-2 * np.nanmax(p), top=2.0 * np.nanmax(p))
+            ax.set_ylabel("p (MPa, log scale: singular peak)")
+        else:
+            ax.set_ylim(bottom=0)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
-    for ax in list(axes.flat)[n:]:
-        ax.axis("off")
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+        plt.setp(ax.get_xticklabels(), visible=False)
+        if preds:  # the residual against the most specific theory: the convective one where present
+            name, (xp, pp) = next((q for q in preds if "convective" in q[0]), preds[0])
+            pp = np.asarray(pp, dtype=float)
+            p0 = float(np.nanmax(pp)) if np.isfinite(pp).any() else float("nan")
+            same = len(xp) == len(x) and np.allclose(np.asarray(xp, dtype=float), x)
+            theory = pp if same else np.interp(x, np.asarray(xp, dtype=float), pp)
+            res.plot(x, (p - theory) / p0, "k.", ms=2.0)
+            res.axhline(0.0, color="0.5", lw=0.8)
+            res.set_ylabel(f"(FEM - theory) / p0\n(theory: {name[:28]})", fontsize=7)
+        else:
+            res.text(0.5, 0.5, "no theory to compare", transform=res.transAxes, ha="center")
+        res.set_xlabel(panel.get("xlabel", "x (mm)"))
+        res.grid(alpha=0.3)
     fig.suptitle(title)
     save_figure(fig, path)
 
@@ -96,5 +136,6 @@ def plot_load_indentation(curves: dict, path: Path, *, title: str, reference: di
     ax.set_ylabel("P (N/mm, total load per unit thickness)")
     ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    fig.set_size_inches(8.0, 4.2)
     save_figure(fig, path)
