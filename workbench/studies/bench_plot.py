@@ -20,6 +20,7 @@ from matplotlib.ticker import NullFormatter  # noqa: E402
 
 from workbench.paths import default_paths  # noqa: E402
 from workbench.reports.plots import load_study_json, save_figure  # noqa: E402
+from workbench.reports.study_pages import publish_study  # noqa: E402
 
 __all__ = ["main", "plot_bench"]
 
@@ -99,11 +100,12 @@ def plot_bench(data: dict, out_dir: Path) -> list[Path]:
         _memory(a2, data["scale"])
         a1.set_title("cost growth (P2, Nitsche)", fontsize=9)
         paths.append(_save(fig, Path(out_dir) / "cost_growth.png"))
+    publish_study(Path(out_dir), paths)  # report.md shows the plots, report.html, summary rebuilt
     return paths
 
 
 def _save(fig, path: Path) -> Path:
-    return save_figure(fig, path, dpi=130)
+    return save_figure(fig, path, dpi=150)
 
 
 def main(argv: list[str] | None = None) -> int:

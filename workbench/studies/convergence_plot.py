@@ -18,6 +18,7 @@ from matplotlib.ticker import NullFormatter  # noqa: E402
 
 from workbench.paths import default_paths  # noqa: E402
 from workbench.reports.plots import load_study_json, save_figure  # noqa: E402
+from workbench.reports.study_pages import publish_study  # noqa: E402
 
 __all__ = ["main", "plot_study"]
 
@@ -93,6 +94,7 @@ def plot_study(data: dict, *, out_dir: Path) -> list[Path]:
         fig.suptitle(f"Error against {'warm run time' if stem == 'error_vs_time' else 'ndofs'} "
                      "(one line per method x degree over the h_c levels)", fontsize=10)
         paths.append(save_figure(fig, Path(out_dir) / f"{stem}.png"))
+    publish_study(Path(out_dir), paths)  # report.md shows the plots, report.html, summary rebuilt
     return paths
 
 

@@ -19,6 +19,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from workbench.paths import default_paths  # noqa: E402
 from workbench.reports.plots import save_figure  # noqa: E402
+from workbench.reports.study_pages import publish_study  # noqa: E402
 
 __all__ = ["plot_method", "plot_incompressible", "main"]
 
@@ -56,7 +57,7 @@ def plot_method(records: list[dict], path: Path, *, band: float = 0.02) -> Path:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
     fig.suptitle("Method parameters, Hertz scene (P2, h = a/10)")
-    return save_figure(fig, path, dpi=120)
+    return save_figure(fig, path, dpi=150)
 
 
 def plot_incompressible(records: list[dict], path: Path, *, band: float = 0.02) -> Path:
@@ -74,7 +75,7 @@ def plot_incompressible(records: list[dict], path: Path, *, band: float = 0.02) 
     ax.invert_xaxis()
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    return save_figure(fig, path, dpi=120)
+    return save_figure(fig, path, dpi=150)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -86,10 +87,12 @@ def main(argv: list[str] | None = None) -> int:
     folder = args.dir if args.dir is not None else default_paths().study("stability")
     data = json.loads((folder / "stability.json").read_text())
     recs, band = data["records"], data["summary"]["band"]
+    plots = []
     if any(r["study"] == "method" for r in recs):
-        plot_method(recs, folder / "method.png", band=band)
+        plots.append(plot_method(recs, folder / "method.png", band=band))
     if any(r["study"] == "incompressible" for r in recs):
-        plot_incompressible(recs, folder / "incompressible.png", band=band)
+        plots.append(plot_incompressible(recs, folder / "incompressible.png", band=band))
+    publish_study(folder, plots)  # report.md shows the plots, report.html, summary rebuilt
     return 0
 
 
