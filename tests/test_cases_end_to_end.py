@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from pages import raw_markdown
 
 from cases import case_names
 from workbench.pipeline.key_numbers import compare_numbers, key_numbers
@@ -46,6 +47,22 @@ def test_case_runs_at_ci_level(name, tmp_path):
     assert not list(tmp_path.glob(f".{name}.staging.*")), "no staging folder left behind"
     # nothing written outside the output folder: the mesh cache lives in it too
     assert (tmp_path / "mesh_cache").is_dir()
+    # what users look at (issue 14): a VTK time step per converged solve, view.py, pyvista renders in the report,
+    # an HTML page without raw Markdown
+    for run in m["runs"]:
+        label = "".join(c if c.isalnum() or c in "-_." else "_" for c in run["label"])
+        frames = json.loads((out / "vtk" / label / "frames.json").read_text())
+        assert len(frames["steps"]) == len(run["load_steps"]), label
+        assert (out / "vtk" / label / "body.pvd").is_file() and (out / "vtk" / label / "contact_surface.pvd").is_file()
+    assert (out / "view.py").is_file()
+    md = (out / "report.md").read_text()
+    renders = sorted(out.glob("render_*.png"))
+    assert len(renders) == len(m["runs"]) and all(f"]({p.name})" in md for p in renders), md[:2000]
+    assert all(p.stat().st_size > 10_000 for p in renders)  # an image, not an empty window
+    assert "Render failed" not in md
+    if m["runs"][0].get("steps"):  # concave scenes: the strip of steps
+        assert (out / "steps_base.png").is_file() and "](steps_base.png)" in md
+    assert not raw_markdown((out / "report.html").read_text())
     saved = json.loads((ROOT / "tests" / "data" / "key_numbers_ci.json").read_text())
     saved = {k: v for k, v in saved.items() if k.startswith(f"{name}/")}
     assert saved, f"no saved key numbers for {name}"
