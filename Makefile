@@ -31,6 +31,13 @@ done; exit 1
 endef
 
 .PHONY: help setup test run ci lint clean convergence stability bench report list example check-numbers $(CASES)
+.PHONY: viz-check
+
+# Exit codes: the workbench exits 1 on a tolerance FAIL (results written) and 2 on bad input (nothing written).
+# GNU make itself always exits 2 when a recipe fails, so the recipe names the workbench's own code on the last
+# line; call .venv/bin/workbench directly to get the code as the exit status.
+explain_exit = s=$$?; case $$s in 0) ;; 1) echo "make: $(1): workbench exit 1 = tolerance FAIL (results written)" >&2;; 2) echo "make: $(1): workbench exit 2 = bad input (nothing written)" >&2;; *) echo "make: $(1): workbench exit $$s" >&2;; esac; exit $$s
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 help:
 	@echo "make run          every case at its default resolution + results/report.{md,html}"
@@ -42,6 +49,7 @@ help:
 	@echo "make bench        performance benchmark"
 	@echo "make check-numbers  make run's key numbers against tests/data/key_numbers_run.json (1e-10)"
 	@echo "make example     examples/hertz_contact.py"
+	@echo "make viz-check    installs Debian's paraview + xvfb if missing, runs the VTK and view.py checks in pvpython"
 	@echo "make lint | clean | setup     (NP=N runs cases on N MPI processes)"
 	@echo "Everything here calls the one command .venv/bin/workbench (see: .venv/bin/workbench --help)"
 
@@ -68,7 +76,7 @@ list: setup
 	@$(WB) list
 
 $(CASES): %: setup
-	$(MPIRUN) $(WB) run $@
+	$(MPIRUN) $(WB) run $@; $(call explain_exit,$@)
 
 report: setup
 	$(WB) report
@@ -77,14 +85,14 @@ report: setup
 # reruns when its file or any source changes. `run` always ends with the summary report, even when a
 # case failed (the make exit status still says so).
 results/%/metrics.json: cases/%.toml $(SOURCES) | setup
-	$(MPIRUN) $(WB) run $*
+	$(MPIRUN) $(WB) run $*; $(call explain_exit,$*)
 
 run: setup
 	@$(MAKE) --no-print-directory -k $(METRICS); status=$$?; \
 	 $(WB) convective-table && $(WB) report; exit $$status
 
 ci: setup
-	$(WB) ci
+	$(WB) ci; $(call explain_exit,ci)
 
 convergence: setup
 	$(WB) convergence
@@ -101,6 +109,15 @@ example: setup
 # The redesign changed no result: every key number of `make run` equals the one saved before it (1e-10).
 check-numbers: run
 	$(PY) -m workbench.pipeline.key_numbers compare results tests/data/key_numbers_run.json --allow-new
+
+# The real ParaView client on every case's VTK output and view.py (tests/test_paraview.py, on results/).
+viz-check: setup
+	@if ! command -v pvpython >/dev/null || ! command -v xvfb-run >/dev/null; then \
+	   echo "installing Debian's paraview and xvfb (apt-get)"; \
+	   $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq paraview xvfb \
+	   || { echo "error: could not install paraview and xvfb with apt-get" >&2; exit 2; }; fi
+	@$(MAKE) --no-print-directory run
+	WORKBENCH_VIZ_RESULTS=$(CURDIR)/results $(PY) -m pytest -q -rs tests/test_paraview.py
 
 clean:
 	rm -rf results .pytest_cache .ruff_cache
