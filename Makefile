@@ -110,14 +110,15 @@ example: setup
 check-numbers: run
 	$(PY) -m workbench.pipeline.key_numbers compare results tests/data/key_numbers_run.json --allow-new
 
-# The real ParaView client on every case's VTK output and view.py (tests/test_paraview.py, on results/).
+# The real ParaView client on every case's VTK output and view.py (tests/test_paraview.py), and every HTML
+# page of results/ (tests/test_pages.py).
 viz-check: setup
 	@if ! command -v pvpython >/dev/null || ! command -v xvfb-run >/dev/null; then \
 	   echo "installing Debian's paraview and xvfb (apt-get)"; \
 	   $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq paraview xvfb \
 	   || { echo "error: could not install paraview and xvfb with apt-get" >&2; exit 2; }; fi
 	@$(MAKE) --no-print-directory run
-	WORKBENCH_VIZ_RESULTS=$(CURDIR)/results $(PY) -m pytest -q -rs tests/test_paraview.py
+	WORKBENCH_VIZ_RESULTS=$(CURDIR)/results $(PY) -m pytest -q -rs tests/test_paraview.py tests/test_pages.py
 
 clean:
 	rm -rf results .pytest_cache .ruff_cache
