@@ -13,6 +13,7 @@ import time
 from cases import case_names, load_case
 from workbench.atomic import write_text
 from workbench.paths import OutputPaths
+from workbench.reports.markdown import markdown_to_html
 from workbench.reports.summary import load_metrics
 
 __all__ = ["run_ci"]
@@ -49,5 +50,6 @@ def run_ci(paths: OutputPaths) -> int:
         lines.append(f"| {name} | {level} | {code} | {dt:.1f} | {checks} | {verdict} |")
     lines += ["", f"Overall: **{'PASS' if ok else 'FAIL'}**", ""]
     write_text(results / "ci_report.md", "\n".join(lines))
+    write_text(results / "ci_report.html", markdown_to_html("\n".join(lines), title="CI report"))
     print("\n".join(lines))
     return 0 if ok else 1

@@ -17,8 +17,10 @@ from workbench.reports.markdown import fmt, markdown_to_html
 
 __all__ = ["STUDY_REPORTS", "load_metrics", "summary_markdown", "write_summary"]
 
-STUDY_REPORTS = ("convergence/report.md", "stability/report.md", "bench/report.md", "analytic/convective.md")
-"""The study reports (Markdown) below the output folder; each gets an HTML twin."""
+STUDY_REPORTS = ("convergence/report.md", "stability/report.md", "bench/report.md", "analytic/convective.md",
+                 "ci_report.md")
+"""The reports (Markdown) below the output folder other than the summary and the cases' (the studies and the CI
+report); writing the summary gives each an HTML twin."""
 
 _HEADLINE = ("p_max", "half_width", "rms", "load_balance", "b_over_b0")
 
