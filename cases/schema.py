@@ -6,7 +6,16 @@ predictions apply and the tolerances it must meet. Units: mm, N, MPa; loads are 
 
 Validation is strict: an unknown key, a wrong type, a missing required field or an out-of-range value
 raises :class:`CaseError` whose message is ONE line naming the file, the field and the allowed range.
-The command-line layer turns it into exit code 2 before anything is written.
+The command-line layer turns it into exit code 2 before anything is written. Values and keys are cut to
+``MAX_ECHO`` characters in messages, so a huge value is never echoed back whole.
+
+Every accepted field is used, or refused here: ``[case] name`` is a slug (it names the output folder);
+``[analytic] predictions`` must be ones the scene and indenter compute; a geometry field the scene ignores
+(``radius`` of a wedge, ``design`` of a block, ...) is refused when given; the block scene is force-
+controlled and the concave scene displacement-controlled; ``[solver] formulation`` switches itself to the
+mixed one from ``nu >= NU_MIXED`` (``"auto"``), and an explicit ``"displacement"`` beyond ``NU_DISPLACEMENT_MAX``
+is refused with that advice. Magnitudes the solver cannot represent are refused with their cause (E beyond
+``E_MAX``; a block contact smaller than ``MIN_A_OVER_R`` of the radius or outside ``HALF_WIDTH_RANGE``).
 
 A case may carry ``[[variant]]`` tables. Each variant overrides fields of the base case (same section
 layout, e.g. ``[variant.solver] kinematics = "convective"``) and is run as its own FEM run; the case's
@@ -17,6 +26,7 @@ from __future__ import annotations
 
 import copy
 import math
+import re
 import tomllib
 from dataclasses import MISSING, dataclass, field, fields, replace
 from pathlib import Path
@@ -34,10 +44,43 @@ __all__ = [
     "Run",
     "Solver",
     "case_names",
+    "effective_formulation",
     "load_case",
+    "CASE_NAME_RE",
+    "MAX_ECHO",
 ]
 
 CASE_DIR = Path(__file__).resolve().parent
+
+# A case name names its output folder and its mesh-cache files: a slug, nothing path-like.
+CASE_NAME_RE = re.compile(r"[A-Za-z0-9_-]{1,64}")
+MAX_LABEL = 64  # characters of a [[variant]] label (it names files: cut in file names, refused beyond)
+MAX_ECHO = 60  # characters of a value or key echoed in an error message
+# Near-incompressibility (fem.postprocess.LOCKING_NU: the solver's 'near-incompressible' warning starts there).
+# formulation = "auto" uses the Taylor-Hood mixed formulation from NU_MIXED on; an explicit "displacement"
+# is refused above NU_DISPLACEMENT_MAX (the stability study: P2 displacement at nu = 0.4999 diverged, at 0.499
+# it converged with RMS/p0 8 % and named warnings).
+NU_MIXED = 0.45
+NU_DISPLACEMENT_MAX = 0.499
+# Extreme magnitudes. E: kappa = kappa0 E / h and the SNES tolerance 1e-13 E L must stay finite (E = 1e300
+# gave inf/NaN residuals); the stability study's scale sweep covers 1e-3 ... 1e6 MPa.
+E_MAX = 1e12
+# A block contact: the approach d ~ a^2 / R must stay far above the round-off of the coordinates (~1e-16 R).
+# Measured on hertz_cylinder (P2, h = a/20): a/R = 1e-5 within the case tolerances (p_max 0.05 %), 1e-6
+# p_max 1 % with an oscillating pressure, 1e-7 round-off noise (13 patches, p_max 87 % off).
+MIN_A_OVER_R = 1e-5
+# The classical half-width (mm) the mesh is sized from: measured sound from 5e-8 mm (R = 1e-6 mm) upwards.
+HALF_WIDTH_RANGE = (1e-8, 1e8)
+# Block size over the half-width. W = 1e6 a (H = 40 a) gave a 1.9 % load-balance error with no warning;
+# W = H = 1e5 a measured 7.5e-13. Width and height beyond 1e4 a are refused, and W/H is kept within 1e3.
+MAX_SIZE_FACTOR = 1e4
+MAX_ASPECT = 1e3
+
+
+def _r(value: Any) -> str:
+    """``repr(value)`` cut to MAX_ECHO characters (a 200 kB string is never echoed back whole)."""
+    text = repr(value)
+    return text if len(text) <= MAX_ECHO else text[:MAX_ECHO - 3] + "..."
 
 class CaseError(ValueError):
     """A case file is malformed or holds an out-of-range value (one-line message)."""
@@ -147,6 +190,8 @@ class Solver:
             augmented Lagrangian).
         gamma0: Dimensionless Nitsche factor, gamma = gamma0 E / h, > 0.
         theta: Nitsche variant: 1 (symmetric), 0 (skew-less), -1 (skew-symmetric).
+        formulation: ``"auto"`` (displacement below nu = NU_MIXED, Taylor-Hood mixed from there on),
+            ``"displacement"`` (refused above nu = NU_DISPLACEMENT_MAX) or ``"mixed"`` (degree 2, block scenes).
     """
 
     method: str = "nitsche"
@@ -155,6 +200,7 @@ class Solver:
     kappa0: float = 1.0e3
     gamma0: float = 10.0
     theta: int = 1
+    formulation: str = "auto"
 
 
 @dataclass(frozen=True)
@@ -242,15 +288,17 @@ _CHOICES = {
     ("solver", "kinematics"): ("small", "convective"),
     ("solver", "traction"): ("halfplane", "obstacle"),
     ("solver", "theta"): (1, 0, -1),
+    ("solver", "formulation"): ("auto", "displacement", "mixed"),
 }
 # (low, high, low_inclusive, high_inclusive, text)
 _RANGES = {
-    ("material", "E"): (0.0, math.inf, False, False, "E > 0 (MPa)"),
+    ("material", "E"): (0.0, E_MAX, False, True, f"E > 0 and E <= {E_MAX:g} (MPa)"),
     ("material", "nu"): (-1.0, 0.5, False, False, "-1 < nu < 0.5"),
     ("geometry", "radius"): (0.0, math.inf, False, False, "radius > 0 (mm)"),
     ("geometry", "wedge_angle"): (0.0, math.pi / 2, False, False, "0 < wedge_angle < pi/2 (rad)"),
-    ("geometry", "width_factor"): (10.0, math.inf, True, False, "width_factor >= 10"),
-    ("geometry", "height_factor"): (10.0, math.inf, True, False, "height_factor >= 10"),
+    ("geometry", "width_factor"): (10.0, MAX_SIZE_FACTOR, True, True, f"10 <= width_factor <= {MAX_SIZE_FACTOR:g}"),
+    ("geometry", "height_factor"): (10.0, MAX_SIZE_FACTOR, True, True,
+                                    f"10 <= height_factor <= {MAX_SIZE_FACTOR:g}"),
     ("loading", "P"): (0.0, math.inf, False, False, "P > 0 (N/mm)"),
     ("loading", "half_width"): (0.0, math.inf, False, False, "half_width > 0 (mm)"),
     ("loading", "steps"): (1, 1000, True, True, "1 <= steps <= 1000"),
@@ -287,31 +335,31 @@ def _coerce(value: Any, annotation: str, where: str) -> Any:
         raise CaseError(f"{where} must not be empty")
     if base == "float":
         if isinstance(value, bool) or not isinstance(value, int | float):
-            raise CaseError(f"{where} = {value!r} has the wrong type; expected a number")
+            raise CaseError(f"{where} = {_r(value)} has the wrong type; expected a number")
         if not math.isfinite(value):
-            raise CaseError(f"{where} = {value!r} must be a finite number")
+            raise CaseError(f"{where} = {_r(value)} must be a finite number")
         return float(value)
     if base == "int":
         if isinstance(value, bool) or not isinstance(value, int):
-            raise CaseError(f"{where} = {value!r} has the wrong type; expected an integer")
+            raise CaseError(f"{where} = {_r(value)} has the wrong type; expected an integer")
         return value
     if base == "bool":
         if not isinstance(value, bool):
-            raise CaseError(f"{where} = {value!r} has the wrong type; expected true or false")
+            raise CaseError(f"{where} = {_r(value)} has the wrong type; expected true or false")
         return value
     if base == "str":
         if not isinstance(value, str):
-            raise CaseError(f"{where} = {value!r} has the wrong type; expected a string")
+            raise CaseError(f"{where} = {_r(value)} has the wrong type; expected a string")
         return value
     if base == "tuple[float,...]":
         if not isinstance(value, list | tuple) or any(
             isinstance(v, bool) or not isinstance(v, int | float) for v in value
         ):
-            raise CaseError(f"{where} = {value!r} has the wrong type; expected a list of numbers")
+            raise CaseError(f"{where} = {_r(value)} has the wrong type; expected a list of numbers")
         return tuple(float(v) for v in value)
     if base == "tuple[str,...]":
         if not isinstance(value, list | tuple) or any(not isinstance(v, str) for v in value):
-            raise CaseError(f"{where} = {value!r} has the wrong type; expected a list of strings")
+            raise CaseError(f"{where} = {_r(value)} has the wrong type; expected a list of strings")
         return tuple(value)
     raise AssertionError(f"unhandled annotation {annotation}")  # pragma: no cover
 
@@ -331,7 +379,7 @@ def _build(cls: type, table: Any, where: str, *, partial_ok: bool = False) -> An
     known = {f.name: f for f in fields(cls)}
     for key in table:
         if key not in known:
-            raise CaseError(f"{where}.{key} is an unknown key; allowed keys: {', '.join(known)}")
+            raise CaseError(f"{where}.{_r(key)[1:-1]} is an unknown key; allowed keys: {', '.join(known)}")
     values = {}
     for name, f in known.items():
         if name in table:
@@ -345,13 +393,13 @@ def _build(cls: type, table: Any, where: str, *, partial_ok: bool = False) -> An
             choices = _CHOICES.get((section, name))
             if choices is not None and value not in choices:
                 allowed = ", ".join(repr(c) for c in choices)
-                raise CaseError(f"{where}.{name} = {value!r} is not allowed; allowed values: {allowed}")
+                raise CaseError(f"{where}.{name} = {_r(value)} is not allowed; allowed values: {allowed}")
             spec = _RANGES.get((section, name))
             if spec is not None and not _in_range(value, spec):
-                raise CaseError(f"{where}.{name} = {value!r} is out of range; allowed: {spec[4]}")
+                raise CaseError(f"{where}.{name} = {_r(value)} is out of range; allowed: {spec[4]}")
             spec = _SEQ_RANGES.get((section, name))
             if spec is not None and not all(_in_range(v, spec) for v in value):
-                raise CaseError(f"{where}.{name} = {list(value)!r} is out of range; allowed: {spec[4]}")
+                raise CaseError(f"{where}.{name} = {_r(list(value))} is out of range; allowed: {spec[4]}")
         values[name] = value
     return cls(**values)
 
@@ -387,9 +435,88 @@ def _check_run(run: Run, where: str) -> None:
         if not ld.d:
             raise CaseError(f"{where}: loading.d (list of displacements in mm) is required for displacement control")
         if list(ld.d) != sorted(ld.d):
-            raise CaseError(f"{where}: loading.d = {list(ld.d)!r} must be increasing")
+            raise CaseError(f"{where}: loading.d = {_r(list(ld.d))} must be increasing")
         if ld.P is not None or ld.half_width is not None:
             raise CaseError(f"{where}: loading.P/half_width are only allowed with control = 'force'")
+    if g.scene == "block" and ld.control != "force":
+        raise CaseError(f"{where}: loading.control = {_r(ld.control)} is not supported by the block scene; "
+                        "allowed: 'force' (with P or half_width)")
+    if g.scene == "concave" and ld.control != "displacement":
+        raise CaseError(f"{where}: loading.control = {_r(ld.control)} is not supported by the concave scene; "
+                        "allowed: 'displacement' (with d)")
+    if g.scene == "block" and ld.control == "force" and (ld.P is None) != (ld.half_width is None):
+        _check_block_scale(run, where)
+    _check_formulation(run, where)
+
+
+def effective_formulation(run: Run) -> str:
+    """The bulk formulation a run is solved with: ``solver.formulation``, ``"auto"`` resolved by nu
+    (``"mixed"`` from NU_MIXED on, else ``"displacement"``)."""
+    f = run.solver.formulation
+    if f == "auto":
+        return "mixed" if run.material.nu >= NU_MIXED else "displacement"
+    return f
+
+
+def _check_formulation(run: Run, where: str) -> None:
+    """nu -> 1/2: the displacement formulation locks; the mixed one needs degree 2 and an analytic obstacle."""
+    nu, sol = run.material.nu, run.solver
+    form = effective_formulation(run)
+    if form == "displacement" and nu > NU_DISPLACEMENT_MAX:
+        raise CaseError(f"{where}: solver.formulation = 'displacement' at material.nu = {nu!r} locks (volumetric "
+                        f"locking; it diverged at nu = 0.4999); allowed: nu <= {NU_DISPLACEMENT_MAX}, or "
+                        "formulation = 'mixed' or 'auto' (Taylor-Hood, degree = 2)")
+    if form == "mixed":
+        why = (f"material.nu = {nu!r} >= {NU_MIXED} needs the mixed formulation (formulation = 'auto')"
+               if sol.formulation == "auto" else "solver.formulation = 'mixed'")
+        if run.discretisation.degree < 2:
+            raise CaseError(f"{where}: {why}, which needs discretisation.degree = 2 (Taylor-Hood P2/P1); "
+                            "allowed: degree = 2")
+        if run.geometry.scene != "block":
+            raise CaseError(f"{where}: {why}, which needs an analytic obstacle (block scenes); allowed on the "
+                            f"concave scene: nu < {NU_MIXED}")
+
+
+def _classical_half_width(run: Run) -> float:
+    """The classical half-width (mm) of a force-controlled block run (Hertz or wedge)."""
+    from analytic import hertz, materials, wedge
+
+    g, ld = run.geometry, run.loading
+    if ld.half_width is not None:
+        return ld.half_width
+    E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
+    if g.indenter == "wedge":
+        return wedge.wedge(ld.P, wedge.wedge_slope(g.wedge_angle, convention=g.wedge_slope), E_star).half_width
+    return hertz.hertz_half_width(ld.P, g.radius, E_star)
+
+
+def _check_block_scale(run: Run, where: str) -> None:
+    """Magnitudes a double-precision solve resolves: the contact against the radius and in absolute size."""
+    g, ld = run.geometry, run.loading
+    field_ = "loading.half_width" if ld.half_width is not None else "loading.P"
+    value = ld.half_width if ld.half_width is not None else ld.P
+    try:
+        a = _classical_half_width(run)
+    except (ValueError, ArithmeticError):
+        a = math.nan
+    if g.indenter == "parabola" and a >= 0.5 * g.radius:
+        raise CaseError(f"{where}: {field_} = {_r(value)} gives a contact half-width a = {a:.4g} mm against "
+                        f"radius {g.radius:g} mm: strains of order a/R, beyond the small-strain model; allowed: "
+                        f"half-width < radius/2 = {0.5 * g.radius:.4g} mm")
+    if g.indenter in ("circle", "parabola") and math.isfinite(a) and a < MIN_A_OVER_R * g.radius:
+        raise CaseError(f"{where}: {field_} = {_r(value)} gives a contact half-width a = {a:.3g} mm, a/R = "
+                        f"{a / g.radius:.2g}: the approach a^2/R is at the round-off of the coordinates (the "
+                        f"pressure would be noise, not a mesh-resolution problem); allowed: a/R >= {MIN_A_OVER_R:g} "
+                        "(raise the load)")
+    lo, hi = HALF_WIDTH_RANGE
+    if not (math.isfinite(a) and lo <= a <= hi):
+        raise CaseError(f"{where}: {field_} = {_r(value)} with material.E = {run.material.E!r} gives a contact "
+                        f"half-width of {a:.3g} mm; allowed: {lo:g} <= half-width <= {hi:g} mm (change the load or "
+                        "E, or the units)")
+    if max(g.width_factor / g.height_factor, g.height_factor / g.width_factor) > MAX_ASPECT:
+        raise CaseError(f"{where}: geometry.width_factor / height_factor = {g.width_factor:g} / {g.height_factor:g} "
+                        f"makes far-field elements too stretched for load balance; allowed: a ratio within "
+                        f"1/{MAX_ASPECT:g} ... {MAX_ASPECT:g}")
 
 
 def _check_circle_reachable(run: Run, where: str) -> None:
@@ -406,7 +533,7 @@ def _check_circle_reachable(run: Run, where: str) -> None:
     if a >= limit:
         field_ = "loading.half_width" if ld.half_width is not None else "loading.P"
         value = ld.half_width if ld.half_width is not None else ld.P
-        raise CaseError(f"{where}: {field_} = {value!r} cannot be reached by a circle of radius {g.radius} mm "
+        raise CaseError(f"{where}: {field_} = {_r(value)} cannot be reached by a circle of radius {g.radius} mm "
                         f"(Hertz half-width {a:.4g} mm); allowed: half-width < radius/2 = {limit:.4g} mm")
 
 
@@ -422,30 +549,40 @@ def load_case(path: str | Path) -> Case:
     Raises:
         CaseError: One line naming the file, the field and the allowed range.
     """
+    known = ", ".join(case_names()) or "none"
     p = Path(path)
     if p.suffix != ".toml":
+        if not CASE_NAME_RE.fullmatch(str(path)):
+            raise CaseError(f"{_r(str(path))}: no such case file; known cases: {known} (or a path to a .toml file)")
         p = CASE_DIR / f"{path}.toml"
-    if not p.is_file():
-        known = ", ".join(case_names()) or "none"
-        raise CaseError(f"{path}: no such case file; known cases: {known}")
     try:
-        raw = tomllib.loads(p.read_text())
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise CaseError(f"{p.name}: malformed TOML: {str(exc).splitlines()[0]}") from None
-    where = p.name
+        found = p.is_file()
+        text = p.read_text() if found else ""
+    except (OSError, UnicodeDecodeError) as exc:
+        raise CaseError(f"{_r(str(path))}: cannot read the case file: {_r(exc.strerror or str(exc))[1:-1]}") from None
+    if not found:
+        raise CaseError(f"{_r(str(path))}: no such case file; known cases: {known}")
+    where = _r(p.name)[1:-1]
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(f"{where}: malformed TOML: {_r(str(exc).splitlines()[0])[1:-1]}") from None
     allowed_top = {"case", *_SECTIONS, "tolerances", "variant"}
     for key in raw:
         if key not in allowed_top:
-            raise CaseError(f"{where}: {key} is an unknown key; allowed keys: {', '.join(sorted(allowed_top))}")
+            raise CaseError(f"{where}: {_r(key)[1:-1]} is an unknown key; "
+                            f"allowed keys: {', '.join(sorted(allowed_top))}")
     head = raw.get("case", {})
     if not isinstance(head, dict):
         raise CaseError(f"{where}: case must be a table")
     for key in head:
         if key not in ("name", "description"):
-            raise CaseError(f"{where}: case.{key} is an unknown key; allowed keys: name, description")
+            raise CaseError(f"{where}: case.{_r(key)[1:-1]} is an unknown key; allowed keys: name, description")
     name = head.get("name", p.stem)
-    if not isinstance(name, str) or not name:
-        raise CaseError(f"{where}: case.name must be a non-empty string")
+    if not isinstance(name, str) or not CASE_NAME_RE.fullmatch(name):
+        field_ = "case.name" if "name" in head else "case.name (the file name)"
+        raise CaseError(f"{where}: {field_} = {_r(name)} is not allowed; allowed: 1 to 64 letters, digits, '_' "
+                        "or '-' (it names the output folder)")
     for sec in _REQUIRED_SECTIONS:
         if sec not in raw:
             raise CaseError(f"{where}: [{sec}] is a required section and is missing")
@@ -458,9 +595,10 @@ def load_case(path: str | Path) -> Case:
     tol = {}
     for key, value in tolerances.items():
         if key not in _TOLERANCE_KEYS:
-            raise CaseError(f"{where}: tolerances.{key} is an unknown key; allowed keys: {', '.join(_TOLERANCE_KEYS)}")
+            raise CaseError(f"{where}: tolerances.{_r(key)[1:-1]} is an unknown key; "
+                           f"allowed keys: {', '.join(_TOLERANCE_KEYS)}")
         if isinstance(value, bool) or not isinstance(value, int | float) or not value > 0:
-            raise CaseError(f"{where}: tolerances.{key} = {value!r} is out of range; allowed: a number > 0")
+            raise CaseError(f"{where}: tolerances.{key} = {_r(value)} is out of range; allowed: a number > 0")
         tol[key] = float(value)
     variants = raw.get("variant", [])
     if not isinstance(variants, list) or any(not isinstance(v, dict) for v in variants):
@@ -468,11 +606,12 @@ def load_case(path: str | Path) -> Case:
     for i, var in enumerate(variants):
         for key, value in var.items():
             if key == "label":
-                if not isinstance(value, str):
-                    raise CaseError(f"{where}: variant[{i}].label must be a string")
+                if not isinstance(value, str) or not 0 < len(value) <= MAX_LABEL or not value.isprintable():
+                    raise CaseError(f"{where}: variant[{i}].label = {_r(value)} is not allowed; allowed: a string of "
+                                    f"1 to {MAX_LABEL} printable characters")
             elif key not in _SECTIONS or key == "analytic":
                 raise CaseError(
-                    f"{where}: variant[{i}].{key} is an unknown key; allowed keys: label, "
+                    f"{where}: variant[{i}].{_r(key)[1:-1]} is an unknown key; allowed keys: label, "
                     + ", ".join(s for s in _SECTIONS if s != "analytic")
                 )
             elif not isinstance(value, dict):
@@ -485,8 +624,57 @@ def load_case(path: str | Path) -> Case:
         variants=tuple(copy.deepcopy(variants)),
         **records,
     )
-    case.runs()  # validate every variant now, so no run starts on a bad file
+    runs = case.runs()  # validate every variant now, so no run starts on a bad file
+    labels = [r.label for r in runs]
+    if len(set(labels)) != len(labels):
+        raise CaseError(f"{where}: variant labels must be unique; got {_r(labels)}")
+    for i, run in enumerate(runs):
+        given = set(raw.get("geometry", {})) | set((variants[i] if variants else {}).get("geometry", {}))
+        _check_used_geometry(run, given, f"{where}: variant[{i}]" if variants else where)
+    _check_predictions(case, runs, where)
     return case
+
+
+# geometry fields each scene / indenter reads (a field given but not read is refused)
+_GEOMETRY_USED = {
+    ("block", "circle"): {"radius", "width_factor", "height_factor", "half_model"},
+    ("block", "parabola"): {"radius", "width_factor", "height_factor", "half_model"},
+    ("block", "wedge"): {"wedge_angle", "wedge_slope", "width_factor", "height_factor", "half_model"},
+    ("concave", "particle"): {"design"},
+}
+# predictions each scene / indenter computes; "convective" also needs a small and a convective run
+_PREDICTIONS = {
+    ("block", "circle"): ("hertz", "convective"),
+    ("block", "parabola"): ("hertz", "convective"),
+    ("block", "wedge"): ("wedge", "convective"),
+    ("concave", "particle"): ("hertz_superposition", "elliptical_fit"),
+}
+
+
+def _check_used_geometry(run: Run, given: set, where: str) -> None:
+    g = run.geometry
+    used = _GEOMETRY_USED.get((g.scene, g.indenter), set())
+    for key in sorted(given - used - {"scene", "indenter"}):
+        raise CaseError(f"{where}: geometry.{key} is not used by a {g.scene} scene with a {g.indenter} indenter; "
+                        f"allowed keys: scene, indenter, {', '.join(sorted(used))}")
+
+
+def _check_predictions(case: Case, runs: tuple[Run, ...], where: str) -> None:
+    """Every listed prediction is one the scene computes for the indenter (an empty list: the scene's own)."""
+    for run in runs:
+        g = run.geometry
+        allowed = _PREDICTIONS.get((g.scene, g.indenter), ())
+        for name in case.analytic.predictions:
+            if name not in allowed:
+                raise CaseError(f"{where}: analytic.predictions = {_r(list(case.analytic.predictions))}: "
+                                f"{_r(name)} is not computed for a {g.scene} scene with a {g.indenter} indenter; "
+                                f"allowed values: {', '.join(repr(a) for a in allowed)}")
+    if "convective" in case.analytic.predictions:
+        kinematics = {r.solver.kinematics for r in runs}
+        if kinematics != {"small", "convective"}:
+            raise CaseError(f"{where}: analytic.predictions lists 'convective', which compares a small and a "
+                            f"convective run; got kinematics {sorted(kinematics)}; allowed: [[variant]] runs with "
+                            "solver.kinematics = 'small' and 'convective'")
 
 
 def case_names() -> list[str]:

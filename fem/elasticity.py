@@ -34,11 +34,13 @@ class Lame(NamedTuple):
 
 
 def lame(*, E: float, nu: float) -> Lame:
-    """Plane-strain Lame parameters from Young's modulus E (MPa) and Poisson's ratio nu in [0, 0.5)."""
+    """Plane-strain Lame parameters from Young's modulus E (MPa) and Poisson's ratio -1 < nu < 0.5 (the case
+    schema's range; lambda < 0 for nu < 0, while mu > 0 and lambda + mu > 0 keep the plane-strain energy
+    positive)."""
     if not E > 0:
         raise ValueError(f"E must be > 0 MPa, got {E}")
-    if not 0.0 <= nu < 0.5:
-        raise ValueError(f"nu must be in [0, 0.5), got {nu}")
+    if not -1.0 < nu < 0.5:
+        raise ValueError(f"nu must be in (-1, 0.5), got {nu}")
     return Lame(E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu)))
 
 

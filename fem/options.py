@@ -13,7 +13,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 __all__ = ["ContactOptions", "SUPPORT_KINDS", "FORMULATIONS", "CONTROLS", "PREDICTORS", "MIN_FACETS_ACROSS",
-           "check_options"]
+           "NU_DISPLACEMENT_MAX", "check_options"]
 
 SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free")
 FORMULATIONS = ("displacement", "mixed")
@@ -23,6 +23,10 @@ PREDICTORS = ("auto", "hertz", "extrapolate")
 # with P2 and 2 Gauss points per facet the edge-location error is about one Gauss spacing, so < 8 facets
 # across the patch means a half-width error above ~ 1/16 and a peak that depends on where the nodes fall.
 MIN_FACETS_ACROSS = 8
+# nu -> 1/2: the displacement formulation locks. Measured (stability study, Hertz scene, P2 h = a/10): at nu =
+# 0.499 it converges with RMS/p0 8 % and named warnings, at 0.4999 it diverges (DIVERGED_MAX_IT). Above this
+# value it is refused with the advice to use formulation='mixed' (the case schema's "auto" switches itself).
+NU_DISPLACEMENT_MAX = 0.499
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -101,6 +105,9 @@ def check_options(opts: ContactOptions, *, mesh_data, obstacle) -> None:
         raise ValueError(f"contact_group {opts.contact_group!r} not in mesh physical groups")
     if opts.formulation not in FORMULATIONS:
         raise ValueError(f"formulation must be one of {FORMULATIONS}, got {opts.formulation!r}")
+    if not opts.mixed and opts.nu > NU_DISPLACEMENT_MAX:
+        raise ValueError(f"nu = {opts.nu:g} > {NU_DISPLACEMENT_MAX} with formulation='displacement': volumetric "
+                         "locking (it diverged at nu = 0.4999); use formulation='mixed' (Taylor-Hood, degree >= 2)")
     if opts.mixed and opts.degree < 2:
         raise ValueError(f"degree must be >= 2 for formulation='mixed' (Taylor-Hood), got {opts.degree}")
     if opts.mixed and not getattr(obstacle, "analytic", False):

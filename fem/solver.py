@@ -112,7 +112,7 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
     Args:
         mesh_data: dolfinx ``MeshData`` (mesh, facet_tags, physical_groups) of the elastic body.
         obstacle: rigid obstacle from :mod:`fem.obstacles`.
-        E: Young's modulus (MPa) > 0.  nu: Poisson's ratio in [0, 0.5).
+        E: Young's modulus (MPa) > 0.  nu: Poisson's ratio in (-1, 0.5).
         degree: Lagrange degree (1 or 2).
         method: a registered contact method (:mod:`fem.methods`): ``"nitsche"``, ``"penalty"`` or
             ``"augmented_lagrangian"``.  kinematics: ``"small"`` or ``"convective"``.
