@@ -31,9 +31,7 @@ def atomic_path(path: str | Path, *, suffix: str | None = None) -> Iterator[Path
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix or path.suffix, dir=path.parent)
     os.close(fd)
     tmp = Path(tmp)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; results are ordinary files
+    os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; results are ordinary files
     try:
         yield tmp
         os.replace(tmp, path)
@@ -73,16 +71,68 @@ def atomic_dir(path: str | Path) -> Iterator[Path]:
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    _restore_interrupted_swap(path)
     stage = Path(tempfile.mkdtemp(prefix=f".{path.name}.staging.", dir=path.parent))
+    os.chmod(stage, 0o777 & ~_umask())  # mkdtemp makes 0700; a results folder is an ordinary one (umask)
     try:
         yield stage
-        old = None
-        if path.exists():
-            old = path.with_name(f".{path.name}.old.{os.getpid()}")
-            os.replace(path, old)
-        os.replace(stage, path)
-        if old is not None:
+        old = path.with_name(f".{path.name}.old.{os.getpid()}")
+        # The swap is two renames: SIGINT/SIGTERM are held back between them, so a signal never leaves the
+        # case without its folder (a kill -9 there is repaired by the next run: _restore_interrupted_swap).
+        with _signals_blocked():
+            had_old = path.exists()
+            if had_old:
+                os.replace(path, old)
+            os.replace(stage, path)
+        if had_old:
             shutil.rmtree(old, ignore_errors=True)
     finally:
         if stage.exists():
             shutil.rmtree(stage, ignore_errors=True)
+
+
+def _umask() -> int:
+    umask = os.umask(0)
+    os.umask(umask)
+    return umask
+
+
+@contextlib.contextmanager
+def _signals_blocked():
+    """Hold SIGINT and SIGTERM back (main thread; elsewhere a no-op) until the block ends."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    sigs = {signal.SIGINT, signal.SIGTERM}
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def _restore_interrupted_swap(path: Path) -> None:
+    """A previous run killed between the two renames of :func:`atomic_dir` left ``.<name>.old.<pid>`` and no
+    ``<name>``: put the previous results back."""
+    if path.exists():
+        for old in path.parent.glob(f".{path.name}.old.*"):  # left by a process that died after the swap
+            pid = old.name.rsplit(".", 1)[-1]
+            if pid.isdigit() and not _alive(int(pid)):
+                shutil.rmtree(old, ignore_errors=True)
+        return
+    olds = sorted(path.parent.glob(f".{path.name}.old.*"), key=lambda p: p.stat().st_mtime)
+    if olds:
+        os.replace(olds[-1], path)

@@ -10,17 +10,71 @@ Everything the workbench writes lives under one output folder (``--out``; defaul
 ``<root>/ci/``         ``workbench ci``: every case at its coarsest level
 ``<root>/<study>/``    a study (convergence, stability, bench) and ``analytic/`` (convective table)
 =====================  ============================================================
+
+Nothing is written outside the output folder: every path handed out here resolves inside ``root`` (a case or
+study name that would leave it raises :class:`OutputError`), and :func:`check_output_folder` refuses an output
+folder that is a file, has a missing or unwritable parent, or is read-only, with one line (exit code 2) before
+anything is written.
 """
 
 from __future__ import annotations
 
 import os
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from cases.schema import CASE_DIR
+from cases.schema import CASE_DIR, MAX_ECHO, CaseError
 
-__all__ = ["DEFAULT_ROOT", "OutputPaths", "default_paths"]
+__all__ = ["DEFAULT_ROOT", "OutputError", "OutputPaths", "check_output_folder", "default_paths"]
+
+
+class OutputError(CaseError):
+    """The output folder cannot be used, or a path would leave it (one line; the CLI exits 2)."""
+
+
+def _show(path) -> str:
+    text = str(path)
+    return text if len(text) <= MAX_ECHO else text[:MAX_ECHO - 3] + "..."
+
+
+def _writable(folder: Path) -> bool:
+    """A file can really be created in ``folder`` (not just ``os.access``: root ignores mode bits but not a
+    read-only mount)."""
+    try:
+        with tempfile.TemporaryFile(dir=folder):
+            return True
+    except OSError:
+        return False
+
+
+def check_output_folder(root: str | Path, *, option: str = "--out") -> Path:
+    """Refuse an output folder that cannot be used, before anything is written.
+
+    Allowed: an existing writable folder, or a new folder whose parent is an existing writable folder.
+
+    Raises:
+        OutputError: one line naming the option, the folder and what is wrong.
+    """
+    root = Path(root).expanduser()
+    try:
+        if root.exists() or root.is_symlink():
+            if not root.is_dir():
+                raise OutputError(f"{option} {_show(root)}: is not a folder (a file is in the way); "
+                                  "allowed: a writable folder, or a new one inside a writable folder")
+            if not _writable(root):
+                raise OutputError(f"{option} {_show(root)}: the folder is read-only; allowed: a writable folder")
+            return root.resolve()
+        parent = root.absolute().parent
+        if not parent.is_dir():
+            raise OutputError(f"{option} {_show(root)}: its parent {_show(parent)} does not exist or is not a "
+                              "folder; allowed: a new folder inside an existing writable folder")
+        if not _writable(parent):
+            raise OutputError(f"{option} {_show(root)}: its parent {_show(parent)} is read-only; allowed: a new "
+                              "folder inside an existing writable folder")
+    except OSError as exc:  # e.g. a name too long for the file system
+        raise OutputError(f"{option} {_show(root)}: cannot be used: {exc.strerror or exc}") from None
+    return root.resolve()
 
 DEFAULT_ROOT = CASE_DIR.parent / "results"
 
@@ -47,11 +101,19 @@ class OutputPaths:
         """The CI tree ``<root>/ci``."""
         return OutputPaths(self.root / "ci")
 
+    def inside(self, path: str | Path) -> Path:
+        """``path`` (relative to root, or absolute) resolved, refused unless it lies inside root."""
+        p = (self.root / path).resolve()
+        if p == self.root or self.root not in p.parents:
+            raise OutputError(f"{_show(path)}: resolves to {_show(p)}, outside the output folder {_show(self.root)}; "
+                              "allowed: a name of letters, digits, '_' or '-'")
+        return p
+
     def case(self, name: str) -> Path:
-        return self.root / name
+        return self.inside(name)
 
     def study(self, name: str) -> Path:
-        return self.root / name
+        return self.inside(name)
 
     @property
     def analytic(self) -> Path:
