@@ -92,16 +92,12 @@ def solve_recording(mesh_data, obstacle, *, options):
     """:func:`fem.solver.solve_contact` with a :class:`FrameRecorder` attached: ``(ContactResult, frames)``."""
     from fem.options import check_options
     from fem.problem import ContactProblem
-    from fem.solver import _result
-    from fem.stepping import LoadStepper
+    from fem.solver import solve_problem
 
     check_options(options, mesh_data=mesh_data, obstacle=obstacle)
     problem = ContactProblem(mesh_data, obstacle, options)
-    stepper = LoadStepper(problem, on_step=options.on_step)
     recorder = FrameRecorder(problem)
-    stepper.add_step_callback(recorder)
-    stepper.run()
-    return _result(problem, stepper), recorder.frames
+    return solve_problem(problem, step_callbacks=[recorder]), recorder.frames
 
 
 def write_samples_csv(samples, path) -> Path:

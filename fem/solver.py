@@ -45,7 +45,8 @@ from fem.postprocess import Patch, SurfaceSamples, find_patches
 from fem.problem import ContactProblem
 from fem.stepping import LoadStepper, Snapshot
 
-__all__ = ["ContactSolveError", "ContactResult", "ContactOptions", "Snapshot", "solve_contact", "snes_reason_name",
+__all__ = ["ContactSolveError", "ContactResult", "ContactOptions", "Snapshot", "solve_contact", "solve_problem",
+           "snes_reason_name",
            "SUPPORT_KINDS", "FORMULATIONS", "MIN_FACETS_ACROSS"]
 
 @dataclass(frozen=True)
@@ -167,8 +168,19 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
     given = {k: v for k, v in locals().items() if k not in ("mesh_data", "obstacle", "options")}
     opts = _options(given, options)
     check_options(opts, mesh_data=mesh_data, obstacle=obstacle)
-    problem = ContactProblem(mesh_data, obstacle, opts)
-    stepper = LoadStepper(problem, on_step=opts.on_step)
+    return solve_problem(ContactProblem(mesh_data, obstacle, opts))
+
+
+def solve_problem(problem: ContactProblem, *, step_callbacks: Sequence[Callable[[dict], None]] = ()) -> ContactResult:
+    """Drive a built :class:`ContactProblem` through its load path (:class:`LoadStepper`) and collect the result.
+
+    ``step_callbacks`` are called after every converged solve with its record, after ``options.on_step``, while
+    the problem holds that state (e.g. :class:`fem.output.FrameRecorder` copies it for a VTK time series);
+    they must only read the state.
+    """
+    stepper = LoadStepper(problem, on_step=problem.options.on_step)
+    for fn in step_callbacks:
+        stepper.add_step_callback(fn)
     stepper.run()
     return _result(problem, stepper)
 
