@@ -9,6 +9,12 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.stamp-$(shell cat requirements.txt 2>/dev/null | cksum | cut -d' ' -f1)
 NP     ?= 1
+# NP is a whole number >= 1 (MPI processes): anything else stops here with one line (make exits 2)
+_np_rest := $(NP)
+$(foreach d,0 1 2 3 4 5 6 7 8 9,$(eval _np_rest := $$(subst $(d),,$$(_np_rest))))
+ifneq ($(strip $(_np_rest))$(words $(NP))$(filter 0%,$(NP)),1)
+$(error NP = '$(NP)' is not allowed; allowed: a whole number >= 1 (MPI processes))
+endif
 MPIRUN := $(if $(filter-out 1,$(NP)),$(VENV)/bin/mpiexec -n $(NP),)
 
 CASES  := $(basename $(notdir $(wildcard cases/*.toml)))
@@ -30,7 +36,7 @@ for c in "$$PYTHON" python3.13 python3.12 \
 done; exit 1
 endef
 
-.PHONY: help setup test run ci lint clean convergence stability bench report list example check-numbers $(CASES)
+.PHONY: help setup test run ci lint clean convergence stability bench report list example check-numbers fuzz faults $(CASES)
 .PHONY: viz-check
 
 # Exit codes: the workbench exits 1 on a tolerance FAIL (results written) and 2 on bad input (nothing written).
@@ -50,6 +56,8 @@ help:
 	@echo "make check-numbers  make run's key numbers against tests/data/key_numbers_run.json (1e-10)"
 	@echo "make example     examples/hertz_contact.py"
 	@echo "make viz-check    installs Debian's paraview + xvfb if missing, runs the VTK and view.py checks in pvpython"
+	@echo "make fuzz         property-based fuzzing of case files and the command line (many examples)"
+	@echo "make faults       concurrent runs, SIGINT/SIGTERM during writes, a full disk -> results/faults/report.md"
 	@echo "make lint | clean | setup     (NP=N runs cases on N MPI processes)"
 	@echo "Everything here calls the one command .venv/bin/workbench (see: .venv/bin/workbench --help)"
 
@@ -109,6 +117,16 @@ example: setup
 # The redesign changed no result: every key number of `make run` equals the one saved before it (1e-10).
 check-numbers: run
 	$(PY) -m workbench.pipeline.key_numbers compare results tests/data/key_numbers_run.json --allow-new
+
+# Property-based fuzzing (hypothesis): `make test` runs the "ci" profile (>= 1000 examples in total), this target
+# the "fuzz" profile (10x as many).
+fuzz: setup
+	HYPOTHESIS_PROFILE=fuzz $(PY) -m pytest -q tests/test_fuzz_cases.py tests/test_fuzz_cli.py
+
+# Load and faults: 20 concurrent runs on 2 cores, repeated SIGINT/SIGTERM during writes, a full disk (a small
+# tmpfs when it can be mounted, else a simulated ENOSPC); fails unless 0 corrupted and 0 lost.
+faults: setup
+	$(PY) tests/fault_campaign.py --out results/faults
 
 # The real ParaView client on every case's VTK output and view.py (tests/test_paraview.py), and every HTML
 # page of results/ (tests/test_pages.py).
