@@ -74,6 +74,7 @@ HALF_WIDTH_RANGE = (1e-8, 1e8)
 # Block size over the half-width. W = 1e6 a (H = 40 a) gave a 1.9 % load-balance error with no warning;
 # W = H = 1e5 a measured 7.5e-13. Width and height beyond 1e4 a are refused, and W/H is kept within 1e3.
 MAX_SIZE_FACTOR = 1e4
+BUDGET_SPAN = 8.0  # error budget: largest over smallest level (the grading is refined with h_c)
 MAX_ASPECT = 1e3
 
 
@@ -165,6 +166,10 @@ class Discretisation:
         levels: Refinement levels for studies, as h_contact fractions, coarse to fine.
         ci_level: Fraction used by ``make ci`` (the coarsest that still meets the tolerances).
         growth: Element-to-element size ratio of the mesh grading away from the contact, in [1.05, 2].
+        budget_levels: Three h_contact fractions of the error budget (block scenes; ``make run`` solves each
+            run on all three, on the largest budget block), or empty for no budget.
+        budget_widths: Three block sizes W/a (width = height, in [10, MAX_SIZE_FACTOR]) of the budget's
+            truncation study (at the finest budget level); required with ``budget_levels``.
     """
 
     degree: int = 2
@@ -172,6 +177,8 @@ class Discretisation:
     growth: float = 1.3
     levels: tuple[float, ...] = ()
     ci_level: float | None = None
+    budget_levels: tuple[float, ...] = ()
+    budget_widths: tuple[float, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -311,6 +318,9 @@ _RANGES = {
 _SEQ_RANGES = {
     ("loading", "d"): (0.0, math.inf, False, False, "every d > 0 (mm)"),
     ("discretisation", "levels"): (0.0, 1.0, False, True, "every level in (0, 1]"),
+    ("discretisation", "budget_levels"): (0.0, 1.0, False, True, "every budget level in (0, 1]"),
+    ("discretisation", "budget_widths"): (10.0, MAX_SIZE_FACTOR, True, True,
+                                          f"every budget width in [10, {MAX_SIZE_FACTOR:g}] (W/a)"),
 }
 _TOLERANCE_KEYS = {
     "p_max": "relative error of the peak pressure",
@@ -447,6 +457,25 @@ def _check_run(run: Run, where: str) -> None:
     if g.scene == "block" and ld.control == "force" and (ld.P is None) != (ld.half_width is None):
         _check_block_scale(run, where)
     _check_formulation(run, where)
+    _check_budget(run, where)
+
+
+def _check_budget(run: Run, where: str) -> None:
+    """The error budget needs three distinct levels and three distinct block sizes, block scenes only."""
+    d = run.discretisation
+    if not d.budget_levels and not d.budget_widths:
+        return
+    for name, seq in (("budget_levels", d.budget_levels), ("budget_widths", d.budget_widths)):
+        if len(seq) != 3 or len(set(seq)) != 3:
+            raise CaseError(f"{where}: discretisation.{name} = {_r(list(seq))} is not allowed; "
+                            "allowed: exactly three distinct values (with both budget_levels and budget_widths)")
+    if max(d.budget_levels) > BUDGET_SPAN * min(d.budget_levels):
+        raise CaseError(f"{where}: discretisation.budget_levels = {_r(list(d.budget_levels))} spans more than a "
+                        f"factor {BUDGET_SPAN:g}; allowed: max <= {BUDGET_SPAN:g} min (the grading is refined with "
+                        "h_c, so a wider span meshes the finest level far too densely)")
+    if run.geometry.scene != "block":
+        raise CaseError(f"{where}: discretisation.budget_levels is not supported by the "
+                        f"{_r(run.geometry.scene)} scene; allowed: scene = 'block'")
 
 
 def effective_formulation(run: Run) -> str:

@@ -7,7 +7,9 @@ solves ``p = |ln|e32/e21| + q(p)| / ln r21`` with ``q(p) = ln((r21^p - s)/(r32^p
 constant ratio). Then
     f_ext = (r21^p f1 - f2) / (r21^p - 1),     GCI_fine = Fs |e21 / f1| / (r21^p - 1),   Fs = 1.25.
 ``s < 0`` means the sequence oscillates: no order and no extrapolation are claimed (:class:`GridStudy` says
-``"oscillating"``), and the band falls back to the spread ``Fs max|f_i - f1| / |f1|``. An observed order far
+``"oscillating"``), and the band falls back to the spread ``Fs max|f_i - f1| / |f1|``. Differences that do not
+shrink on refinement (``|e32/e21| <= ln r32 / ln r21``, no positive order fits) are ``"diverging"``, with the
+same fallback. An observed order far
 from the expected one (outside [expected/2, 2 expected]) is named ``"not asymptotic"``; a difference at
 round-off (``|e21|, |e32| <= 1e-14 |f1|``) is ``"converged"`` with GCI 0. All GCIs are relative.
 """
@@ -31,7 +33,7 @@ class GridStudy(NamedTuple):
         extrapolated: Richardson value (the fine value where no order can be claimed).
         observed_order: p, or NaN.
         gci: relative fine-grid uncertainty (dimensionless).
-        status: ``"asymptotic"``, ``"not asymptotic"``, ``"oscillating"`` or ``"converged"``.
+        status: ``"asymptotic"``, ``"not asymptotic"``, ``"oscillating"``, ``"diverging"`` or ``"converged"``.
     """
 
     fine: float
@@ -79,6 +81,11 @@ def grid_study(h: tuple[float, float, float], f: tuple[float, float, float], *,
         spread = max(abs(f2 - f1), abs(f3 - f1)) / scale
         return GridStudy(f1, f1, math.nan, FS * spread, "oscillating")
     r21, r32 = h2 / h1, h3 / h2
+    if abs(e32 / e21) <= math.log(r32) / math.log(r21):
+        # f = f_ext + C h^p with p > 0 has |e32/e21| = r21^p (r32^p - 1)/(r21^p - 1) > ln r32 / ln r21: the
+        # differences do not shrink on refinement (Celik's |ln| would still return an order for them)
+        spread = max(abs(e21), abs(f3 - f1)) / scale
+        return GridStudy(f1, f1, math.nan, FS * spread, "diverging")
     p = _order(e21, e32, r21, r32)
     if not (math.isfinite(p) and p > 0):
         return GridStudy(f1, f1, math.nan, FS * max(abs(e21), abs(f3 - f1)) / scale, "not asymptotic")

@@ -122,6 +122,7 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
 
     from fem.output import write_vtk
     from fem.solver import ContactSolveError
+    from workbench.pipeline.budget import budget_table, case_error_budget, write_subsurface
     from workbench.pipeline.case_files import write_case_files
     from workbench.reports.case_report import write_case_report
 
@@ -145,10 +146,21 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
                 write_vtk(outcome.result, stage / "vtk" / _safe(run.label), frames=frames,
                           record_at=getattr(run.loading, "d", None))
                 outcomes.append(outcome)
+            budget, subsurface = ({}, None) if ci or h_contact is not None else case_error_budget(
+                case, progress=progress,
+                solve=lambda r: run_one(r, name=case.name, mesh_cache=paths.mesh_cache, comm=comm,
+                                        progress=lambda _m: None))
             metrics = case_metrics(case, outcomes, h_contact=h_contact, wall_time_s=time.perf_counter() - t0)
+            if budget:
+                metrics["error_budget"] = budget
+                metrics["case_tables"]["Error budget (three grids, three block sizes)"] = budget_table(budget)
+            if subsurface is not None:
+                metrics["subsurface"] = subsurface["summary"]
             metrics["mpi_processes"] = comm.size
             if comm.rank == 0:
                 write_case_files(outcomes, stage)
+                if subsurface is not None:
+                    write_subsurface(stage, subsurface)
                 write_json(stage / "mesh.json", {o.label: o.metrics.get("mesh") for o in outcomes})
                 verdict = "PASS" if metrics["pass"] else "FAIL"
                 progress(f"case {case.name}: {verdict} in {metrics['wall_time_s']:.1f} s -> {out}")

@@ -19,7 +19,7 @@ __all__ = ["PAPER_B_OVER_B0", "convective_case_comparison", "convective_theory",
 PAPER_B_OVER_B0 = {"wedge": 1.097, "parabola": 1.09}
 
 
-def convective_theory(outcome) -> convective.ConvectiveSolution:
+def convective_theory(outcome, *, n_plot: int = 8001) -> convective.ConvectiveSolution:
     """Ciavarella-Hills prediction for a block run's profile at its measured load.
 
     The wedge depends on (m beta) only; the parabola on (b0/R, beta), with b0 the classical half-width at
@@ -33,7 +33,7 @@ def convective_theory(outcome) -> convective.ConvectiveSolution:
     else:
         profile = convective.parabola_profile(th.half_width / th.R)
     # a fine plot grid: the FEM samples are interpolated on it for rms_convective (801 points cost ~1 %)
-    return convective.solve(profile, beta=beta, n_plot=8001)
+    return convective.solve(profile, beta=beta, n_plot=n_plot)
 
 
 def fem_b_over_b0(small, conv) -> float:

@@ -1,0 +1,95 @@
+"""Issue 12: the error budget of the block cases in ``make run`` (three grids, three block sizes, theory).
+
+Requirement: with the finite block extrapolated away and the grids extrapolated, the FEM converges onto the
+half-plane theory of the indenter's own profile, the band (GCI + truncation) contains that theory and excludes
+the other one; the subsurface stresses on the Hertz axis agree with McEwen's closed form within 1 % of p0,
+the von Mises maximum at the same depth. Every new case field rejects a bad value with one line and exit 2.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from test_cases_validation import GOOD
+
+from workbench.cli import main
+
+CONTRACT = ("fine", "extrapolated", "observed_order", "gci", "truncation", "theory", "theory_in_band")
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    out = tmp_path_factory.mktemp("budget")
+    for name in ("hertz_cylinder", "wedge_convective"):
+        proc = subprocess.run([sys.executable, "-m", "workbench", "run", name, "--out", str(out)], cwd=out,
+                              capture_output=True, text=True, timeout=900)
+        assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    return out
+
+
+def _budget(results: Path, name: str) -> dict:
+    b = json.loads((results / name / "metrics.json").read_text())["error_budget"]
+    for q, row in b.items():
+        assert set(CONTRACT) <= set(row), q
+    return b
+
+
+def test_hertz_moment_half_width_converges_onto_the_exact_circle(results):
+    b = _budget(results, "hertz_cylinder")
+    r = b["half_width_moment"]
+    assert r["status"] == "asymptotic" and abs(r["observed_order"] - 4.0) < 0.5, r
+    assert r["theory_in_band"] and r["gci"] + r["truncation"] < 1e-5, r
+    assert abs(r["extrapolated"] - r["theory"]) / r["theory"] < 1e-6, r
+    assert not r["alt_in_band"], r  # Hertz's parabola is outside the band
+    p = b["p_max"]  # the largest sample: its differences grow below 1e-5 (named, not extrapolated)
+    assert p["status"] == "diverging" and abs(p["extrapolated"] - p["theory"]) / p["theory"] < 1e-5, p
+    assert not p["alt_in_band"], p
+
+
+def test_hertz_subsurface_axis_within_one_percent_of_p0(results):
+    m = json.loads((results / "hertz_cylinder" / "metrics.json").read_text())["subsurface"]
+    assert max(m["max_abs_error_over_p0"].values()) < 0.01, m
+    assert abs(m["z_vm_max_fem_over_a"] - m["z_vm_max_exact_over_a"]) <= 0.05 + 1e-12, m
+    assert abs(m["vm_max_fem_over_p0"] - m["vm_max_exact_over_p0"]) < 0.01, m
+    rows = list(csv.DictReader((results / "hertz_cylinder" / "subsurface.csv").open()))
+    assert len(rows) >= 50 and float(rows[-1]["z_mm"]) >= 3 * m["a_mm"]
+    assert {"z_mm", "sxx_fem", "syy_fem", "szz_fem", "vm_fem", "sxx_exact", "syy_exact", "szz_exact",
+            "vm_exact"} <= set(rows[0])
+
+
+def test_wedge_convective_moment_ratio_onto_converged_theory(results):
+    r = _budget(results, "wedge_convective")["b_over_b0_moment"]
+    assert abs(r["extrapolated"] - r["theory"]) / r["theory"] <= 1e-4, r
+    assert r["theory_in_band"] and not r["alt_in_band"], r
+    assert r["truncation_status"] == "asymptotic" and abs(r["truncation_order"] - 1.0) < 0.15, r
+    report = (results / "wedge_convective" / "report.md").read_text()
+    assert "Error budget" in report and "b_over_b0_moment" in report
+
+
+BAD = {
+    "two_levels": "budget_levels = [0.1, 0.05]\nbudget_widths = [640.0, 2560.0, 10000.0]",
+    "level_above_one": "budget_levels = [2.0, 0.1, 0.05]\nbudget_widths = [640.0, 2560.0, 10000.0]",
+    "equal_levels": "budget_levels = [0.1, 0.1, 0.05]\nbudget_widths = [640.0, 2560.0, 10000.0]",
+    "width_too_small": "budget_levels = [0.2, 0.1, 0.05]\nbudget_widths = [5.0, 2560.0, 10000.0]",
+    "width_too_large": "budget_levels = [0.2, 0.1, 0.05]\nbudget_widths = [640.0, 2560.0, 1e6]",
+    "levels_without_widths": "budget_levels = [0.2, 0.1, 0.05]",
+    "span_too_wide": "budget_levels = [0.8, 0.1, 0.05]\nbudget_widths = [640.0, 2560.0, 10000.0]",
+    "wrong_type": 'budget_levels = "fine"\nbudget_widths = [640.0, 2560.0, 10000.0]',
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_bad_budget_field_exit_2_one_line(name, tmp_path, capsys):
+    p = tmp_path / f"{name}.toml"
+    p.write_text(GOOD + "[discretisation]\n" + BAD[name] + "\n")
+    out = tmp_path / "results"
+    code = main(["run", str(p), "--out", str(out)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2, (name, err)
+    assert len(err.splitlines()) == 1 and "discretisation.budget_" in err, err
+    assert not out.exists() or not any(out.iterdir())

@@ -1,0 +1,243 @@
+"""Error budget of a block case: discretisation (three grids), domain truncation (three block sizes), theory.
+
+For every run of the case the scene is solved again on a grid of runs:
+
+* the three ``[discretisation] budget_levels`` (h_c / a) on the largest block ``W_max = max(budget_widths)``,
+  the grading refined with them (``growth - 1`` proportional to h_c, the case's growth on the coarsest level):
+  refining h_c alone leaves the graded far field as it is, and its error (measured 1.1e-4 on the Hertz peak
+  and moment half-width at growth 1.3) then stalls the sequence on a wrong limit. The values go through
+  :func:`workbench.error_budget.grid_study` in h: the fine value, the Richardson value, the observed order,
+  the GCI and a named status;
+* the finest level on the three ``budget_widths`` (W / a, block width = height) -> the same study in 1/W (the
+  half-plane is W -> infinity). Where it is asymptotic the value is corrected by ``f(inf) - f(W_max)``
+  (``truncation_correction``, relative) and ``truncation`` is the W study's GCI (what is left after the
+  correction); otherwise no correction and ``truncation`` is the spread band of the three values (the
+  meshes of different blocks differ slightly, so the W sequence carries a mesh noise of ~1e-6 to 1e-5).
+
+Each headline quantity is dimensionless (divided by the classical value at the run's measured load):
+
+* Hertz scenes (circle or parabola, small kinematics): ``p_max`` (largest sample, contact law),
+  ``half_width`` (zero crossing), ``half_width_moment`` (2 sqrt(M2/M0), smooth: see
+  :mod:`workbench.scenes.budget_theory`). Theory: the profile's own half-plane theory (exact circle for a
+  circle, Hertz for a parabola); ``alt_theory`` names the other one (Hertz for a circle).
+* Convective scenes: ``b_over_b0`` (zero crossings) and ``b_over_b0_moment`` (moment half-widths) of the
+  convective run over the small run at the same load. Theory: converged Ciavarella-Hills; alternative: the
+  first-order theory (its closed-form b/b0, and the moment ratio of its pressure).
+
+``extrapolated`` = Richardson value in h (at W_max; the fine value where no order is claimed) + the W
+correction. ``theory_in_band``: ``|theory - extrapolated| <= (gci + truncation) |fine|``.
+
+For a Hertz scene the finest-level, largest-block run is also probed on the symmetry axis
+(``subsurface.csv``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+
+from analytic.subsurface import hertz_subsurface_stress, von_mises_plane_strain
+from cases.schema import Case, Run
+from workbench.error_budget import grid_study
+from workbench.scenes.block_theory import exact_circle
+from workbench.scenes.budget_theory import circle_moment_half_width, curve_moment_half_width, moment_half_width
+
+__all__ = ["case_error_budget", "budget_table", "subsurface_csv", "SUBSURFACE_POINTS", "SUBSURFACE_DEPTH",
+           "write_subsurface"]
+
+SUBSURFACE_POINTS = 81    # probe points on the axis (issue 12: >= 50)
+SUBSURFACE_DEPTH = 4.0    # down to 4 a (issue 12: >= 3 a)
+_THEORY_N_PLOT = 64001    # Ciavarella-Hills grid for the moments (converged to ~1e-7 relative)
+
+
+def _with(run: Run, *, h: float, W: float, h_coarse: float) -> Run:
+    """The run on level h (grading ``1 + (growth - 1) h / h_coarse``: every element shrinks by the same
+    factor, the far field too) and on a block of W/a."""
+    g = dataclasses.replace(run.geometry, width_factor=W, height_factor=W)
+    growth = 1.0 + (run.discretisation.growth - 1.0) * h / h_coarse
+    d = dataclasses.replace(run.discretisation, h_contact=h, growth=growth)
+    return dataclasses.replace(run, geometry=g, discretisation=d)
+
+
+def _measures(outcome) -> dict[str, float]:
+    """Dimensionless headline measures of one block outcome (classical values at its measured load)."""
+    th, cmp, res = outcome.theory, outcome.comparison, outcome.result
+    s = res.samples
+    w = moment_half_width(s.s, s.p, s.weight, center=0.0 if res.half else None)
+    out = {"half_width": cmp.half_width / th.half_width, "moment": w / th.half_width}
+    if th.kind == "hertz":
+        out["p_max"] = cmp.p_max / th.p_ref
+    return out
+
+
+def _study(levels, widths, fine_by_h: list[float], fine_by_W: list[float], theory, alt) -> dict:
+    hs = grid_study(tuple(levels), tuple(fine_by_h), expected_order=None)
+    ws = grid_study(tuple(1.0 / np.asarray(widths)), tuple(fine_by_W), expected_order=None)
+    f_wmax = fine_by_W[int(np.argmax(widths))]
+    scale = abs(hs.fine)
+    # asymptotic in 1/W: the fine value is corrected by f(inf) - f(W_max), and the W study's GCI is what is left;
+    # otherwise no correction, and the band of the three block sizes
+    correction = ws.extrapolated - f_wmax if ws.status in ("asymptotic", "converged") else 0.0
+    truncation = ws.gci * abs(ws.fine) / scale
+    extrapolated = hs.extrapolated + correction
+    band = (hs.gci + truncation) * scale
+    row = {
+        "fine": hs.fine, "extrapolated": extrapolated, "observed_order": _num(hs.observed_order),
+        "gci": hs.gci, "truncation": truncation, "theory": _num(theory),
+        "theory_in_band": None if theory is None else bool(abs(theory - extrapolated) <= band),
+        "status": hs.status, "truncation_status": ws.status, "truncation_correction": correction / scale,
+        "truncation_order": _num(ws.observed_order),
+        "by_h": dict(zip([str(v) for v in levels], fine_by_h, strict=True)),
+        "by_W": dict(zip([str(v) for v in widths], fine_by_W, strict=True)),
+        "error_vs_theory": None if theory is None else abs(extrapolated - theory) / abs(theory),
+    }
+    if alt is not None:
+        name, value = alt
+        row["alt_theory"] = name
+        row["alt_value"] = value
+        row["alt_in_band"] = bool(abs(value - extrapolated) <= band)
+    return row
+
+
+def _num(v):
+    return None if v is None or (isinstance(v, float) and not math.isfinite(v)) else float(v)
+
+
+def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list | None]:
+    """The ``error_budget`` of a block case (empty without ``budget_levels``) and the Hertz axis rows.
+
+    Args:
+        case: The case (its ``[discretisation] budget_levels`` and ``budget_widths``).
+        solve: ``solve(run) -> Outcome`` (:func:`workbench.pipeline.run_case.run_one` bound to the mesh
+            cache and communicator).
+
+    Returns:
+        ``(error_budget, subsurface)``: the JSON dict ``{quantity: row}`` and the axis samples of the Hertz
+        run (or None).
+    """
+    disc = case.discretisation
+    if not disc.budget_levels:
+        return {}, None
+    levels = sorted(disc.budget_levels)
+    widths = sorted(disc.budget_widths)
+    W_max, h_fine = widths[-1], levels[0]
+    grid = [(h, W_max) for h in levels] + [(h_fine, W) for W in widths[:-1]]
+    meas: dict[str, dict] = {}
+    outcomes: dict[str, dict] = {}
+    for run in case.runs():
+        for h, W in grid:
+            o = solve(_with(run, h=h, W=W, h_coarse=levels[-1]))
+            progress(f"[budget {run.label}] h_c = {h:g} a, W = {W:g} a: {o.metrics['ndofs']} dofs")
+            meas.setdefault(run.label, {})[(h, W)] = _measures(o)
+            outcomes.setdefault(run.label, {})[(h, W)] = o
+    budget: dict[str, dict] = {}
+    by_kin = {r.solver.kinematics: r.label for r in case.runs()}
+
+    def series(fn):
+        return [fn((h, W_max)) for h in levels], [fn((h_fine, W)) for W in widths]
+
+    subsurface = None
+    if {"small", "convective"} <= set(by_kin):
+        from workbench.scenes.convective import convective_theory
+
+        ls, lc = by_kin["small"], by_kin["convective"]
+        conv_fine = outcomes[lc][(h_fine, W_max)]
+        sol = convective_theory(conv_fine, n_plot=_THEORY_N_PLOT)
+        w_conv = curve_moment_half_width(sol.x, sol.p_converged)
+        w_class = curve_moment_half_width(sol.x, sol.p_classical)
+        for key, q in (("b_over_b0", "half_width"), ("b_over_b0_moment", "moment")):
+            fh, fw = series(lambda k, q=q: meas[lc][k][q] / meas[ls][k][q])
+            theory = sol.b_over_b0_converged if q == "half_width" else w_conv / w_class
+            alt = ("first order", sol.b_over_b0_first_order if q == "half_width"
+                   else curve_moment_half_width(sol.x, sol.p_first_order) / w_class)
+            budget[key] = _study(levels, widths, fh, fw, theory, alt)
+    else:
+        for run in case.runs():
+            if run.geometry.indenter not in ("circle", "parabola") or run.solver.kinematics != "small":
+                continue
+            fine = outcomes[run.label][(h_fine, W_max)]
+            th = fine.theory
+            a_h = th.half_width
+            if run.geometry.indenter == "circle":
+                ex = exact_circle(th)
+                theory = {"p_max": ex.p0 / th.p_ref, "half_width": ex.half_width / a_h,
+                          "moment": 2.0 * circle_moment_half_width(b=ex.half_width, R=th.R, E_star=th.E_star) / a_h}
+                alt = {"p_max": ("hertz", 1.0), "half_width": ("hertz", 1.0), "moment": ("hertz", 1.0)}
+            else:
+                theory = {"p_max": 1.0, "half_width": 1.0, "moment": 1.0}
+                alt = {}
+            suffix = "" if len(case.runs()) == 1 else f"[{run.label}]"
+            for q, name in (("p_max", "p_max"), ("half_width", "half_width"), ("moment", "half_width_moment")):
+                scale = 2.0 if q == "moment" else 1.0  # Hertz: sqrt(M2/M0) = a/2
+                fh, fw = series(lambda k, q=q, s=scale, m=meas[run.label]: s * m[k][q])
+                budget[name + suffix] = _study(levels, widths, fh, fw, theory[q], alt.get(q))
+            if subsurface is None:
+                subsurface = _subsurface(fine)
+    return budget, subsurface
+
+
+def _subsurface(outcome) -> dict:
+    """Stresses on the symmetry axis of a Hertz run against McEwen's closed form (Hertz a, p0 at the
+    measured load); FEM y = -z."""
+    from fem.probe import stress_at_points
+
+    th = outcome.theory
+    a, p0, nu = th.half_width, th.p_ref, outcome.run.material.nu
+    z = np.linspace(0.0, SUBSURFACE_DEPTH * a, SUBSURFACE_POINTS)
+    fem = stress_at_points(outcome.result, np.column_stack([np.zeros_like(z), -z]))
+    ex = hertz_subsurface_stress(np.zeros_like(z), z, a=a, p0=p0, nu=nu)
+    vm_ex = von_mises_plane_strain(ex)
+    cols = {"z_mm": z, "sxx_fem": fem.sxx, "syy_fem": fem.syy, "szz_fem": fem.szz, "vm_fem": fem.vm,
+            # FEM y (vertical) is the half-plane's z; FEM zz (out of plane) is the half-plane's yy
+            "sxx_exact": ex.sxx, "syy_exact": ex.szz, "szz_exact": ex.syy, "vm_exact": vm_ex}
+    err = {k: float(np.nanmax(np.abs(cols[f"{k}_fem"] - cols[f"{k}_exact"]))) / p0
+           for k in ("sxx", "syy", "szz", "vm")}
+    i_f, i_e = int(np.nanargmax(fem.vm)), int(np.argmax(vm_ex))
+    summary = {
+        "a_mm": a, "p0_MPa": p0, "points": SUBSURFACE_POINTS, "depth_over_a": SUBSURFACE_DEPTH,
+        "h_contact": outcome.run.discretisation.h_contact, "width_factor": outcome.run.geometry.width_factor,
+        "max_abs_error_over_p0": err,
+        "vm_max_fem_over_p0": float(fem.vm[i_f]) / p0, "z_vm_max_fem_over_a": float(z[i_f]) / a,
+        "vm_max_exact_over_p0": float(vm_ex[i_e]) / p0, "z_vm_max_exact_over_a": float(z[i_e]) / a,
+        "nan_points": int(np.count_nonzero(~np.isfinite(fem.vm))),
+    }
+    return {"columns": cols, "summary": summary}
+
+
+def subsurface_csv(sub: dict) -> str:
+    """``subsurface.csv``: z_mm, the FEM stresses, then the exact ones (MPa)."""
+    names = ["z_mm", "sxx_fem", "syy_fem", "szz_fem", "vm_fem", "sxx_exact", "syy_exact", "szz_exact", "vm_exact"]
+    cols = sub["columns"]
+    lines = [",".join(names)]
+    for i in range(len(cols["z_mm"])):
+        lines.append(",".join(f"{float(cols[n][i]):.10g}" for n in names))
+    return "\n".join(lines) + "\n"
+
+
+def budget_table(budget: dict) -> list[str]:
+    """The budget as Markdown table lines (values dimensionless, over the classical value at the load)."""
+    head = ("| quantity | fine | extrapolated | order | status | GCI | truncation | theory | in band "
+            "| alt. theory | alt. in band |")
+    lines = [head, "|---|---|---|---|---|---|---|---|---|---|---|"]
+
+    def f(v, fmt=".7f"):
+        return "n/a" if v is None else format(v, fmt)
+
+    for q, r in budget.items():
+        alt = f"{r['alt_theory']} {r['alt_value']:.7f}" if "alt_theory" in r else "-"
+        alt_in = ("yes" if r["alt_in_band"] else "no") if "alt_in_band" in r else "-"
+        ib = "n/a" if r["theory_in_band"] is None else ("yes" if r["theory_in_band"] else "no")
+        lines.append(f"| {q} | {f(r['fine'])} | {f(r['extrapolated'])} | {f(r['observed_order'], '.2f')} | "
+                     f"{r['status']} | {f(r['gci'], '.2e')} | {f(r['truncation'], '.2e')} ({r['truncation_status']})"
+                     f" | {f(r['theory'])} | {ib} | {alt} | {alt_in} |")
+    return lines
+
+
+def write_subsurface(folder: Path, sub: dict) -> None:
+    """Write ``subsurface.csv`` into ``folder``."""
+    from workbench.atomic import write_text
+
+    write_text(Path(folder) / "subsurface.csv", subsurface_csv(sub))
