@@ -216,9 +216,9 @@ def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str | C
         ds_c: boundary measure restricted to Gamma_c (with its quadrature degree); a method with its own contact
             quadrature (:meth:`fem.methods.base.ContactMethod.measure_metadata`) gets it re-built from this one.
         contact_facets: local facet indices of Gamma_c (needed for Curve obstacles).
-        mask: optional Constants ``(on, lo, hi)``: while ``on = 1`` the positive part is replaced by a prescribed
-            active set, ``p = q`` for ``lo < X1 < hi`` and 0 elsewhere (the solver's active-set predictor
-            iteration); ``on = 0`` gives the true contact law.
+        mask: optional Constants ``(on, lo_0, hi_0, ...)``: while ``on = 1`` the positive part is replaced by a
+            prescribed active set, ``p = q`` where ``lo_k < X1 < hi_k`` for some k and 0 elsewhere (the solver's
+            active-set predictor iteration); ``on = 0`` gives the true contact law.
         v: test function (default ``TestFunction`` of u's space; a mixed formulation passes its own).
         stress_u, stress_v: UFL stress of the state and of the test field entering the Nitsche terms (default
             ``sigma(u)``, ``sigma(v)``; the mixed u-p formulation passes ``2 mu eps - p I`` and ``2 mu eps(v) -

@@ -12,13 +12,15 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-__all__ = ["ContactOptions", "SUPPORT_KINDS", "FORMULATIONS", "CONTROLS", "PREDICTORS", "MIN_FACETS_ACROSS",
+__all__ = ["ContactOptions", "SUPPORT_KINDS", "FORMULATIONS", "CONTROLS", "PREDICTORS", "ACTIVE_SETS",
+           "MIN_FACETS_ACROSS",
            "NU_DISPLACEMENT_MAX", "check_options"]
 
 SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free")
 FORMULATIONS = ("displacement", "mixed")
 CONTROLS = ("displacement", "force")
 PREDICTORS = ("auto", "hertz", "extrapolate")
+ACTIVE_SETS = ("extrapolate", "geometry")
 # A patch spanning fewer contact facets than this is reported "contact unresolved" (ContactResult.warnings):
 # with P2 and 2 Gauss points per facet the edge-location error is about one Gauss spacing, so < 8 facets
 # across the patch means a half-width error above ~ 1/16 and a peak that depends on where the nodes fall.
@@ -64,6 +66,7 @@ class ContactOptions:
     predictor: str = "auto"
     sample_degree: int | None = None
     active_set_predictor: bool = True
+    active_set: str = "extrapolate"
     first_step_fraction: float = 0.1
     record_at: Sequence[float] | None = None
     formulation: str = "displacement"
@@ -114,6 +117,8 @@ def check_options(opts: ContactOptions, *, mesh_data, obstacle) -> None:
         raise ValueError("formulation='mixed' needs an analytic obstacle (not a CurveObstacle)")
     if opts.predictor not in PREDICTORS:
         raise ValueError(f"predictor must be 'auto', 'hertz' or 'extrapolate', got {opts.predictor!r}")
+    if opts.active_set not in ACTIVE_SETS:
+        raise ValueError(f"active_set must be 'extrapolate' or 'geometry', got {opts.active_set!r}")
     if not 0.0 < opts.first_step_fraction <= 1.0:
         raise ValueError(f"first_step_fraction must be in (0, 1], got {opts.first_step_fraction}")
     if opts.control == "displacement" and opts.record_at:

@@ -20,6 +20,7 @@ from __future__ import annotations
 import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
 
 import itertools
+from collections.abc import Sequence
 from contextlib import contextmanager
 
 import dolfinx
@@ -42,7 +43,10 @@ from fem.postprocess import (
     resolution_warnings,
 )
 
-__all__ = ["ContactProblem", "resolve_supports"]
+__all__ = ["ContactProblem", "MAX_ZONES", "resolve_supports"]
+
+# Contact runs the prescribed-active-set predictor iteration can hold (intervals of X1; more: no predictor).
+MAX_ZONES = 4
 
 _counter = itertools.count()
 _COMPONENTS = {"clamped": (0, 1), "roller_x": (0,), "roller_y": (1,), "free": ()}
@@ -78,7 +82,7 @@ class ContactProblem:
     Attributes (main ones):
         u: displacement Function (mm); ph: the mixed formulation's pressure Function (MPa) or None.
         d: dolfinx Constant, rigid displacement of the obstacle along its direction (mm).
-        mask: Constants ``(on, lo, hi)`` of the prescribed-active-set predictor law.
+        mask: Constants ``(on, lo_0, hi_0, ..., lo_3, hi_3)`` of the prescribed-active-set predictor law.
         forms: :class:`fem.contact_forms.ContactForms`; method: its contact method instance.
         bcs: Dirichlet supports; ds_c: the Gauss contact measure (``quadrature_degree``).
         problem: the dolfinx NonlinearProblem; snes: its SNES; prefix: its PETSc options prefix.
@@ -113,7 +117,7 @@ class ContactProblem:
         self.V = dolfinx.fem.functionspace(mesh, ("Lagrange", opts.degree, (2,)))
         self.u = dolfinx.fem.Function(self.V, name="displacement")
         self.d = dolfinx.fem.Constant(mesh, 0.0)
-        self.mask = tuple(dolfinx.fem.Constant(mesh, 0.0) for _ in range(3))  # (on, lo, hi)
+        self.mask = tuple(dolfinx.fem.Constant(mesh, 0.0) for _ in range(1 + 2 * MAX_ZONES))  # (on, lo_k, hi_k)
         self.contact_facets = _group_facets(self.mesh_data, opts.contact_group)
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=self.mesh_data.facet_tags,
                          metadata={"quadrature_degree": self.qdeg})
@@ -239,15 +243,17 @@ class ContactProblem:
                                                  quadrature_degree=degree, rule=rule)
         return self._samplers[key]()
 
-    def contact_zone(self) -> tuple[float, float] | None:
-        """The single contact run (lo, hi) in X1 where the discrete law holds (the contact quadrature or the
-        method's points); lo = -inf when it starts at the first sample. None: no contact or several patches."""
+    def contact_zones(self) -> tuple[tuple[float, float], ...]:
+        """The contact runs (lo, hi) in X1 of the current state where the discrete law holds (the contact
+        quadrature or the method's points), in order of X1; lo = -inf for a run that starts at the first sample.
+        Empty: no contact. With u = 0 these are the runs of the rigid overlap (the gap of the undeformed state)."""
         smp = self.sample(rule=self.method_rule) if self.method_rule is not None else self.sample(self.qdeg)
-        runs = contact_edges(smp.s, smp.q)
-        if len(runs) != 1:
-            return None
-        left, right, i, _ = runs[0]
-        return (-np.inf if i == 0 else left), right
+        return tuple(((-np.inf if i == 0 else left), right) for left, right, i, _ in contact_edges(smp.s, smp.q))
+
+    def contact_zone(self) -> tuple[float, float] | None:
+        """The single contact run (lo, hi) of :meth:`contact_zones`; None: no contact or several patches."""
+        runs = self.contact_zones()
+        return runs[0] if len(runs) == 1 else None
 
     def quality_warnings(self, smp: SurfaceSamples, d_now: float) -> list[str]:
         """Named warnings of a converged state: resolution, penetration, oscillation, locking risk."""
@@ -288,10 +294,16 @@ class ContactProblem:
             self.snes.setForceIteration(False)
         return self.snes.getConvergedReason(), self.snes.getIterationNumber()
 
-    def predictor_iteration(self, zone: tuple[float, float]) -> None:
-        """One Newton iteration with the prescribed active set ``lo < X1 < hi``; the mask is off afterwards."""
+    def predictor_iteration(self, zones: Sequence[tuple[float, float]]) -> None:
+        """One Newton iteration with the prescribed active set ``lo_k < X1 < hi_k`` (at most :data:`MAX_ZONES`
+        runs); the mask is off afterwards."""
         mask = self.mask
-        mask[0].value, mask[1].value, mask[2].value = 1.0, max(zone[0], -1e300), zone[1]
+        if len(zones) > MAX_ZONES:
+            raise ValueError(f"at most {MAX_ZONES} predicted contact runs, got {len(zones)}")
+        mask[0].value = 1.0
+        for k in range(MAX_ZONES):
+            lo, hi = zones[k] if k < len(zones) else (1e300, 1e300)
+            mask[1 + 2 * k].value, mask[2 + 2 * k].value = max(lo, -1e300), min(hi, 1e300)
         self.snes.setTolerances(max_it=1)
         self.problem.solve()
         self.snes.setTolerances(max_it=self.options.max_it)
@@ -300,9 +312,9 @@ class ContactProblem:
     def solve_once(self, d_value: float, state: np.ndarray, *, rest=None, zone=None) -> tuple[int, int, dict]:
         """Solve at obstacle displacement ``d_value`` (mm) from ``state``.
 
-        With ``zone`` one prescribed-active-set iteration comes first (counted). Then the method's solve
-        (one Newton solve, or the augmented Lagrangian's Uzawa loop). Returns (SNES converged reason, Newton
-        iterations, the method's extra record entries).
+        With ``zone`` (a sequence of runs (lo, hi)) one prescribed-active-set iteration comes first (counted).
+        Then the method's solve (one Newton solve, or the augmented Lagrangian's Uzawa loop). Returns (SNES
+        converged reason, Newton iterations, the method's extra record entries).
         """
         self.d.value = d_value
         self.set_state(state, rest)

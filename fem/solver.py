@@ -104,7 +104,8 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
                   quadrature_degree: int | None = None, force_rtol: float = 1e-10, snes_rtol: float = 1e-10,
                   max_it: int = 40, case: str = "contact", petsc_options: dict | None = None,
                   predictor: str = "auto", sample_degree: int | None = None,
-                  active_set_predictor: bool = True, first_step_fraction: float = 0.1,
+                  active_set_predictor: bool = True, active_set: str = "extrapolate",
+                  first_step_fraction: float = 0.1,
                   record_at: Sequence[float] | None = None, formulation: str = "displacement",
                   min_facets_across: int = MIN_FACETS_ACROSS, uzawa_rtol: float = 1e-10, uzawa_max_it: int = 100,
                   options: ContactOptions | None = None) -> ContactResult:
@@ -142,6 +143,11 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
             scenes with the surface coordinate X1). Without it the sign of the tiny gaps of the predicted u
             decides the first active set and semismooth Newton then releases about one quadrature point
             per iteration.
+        active_set: where the prescribed active set comes from. ``"extrapolate"`` (default): single-patch
+            states only, as above. ``"geometry"``: also several patches (each run's edges extrapolated; up to
+            :data:`fem.problem.MAX_ZONES` runs) and the first contact of a step from an open state: the runs of the
+            rigid overlap at the new d, shrunk about their centres (:data:`fem.stepping.GEOMETRIC_SHRINK`). It
+            needs no analytic predictor; the converged answer is the same, the Newton path differs.
         first_step_fraction: without the Hertz predictor, an extra first step at this fraction of the first
             load level (few quadrature points are in the initial overlap, so the unpredicted first solve is
             short); 1 disables it.

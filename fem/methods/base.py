@@ -56,13 +56,17 @@ def positive_part(x):
 def contact_law(q, X, mask):
     """``[q]_+``, or the prescribed-active-set law while the predictor mask is on.
 
-    ``mask = (on, lo, hi)`` (dolfinx Constants): while ``on = 1`` the pressure is ``q`` for ``lo < X1 < hi`` and
-    0 elsewhere (the solver's active-set predictor iteration); ``on = 0`` gives the true law ``[q]_+``.
+    ``mask = (on, lo_0, hi_0, lo_1, hi_1, ...)`` (dolfinx Constants): while ``on = 1`` the pressure is ``q`` where
+    ``lo_k < X1 < hi_k`` for some k and 0 elsewhere (the solver's active-set predictor iteration; an unused
+    interval has ``lo_k = hi_k``); ``on = 0`` gives the true law ``[q]_+``.
     """
     if mask is None:
         return positive_part(q)
-    on, lo, hi = mask
-    inside = ufl.And(ufl.gt(X[0], lo), ufl.lt(X[0], hi))
+    on, *edges = mask
+    inside = None
+    for lo, hi in zip(edges[0::2], edges[1::2], strict=True):
+        run = ufl.And(ufl.gt(X[0], lo), ufl.lt(X[0], hi))
+        inside = run if inside is None else ufl.Or(inside, run)
     return ufl.conditional(ufl.gt(on, 0.5), ufl.conditional(inside, q, 0.0), positive_part(q))
 
 
@@ -92,7 +96,7 @@ class ContactMethod:
             kin: gap, contact direction, body normal, coordinates, cell size.
             v: test function.  stress_u, stress_v: UFL stress of the state and of the test field (MPa).
             ds_c: contact measure (built with :meth:`measure_metadata`).
-            mask: active-set predictor Constants ``(on, lo, hi)`` or None (see :func:`contact_law`).
+            mask: active-set predictor Constants ``(on, lo_0, hi_0, ...)`` or None (see :func:`contact_law`).
         """
         raise NotImplementedError
 

@@ -35,6 +35,12 @@ Sections:
    three load steps (``solver_variants``); reuse of the first LU through GMRES and a lagged
    preconditioner (``reuse_lu``), all through the wiring's ``petsc_options`` override.
 
+6. Predictor-free Newton (issue 16): every run of ``predictor_free_cases`` at its default level with
+   ``predictor="extrapolate"`` (no analytic predictor) and the solver option ``active_set`` =
+   ``predictor_free_active_set``, and with today's ``active_set="extrapolate"`` as the reference: Newton
+   iterations per solve (the prescribed-active-set iteration included; force corrections and steps without
+   contact, 0 iterations, are solves too), the mean per scene, and the loads against the case default.
+
 Internal worker modes (``workbench bench --worker scale|cold``, the config passed as JSON) run one
 measurement in a subprocess and print one line ``BENCH_JSON {...}``.
 """
@@ -793,6 +799,45 @@ def lu_reuse(cfg: BenchConfig, *, comm, progress) -> dict:
     return {"options": cfg.reuse_lu, "rows": rows}
 
 
+def _newton_rows(cfg: BenchConfig, *, comm, progress, **overrides) -> dict:
+    """Every run of the predictor-free cases through the case pipeline with ``overrides``: per scene the Newton
+    iterations of each solve, the mean per solve, P and the solver time of each run."""
+    from cases import load_case
+    from workbench.pipeline.run_case import run_one
+
+    scenes = {}
+    for name in cfg.predictor_free_cases:
+        runs, its_all = {}, []
+        for run in load_case(name).runs():
+            o = run_one(run, name=name, mesh_cache=cfg.cache_dir, comm=comm, progress=lambda s: None, **overrides)
+            m = o.metrics
+            its = [int(i) for i in m["newton_iterations"]]
+            its_all += its
+            runs[run.label] = {"ndofs": m["ndofs"], "newton_iterations": its, "P": m["P"],
+                               "solve_s": m["wall_time_s"], "newton_per_step": sum(its) / len(its)}
+        scenes[name] = {"runs": runs, "newton_per_step": sum(its_all) / len(its_all), "solves": len(its_all),
+                        "newton_max": max(its_all)}
+        progress(f"predictor-free {overrides}: {name} {sum(its_all) / len(its_all):.2f} per solve "
+                 f"({ {k: r['newton_iterations'] for k, r in runs.items()} })")
+    return scenes
+
+
+def predictor_free(cfg: BenchConfig, *, comm, progress) -> dict:
+    """Section 6: Newton iterations per solve without an analytic predictor (module docstring)."""
+    ours = _newton_rows(cfg, comm=comm, progress=progress, predictor="extrapolate",
+                        active_set=cfg.predictor_free_active_set)
+    ref = _newton_rows(cfg, comm=comm, progress=progress, predictor="extrapolate", active_set="extrapolate")
+    default = _newton_rows(cfg, comm=comm, progress=progress)
+    target = cfg.predictor_free_target
+    for name, row in ours.items():
+        row["met"] = row["newton_per_step"] <= target
+        row["max_rel_diff_P_vs_default"] = max(
+            rel_diff(r["P"], default[name]["runs"][label]["P"]) for label, r in row["runs"].items())
+    return {"active_set": cfg.predictor_free_active_set, "target": target, "scenes": ours,
+            "reference_active_set_extrapolate": ref, "case_default": default,
+            "all_met": all(r["met"] for r in ours.values())}
+
+
 # ------------------------------------------------------------------------------------------ the study
 
 
@@ -839,6 +884,8 @@ def run_bench(cfg: BenchConfig | None = None, *, progress: Callable[[str], None]
     if "options" in sections:
         out["options"] = solver_variants(cfg, comm=comm, progress=progress)
         out["lu_reuse"] = lu_reuse(cfg, comm=comm, progress=progress)
+    if "predictor_free" in sections:
+        out["predictor_free"] = predictor_free(cfg, comm=comm, progress=progress)
     out["load_avg_end"] = os.getloadavg()
     out["bench_wall_time_s"] = time.perf_counter() - t0
     return out

@@ -276,6 +276,32 @@ def _md_reuse(lr: dict) -> list[str]:
     ]
 
 
+def _md_predictor_free(pf: dict, targets: list) -> list[str]:
+    t = pf["target"]
+    L = [
+        "## 6. Predictor-free Newton",
+        "",
+        f"Every run of each scene at its default level with `predictor=\"extrapolate\"` (no analytic predictor) "
+        f"and `active_set=\"{pf['active_set']}\"`; reference: today's `active_set=\"extrapolate\"` (single "
+        "patches only) and the case default (the Hertz predictor where it applies). Newton iterations per solve, "
+        "the prescribed-active-set iteration included; force corrections and open steps (0 iterations) count "
+        "as solves. P: largest relative difference of a run's load from the case default.",
+        "",
+        f"| scene | {pf['active_set']}: per solve | its | reference: per solve | case default: per solve | "
+        "P vs default |",
+        "|---|---|---|---|---|---|",
+    ]
+    ref, dflt = pf.get("reference_active_set_extrapolate", {}), pf.get("case_default", {})
+    for name, row in pf["scenes"].items():
+        its = "; ".join(f"{k}: {r['newton_iterations']}" for k, r in row["runs"].items())
+        L.append(f"| {name} | {_f(row['newton_per_step'])} | {its} | "
+                 f"{_f(ref.get(name, {}).get('newton_per_step'))} | {_f(dflt.get(name, {}).get('newton_per_step'))} "
+                 f"| {_f(row.get('max_rel_diff_P_vs_default'), '.1e')} |")
+        targets.append((f"predictor-free Newton <= {t:g} per solve: {name}", _f(row["newton_per_step"]),
+                        row["met"]))
+    return L + [""]
+
+
 def to_markdown(data: dict) -> str:
     """The benchmark report (Markdown) from the benchmark JSON (its ``config``; defaults where it has none)."""
     cfg = from_json(BenchConfig, data.get("config"))
@@ -303,6 +329,8 @@ def to_markdown(data: dict) -> str:
         L += _md_cache(data.get("cache"), data.get("options"), targets, cfg)
     if data.get("lu_reuse"):
         L += _md_reuse(data["lu_reuse"])
+    if data.get("predictor_free"):
+        L += _md_predictor_free(data["predictor_free"], targets)
     L += ["## Targets", "", "| target | measured | status |", "|---|---|---|"]
     L += [f"| {t} | {v} | {_met(ok)} |" for t, v, ok in targets]
     return "\n".join(L) + "\n"

@@ -254,7 +254,8 @@ def _solver_variants() -> dict:
     }
 
 
-BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options")
+BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free")
+ACTIVE_SETS = ("extrapolate", "geometry")  # fem.options.ACTIVE_SETS (a study config imports no fem)
 SCALE_FAMILIES = ("graded", "uniform")
 
 
@@ -285,6 +286,12 @@ class BenchConfig:
         reuse_meshes: (family, h/a) of the LU-reuse comparison.
         solver_variants: label -> (petsc_options, solver overrides) of the options comparison.
         targets: The issue's targets (stated met / not met).
+        predictor_free_cases: Cases of the predictor-free Newton section (every run of each at its default
+            level, ``predictor="extrapolate"``: no analytic predictor).
+        predictor_free_active_set: The solver's ``active_set`` option of that section (``"geometry"``: the
+            first contact from the rigid overlap, several patches; ``"extrapolate"``: single patches only).
+            Today's option (``"extrapolate"``) is run too, as the reference row.
+        predictor_free_target: The issue's target: mean Newton iterations per solve <= this on every scene.
         repeats: Warm repetitions per timing (best kept), >= 1.
         sections: Sections run.
         out: Output folder (default ``<results>/bench``).  mesh_cache: Mesh cache folder.
@@ -312,6 +319,10 @@ class BenchConfig:
     solver_variants: dict = field(default_factory=_solver_variants)
     targets: dict = field(default_factory=lambda: {"speedup_vs_baseline": 10.0, "default_warm_s": 3.0,
                                                    "linear_solves": 4.0, "exponent": 1.3})
+    predictor_free_cases: tuple[str, ...] = ("hertz_cylinder", "wedge", "wedge_convective", "parabola_convective",
+                                             "concave_symmetric", "close_to_conformal")
+    predictor_free_active_set: str = "geometry"
+    predictor_free_target: float = 4.0
     repeats: int = 3
     sections: tuple[str, ...] = BENCH_SECTIONS
     out: Path | None = None
@@ -336,6 +347,11 @@ class BenchConfig:
             if any(not 0 < v <= 1 for v in levels) or not _is_decreasing(tuple(levels)):
                 raise ValueError(f"scale[{family!r}] must be strictly decreasing values in (0, 1], "
                                  f"got {list(levels)}")
+        if self.predictor_free_active_set not in ACTIVE_SETS:
+            raise ValueError(f"predictor_free_active_set must be one of {list(ACTIVE_SETS)}, "
+                             f"got {self.predictor_free_active_set!r}")
+        if not self.predictor_free_target > 0:
+            raise ValueError(f"predictor_free_target must be > 0, got {self.predictor_free_target!r}")
         if not set(self.sections) <= set(BENCH_SECTIONS):
             raise ValueError(f"sections must be a subset of {sorted(BENCH_SECTIONS)}, got {list(self.sections)}")
 
