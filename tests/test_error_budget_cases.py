@@ -25,7 +25,7 @@ CONTRACT = ("fine", "extrapolated", "observed_order", "gci", "truncation", "theo
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
     out = tmp_path_factory.mktemp("budget")
-    for name in ("hertz_cylinder", "wedge_convective"):
+    for name in ("hertz_cylinder", "wedge_convective", "wedge"):
         proc = subprocess.run([sys.executable, "-m", "workbench", "run", name, "--out", str(out)], cwd=out,
                               capture_output=True, text=True, timeout=900)
         assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
@@ -69,6 +69,14 @@ def test_wedge_convective_moment_ratio_onto_converged_theory(results):
     assert r["truncation_status"] == "asymptotic" and abs(r["truncation_order"] - 1.0) < 0.15, r
     report = (results / "wedge_convective" / "report.md").read_text()
     assert "Error budget" in report and "b_over_b0_moment" in report
+
+
+def test_classical_wedge_moment_half_width_onto_closed_form(results):
+    b = _budget(results, "wedge")
+    for label in ("theta=pi/20", "theta=pi/5"):
+        r = b[f"half_width_moment[{label}]"]
+        assert r["status"] == "asymptotic" and abs(r["observed_order"] - 4.0) < 0.5, r
+        assert r["theory_in_band"] and abs(r["extrapolated"] - r["theory"]) / r["theory"] < 1e-6, r
 
 
 BAD = {

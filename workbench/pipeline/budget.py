@@ -16,13 +16,17 @@ For every run of the case the scene is solved again on a grid of runs:
 
 Each headline quantity is dimensionless (divided by the classical value at the run's measured load):
 
+* Classical wedge (small kinematics): ``half_width`` and ``half_width_moment`` against the classical wedge
+  (closed form: 2 sqrt(M2/M0) = 2 b / sqrt(6)).
 * Hertz scenes (circle or parabola, small kinematics): ``p_max`` (largest sample, contact law),
   ``half_width`` (zero crossing), ``half_width_moment`` (2 sqrt(M2/M0), smooth: see
   :mod:`workbench.scenes.budget_theory`). Theory: the profile's own half-plane theory (exact circle for a
   circle, Hertz for a parabola); ``alt_theory`` names the other one (Hertz for a circle).
 * Convective scenes: ``b_over_b0`` (zero crossings) and ``b_over_b0_moment`` (moment half-widths) of the
   convective run over the small run at the same load. Theory: converged Ciavarella-Hills; alternative: the
-  first-order theory (its closed-form b/b0, and the moment ratio of its pressure).
+  first-order theory (its closed-form b/b0, and the moment ratio of its pressure). The theory's moments are
+  taken on its 64001-point grid: ``theory_uncertainty`` is that grid's error on the classical moment (closed
+  form known), 5.3e-6 for the wedge (log apex).
 
 ``extrapolated`` = Richardson value in h (at W_max; the fine value where no order is claimed) + the W
 correction. ``theory_in_band``: ``|theory - extrapolated| <= (gci + truncation) |fine|``.
@@ -148,19 +152,34 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
         sol = convective_theory(conv_fine, n_plot=_THEORY_N_PLOT)
         w_conv = curve_moment_half_width(sol.x, sol.p_converged)
         w_class = curve_moment_half_width(sol.x, sol.p_classical)
+        # the theory's own error: its classical moment on the same grid against the closed form (wedge
+        # b0/sqrt(6), parabola b0/2); measured 5.3e-6 (wedge, log apex) and 1.4e-9 (parabola)
+        exact_class = 1.0 / math.sqrt(6.0) if conv_fine.theory.kind == "wedge" else 0.5
+        theory_err = abs(w_class - exact_class) / exact_class
         for key, q in (("b_over_b0", "half_width"), ("b_over_b0_moment", "moment")):
             fh, fw = series(lambda k, q=q: meas[lc][k][q] / meas[ls][k][q])
             theory = sol.b_over_b0_converged if q == "half_width" else w_conv / w_class
             alt = ("first order", sol.b_over_b0_first_order if q == "half_width"
                    else curve_moment_half_width(sol.x, sol.p_first_order) / w_class)
             budget[key] = _study(levels, widths, fh, fw, theory, alt)
+            if q == "moment":
+                budget[key]["theory_uncertainty"] = theory_err
     else:
         for run in case.runs():
-            if run.geometry.indenter not in ("circle", "parabola") or run.solver.kinematics != "small":
+            if run.solver.kinematics != "small":
                 continue
             fine = outcomes[run.label][(h_fine, W_max)]
             th = fine.theory
             a_h = th.half_width
+            suffix = "" if len(case.runs()) == 1 else f"[{run.label}]"
+            if th.kind == "wedge":  # classical wedge: half-widths only (the peak is log-singular)
+                # p = (E* m / pi) arccosh(b/|x|): M0 = pi b, M2 = pi b^3 / 6, so 2 sqrt(M2/M0) = 2 b / sqrt(6)
+                theory = {"half_width": 1.0, "moment": 2.0 / math.sqrt(6.0)}
+                for q, name in (("half_width", "half_width"), ("moment", "half_width_moment")):
+                    scale = 2.0 if q == "moment" else 1.0
+                    fh, fw = series(lambda k, q=q, s=scale, m=meas[run.label]: s * m[k][q])
+                    budget[name + suffix] = _study(levels, widths, fh, fw, theory[q], None)
+                continue
             if run.geometry.indenter == "circle":
                 ex = exact_circle(th)
                 theory = {"p_max": ex.p0 / th.p_ref, "half_width": ex.half_width / a_h,
@@ -169,13 +188,15 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
             else:
                 theory = {"p_max": 1.0, "half_width": 1.0, "moment": 1.0}
                 alt = {}
-            suffix = "" if len(case.runs()) == 1 else f"[{run.label}]"
             for q, name in (("p_max", "p_max"), ("half_width", "half_width"), ("moment", "half_width_moment")):
                 scale = 2.0 if q == "moment" else 1.0  # Hertz: sqrt(M2/M0) = a/2
                 fh, fw = series(lambda k, q=q, s=scale, m=meas[run.label]: s * m[k][q])
                 budget[name + suffix] = _study(levels, widths, fh, fw, theory[q], alt.get(q))
             if subsurface is None:
                 subsurface = _subsurface(fine)
+                by = {f"W={W:g},h={h:g}": _subsurface(outcomes[run.label][(h, W)])["summary"]["max_abs_error_over_p0"]
+                      for h, W in grid if (h, W) != (h_fine, W_max)}
+                subsurface["summary"]["max_abs_error_over_p0_other_runs"] = by
     return budget, subsurface
 
 
