@@ -166,10 +166,11 @@ class Discretisation:
         levels: Refinement levels for studies, as h_contact fractions, coarse to fine.
         ci_level: Fraction used by ``make ci`` (the coarsest that still meets the tolerances).
         growth: Element-to-element size ratio of the mesh grading away from the contact, in [1.05, 2].
-        budget_levels: Three h_contact fractions of the error budget (block scenes; ``make run`` solves each
-            run on all three, on the largest budget block), or empty for no budget.
+        budget_levels: Three h_contact fractions of the error budget (``make run`` solves each run on all
+            three, block scenes on the largest budget block), or empty for no budget.
         budget_widths: Three block sizes W/a (width = height, in [10, MAX_SIZE_FACTOR]) of the budget's
-            truncation study (at the finest budget level); required with ``budget_levels``.
+            truncation study (at the finest budget level); required with ``budget_levels`` in block scenes,
+            refused in concave scenes (their body is the real geometry).
     """
 
     degree: int = 2
@@ -465,17 +466,18 @@ def _check_budget(run: Run, where: str) -> None:
     d = run.discretisation
     if not d.budget_levels and not d.budget_widths:
         return
-    for name, seq in (("budget_levels", d.budget_levels), ("budget_widths", d.budget_widths)):
+    block = run.geometry.scene == "block"
+    if not block and d.budget_widths:
+        raise CaseError(f"{where}: discretisation.budget_widths = {_r(list(d.budget_widths))} is not supported by "
+                        f"the {_r(run.geometry.scene)} scene (its body is the real geometry); allowed: scene = 'block'")
+    for name, seq in (("budget_levels", d.budget_levels), ("budget_widths", d.budget_widths))[:2 if block else 1]:
         if len(seq) != 3 or len(set(seq)) != 3:
-            raise CaseError(f"{where}: discretisation.{name} = {_r(list(seq))} is not allowed; "
-                            "allowed: exactly three distinct values (with both budget_levels and budget_widths)")
+            raise CaseError(f"{where}: discretisation.{name} = {_r(list(seq))} is not allowed; allowed: exactly "
+                            "three distinct values (block scenes: with both budget_levels and budget_widths)")
     if max(d.budget_levels) > BUDGET_SPAN * min(d.budget_levels):
         raise CaseError(f"{where}: discretisation.budget_levels = {_r(list(d.budget_levels))} spans more than a "
                         f"factor {BUDGET_SPAN:g}; allowed: max <= {BUDGET_SPAN:g} min (the grading is refined with "
                         "h_c, so a wider span meshes the finest level far too densely)")
-    if run.geometry.scene != "block":
-        raise CaseError(f"{where}: discretisation.budget_levels is not supported by the "
-                        f"{_r(run.geometry.scene)} scene; allowed: scene = 'block'")
 
 
 def effective_formulation(run: Run) -> str:

@@ -19,13 +19,15 @@ from test_cases_validation import GOOD
 
 from workbench.cli import main
 
+ROOT = Path(__file__).resolve().parents[1]
+
 CONTRACT = ("fine", "extrapolated", "observed_order", "gci", "truncation", "theory", "theory_in_band")
 
 
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
     out = tmp_path_factory.mktemp("budget")
-    for name in ("hertz_cylinder", "wedge_convective", "wedge"):
+    for name in ("hertz_cylinder", "wedge_convective", "wedge", "concave_symmetric"):
         proc = subprocess.run([sys.executable, "-m", "workbench", "run", name, "--out", str(out)], cwd=out,
                               capture_output=True, text=True, timeout=900)
         assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
@@ -79,6 +81,17 @@ def test_classical_wedge_moment_half_width_onto_closed_form(results):
         assert r["theory_in_band"] and abs(r["extrapolated"] - r["theory"]) / r["theory"] < 1e-6, r
 
 
+def test_concave_steps_carry_a_gci(results):
+    b = _budget(results, "concave_symmetric")
+    for step in ("step1 (d = 0.6 mm)", "step2 (d = 0.8 mm)", "step3 (d = 1 mm)"):
+        for q in ("P", "p_max", "width_fem[0]", "width_fem[1]"):
+            r = b[f"{step} {q}"]
+            assert r["gci"] is not None and r["gci"] < 0.01 and r["status"] != "diverging", (step, q, r)
+    # Hertz superposition (eq. (4)) holds at the first step and fails at the last: the check can fail on physics
+    assert b["step1 (d = 0.6 mm) width_fem[0]"]["theory_in_band"]
+    assert not b["step3 (d = 1 mm) width_fem[0]"]["theory_in_band"]
+
+
 BAD = {
     "two_levels": "budget_levels = [0.1, 0.05]\nbudget_widths = [640.0, 2560.0, 10000.0]",
     "level_above_one": "budget_levels = [2.0, 0.1, 0.05]\nbudget_widths = [640.0, 2560.0, 10000.0]",
@@ -87,6 +100,7 @@ BAD = {
     "width_too_large": "budget_levels = [0.2, 0.1, 0.05]\nbudget_widths = [640.0, 2560.0, 1e6]",
     "levels_without_widths": "budget_levels = [0.2, 0.1, 0.05]",
     "span_too_wide": "budget_levels = [0.8, 0.1, 0.05]\nbudget_widths = [640.0, 2560.0, 10000.0]",
+    "widths_in_concave": None,
     "wrong_type": 'budget_levels = "fine"\nbudget_widths = [640.0, 2560.0, 10000.0]',
 }
 
@@ -94,7 +108,12 @@ BAD = {
 @pytest.mark.parametrize("name", sorted(BAD))
 def test_bad_budget_field_exit_2_one_line(name, tmp_path, capsys):
     p = tmp_path / f"{name}.toml"
-    p.write_text(GOOD + "[discretisation]\n" + BAD[name] + "\n")
+    if BAD[name] is None:  # a concave scene has no block to vary
+        text = (ROOT / "cases" / "concave_symmetric.toml").read_text().replace(
+            "budget_levels = [", "budget_widths = [640.0, 2560.0, 10000.0]\nbudget_levels = [", 1)
+    else:
+        text = GOOD + "[discretisation]\n" + BAD[name] + "\n"
+    p.write_text(text)
     out = tmp_path / "results"
     code = main(["run", str(p), "--out", str(out)])
     err = capsys.readouterr().err.strip()

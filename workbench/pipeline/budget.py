@@ -57,10 +57,10 @@ SUBSURFACE_DEPTH = 4.0    # down to 4 a (issue 12: >= 3 a)
 _THEORY_N_PLOT = 64001    # Ciavarella-Hills grid for the moments (converged to ~1e-7 relative)
 
 
-def _with(run: Run, *, h: float, W: float, h_coarse: float) -> Run:
+def _with(run: Run, *, h: float, W: float | None, h_coarse: float) -> Run:
     """The run on level h (grading ``1 + (growth - 1) h / h_coarse``: every element shrinks by the same
-    factor, the far field too) and on a block of W/a."""
-    g = dataclasses.replace(run.geometry, width_factor=W, height_factor=W)
+    factor, the far field too) and on a block of W/a (None: the geometry as it is)."""
+    g = run.geometry if W is None else dataclasses.replace(run.geometry, width_factor=W, height_factor=W)
     growth = 1.0 + (run.discretisation.growth - 1.0) * h / h_coarse
     d = dataclasses.replace(run.discretisation, h_contact=h, growth=growth)
     return dataclasses.replace(run, geometry=g, discretisation=d)
@@ -125,6 +125,8 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
     disc = case.discretisation
     if not disc.budget_levels:
         return {}, None
+    if case.geometry.scene == "concave":
+        return _concave_budget(case, solve=solve, progress=progress), None
     levels = sorted(disc.budget_levels)
     widths = sorted(disc.budget_widths)
     W_max, h_fine = widths[-1], levels[0]
@@ -200,6 +202,55 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
     return budget, subsurface
 
 
+def _concave_budget(case: Case, *, solve, progress) -> dict:
+    """Concave scenes: every step's P, peak pressure and FEM patch widths over the three budget levels (grading
+    refined with h_c). The concave body is the real geometry, not a truncated half-plane: ``truncation`` is 0.
+    ``theory`` of a patch width is eq. (4), the Hertz width of that contact pair (the superposition the scene
+    tests), null for P and the peak. A step whose patch count differs between levels is named, not studied.
+    """
+    levels = sorted(case.discretisation.budget_levels)
+    budget: dict[str, dict] = {}
+    for run in case.runs():
+        steps = []
+        for h in levels:
+            o = solve(_with(run, h=h, W=None, h_coarse=levels[-1]))
+            progress(f"[budget {run.label}] h_c = {h:g} a: {o.metrics['ndofs']} dofs")
+            steps.append(o.metrics.get("steps", []))
+        pre = "" if len(case.runs()) == 1 else f"{run.label}/"
+        for i, fine in enumerate(steps[0]):
+            per = [st[i] if i < len(st) else None for st in steps]
+            if any(p is None for p in per):
+                continue
+            tag = f"{pre}step{i + 1} (d = {fine['d']:g} mm)"
+            for q in ("P", "p_max"):
+                budget[f"{tag} {q}"] = _concave_row(levels, [p[q] for p in per], None)
+            budget[f"{tag} P"]["load_balance_by_h"] = {
+                str(h): abs(p["P"] - p["P_pressure"]) / abs(p["P"]) for h, p in zip(levels, per, strict=True)}
+            counts = {len(p["patches"]) for p in per}
+            if len(counts) != 1:
+                budget[f"{tag} patches"] = {"fine": len(fine["patches"]), "extrapolated": None,
+                                           "observed_order": None, "gci": None, "truncation": 0.0,
+                                           "theory": None, "theory_in_band": None,
+                                           "status": f"patch count differs between levels: {sorted(counts)}"}
+                continue
+            for k, pt in enumerate(fine["patches"]):
+                budget[f"{tag} width_fem[{k}]"] = _concave_row(
+                    levels, [p["patches"][k]["width_fem"] for p in per], pt.get("width_eq4"))
+    return budget
+
+
+def _concave_row(levels, values, theory) -> dict:
+    g = grid_study(tuple(levels), tuple(values))
+    band = g.gci * abs(g.fine)
+    return {"fine": g.fine, "extrapolated": g.extrapolated, "observed_order": _num(g.observed_order),
+            "gci": g.gci, "truncation": 0.0, "theory": _num(theory),
+            "theory_in_band": None if theory is None else bool(abs(theory - g.extrapolated) <= band),
+            "status": g.status, "truncation_status": "n/a (finite body)",
+            "by_h": dict(zip([str(v) for v in levels], values, strict=True)),
+            "error_vs_theory": None if theory is None else abs(g.extrapolated - theory) / abs(theory),
+            **({"theory_name": "eq. (4) Hertz width"} if theory is not None else {})}
+
+
 def _subsurface(outcome) -> dict:
     """Stresses on the symmetry axis of a Hertz run against McEwen's closed form (Hertz a, p0 at the
     measured load); FEM y = -z."""
@@ -251,6 +302,9 @@ def budget_table(budget: dict) -> list[str]:
         alt = f"{r['alt_theory']} {r['alt_value']:.7f}" if "alt_theory" in r else "-"
         alt_in = ("yes" if r["alt_in_band"] else "no") if "alt_in_band" in r else "-"
         ib = "n/a" if r["theory_in_band"] is None else ("yes" if r["theory_in_band"] else "no")
+        if r.get("gci") is None:
+            lines.append(f"| {q} | {r['fine']} | n/a | n/a | {r['status']} | n/a | n/a | n/a | n/a | - | - |")
+            continue
         lines.append(f"| {q} | {f(r['fine'])} | {f(r['extrapolated'])} | {f(r['observed_order'], '.2f')} | "
                      f"{r['status']} | {f(r['gci'], '.2e')} | {f(r['truncation'], '.2e')} ({r['truncation_status']})"
                      f" | {f(r['theory'])} | {ib} | {alt} | {alt_in} |")
