@@ -39,6 +39,25 @@ def _fmt(v) -> str:
     return fmt(v, 3)
 
 
+def _budget_markdown(metrics: dict[str, dict]) -> list[str]:
+    """The error budgets (issue 12) of the cases that have one: quantities with a theory, one row each."""
+    rows = []
+    for name, m in metrics.items():
+        for q, r in (m.get("error_budget") or {}).items():
+            if r.get("theory") is None or r.get("gci") is None:
+                continue
+            band = r["gci"] + (r.get("truncation") or 0.0)
+            alt = "-" if "alt_in_band" not in r else ("in band" if r["alt_in_band"] else "outside")
+            rows.append(f"| {name} | {q} | {r['extrapolated']:.7f} | {r['status']} | {band:.2e} | {r['theory']:.7f} | "
+                        f"{r['error_vs_theory']:.1e} | {'yes' if r['theory_in_band'] else 'no'} | {alt} |")
+    if not rows:
+        return []
+    return ["", "## Error budget (three grids, block size extrapolated; values over the classical value)", "",
+            "| case | quantity | extrapolated | status | band (GCI + truncation) | theory | error | theory in band "
+            "| other theory |", "|---|---|---|---|---|---|---|---|---|", *rows, "",
+            "Per case: `metrics.json[\"error_budget\"]` and the table in its report.", ""]
+
+
 def summary_markdown(results: Path) -> str:
     """The summary report as Markdown."""
     from workbench.reports.paper_claims import claims_markdown
@@ -80,6 +99,7 @@ def summary_markdown(results: Path) -> str:
     for name, m in metrics.items():
         if m.get("headline"):
             lines.append(f"- **{name}**: {m['headline']}")
+    lines += _budget_markdown(metrics)
     if all(n in metrics and metrics[n].get("steps") for n in ("concave_symmetric", "close_to_conformal")):
         lines += ["## Load against indentation (close-to-conformal paper, Fig. 3)", "",
                   "![P against delta](p_delta.png)", "",
