@@ -49,18 +49,25 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
     Top-level fields describe the case as a whole: ``ndofs`` is the largest run, times and iterations are
     summed, ``P``/``P_pressure``/``patches`` are those of the first run, ``errors`` holds the worst value of
     each error over the runs plus case-level comparisons (e.g. ``b_over_b0``), and ``runs`` lists every run.
+    An error that is NaN or missing in any run is NaN for the case (its check fails), and
+    ``errors_undefined`` names the runs where it was.
     """
     runs = [o.metrics for o in outcomes]
     first = runs[0]
     errors: dict[str, float] = {}
+    undefined: dict[str, list[str]] = {}  # error -> runs where it could not be computed (never dropped silently)
     for r in runs:
         for k, v in r.get("errors", {}).items():
-            if v is not None and not (isinstance(v, float) and math.isnan(v)):
+            if v is None or (isinstance(v, float) and math.isnan(v)):
+                undefined.setdefault(k, []).append(r["label"])
+            else:
                 errors[k] = max(errors.get(k, 0.0), v)
+    for k in undefined:  # an error undefined in one run is undefined for the case: its check fails
+        errors[k] = math.nan
     extra = scene_for(outcomes[0].run).judge(case, outcomes)
     errors.update(extra.errors)
     tol = dict(case.tolerances)
-    checks = {k: (errors.get(k) is not None and errors[k] <= t) for k, t in tol.items()}
+    checks = {k: bool(errors.get(k) is not None and errors[k] <= t) for k, t in tol.items()}
     kin = sorted({r["kinematics"] for r in runs})
     return extra.top | {
         "case": case.name,
@@ -77,6 +84,7 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
         "patches": first["patches"],
         "analytic": {"runs": {r["label"]: r.get("analytic") for r in runs}, **extra.analytic},
         "errors": errors,
+        "errors_undefined": undefined,
         "tolerances": tol,
         "checks": checks,
         "pass": bool(all(checks.values())),
