@@ -46,6 +46,7 @@ import numpy as np
 from analytic.subsurface import hertz_subsurface_stress, von_mises_plane_strain
 from cases.schema import Case, Run
 from workbench.error_budget import grid_study
+from workbench.scenes import scene_for
 from workbench.scenes.block_theory import exact_circle
 from workbench.scenes.budget_theory import circle_moment_half_width, curve_moment_half_width, moment_half_width
 
@@ -125,8 +126,9 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
     disc = case.discretisation
     if not disc.budget_levels:
         return {}, None
-    if case.geometry.scene == "concave":
-        return _concave_budget(case, solve=solve, progress=progress), None
+    own = scene_for(case.runs()[0]).error_budget(case, solve=solve, progress=progress)
+    if own is not None:  # the scene's own budget (e.g. concave: workbench.scenes.concave_budget)
+        return own.rows, own.subsurface
     levels = sorted(disc.budget_levels)
     widths = sorted(disc.budget_widths)
     W_max, h_fine = widths[-1], levels[0]
@@ -200,55 +202,6 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
                       for h, W in grid if (h, W) != (h_fine, W_max)}
                 subsurface["summary"]["max_abs_error_over_p0_other_runs"] = by
     return budget, subsurface
-
-
-def _concave_budget(case: Case, *, solve, progress) -> dict:
-    """Concave scenes: every step's P, peak pressure and FEM patch widths over the three budget levels (grading
-    refined with h_c). The concave body is the real geometry, not a truncated half-plane: ``truncation`` is 0.
-    ``theory`` of a patch width is eq. (4), the Hertz width of that contact pair (the superposition the scene
-    tests), null for P and the peak. A step whose patch count differs between levels is named, not studied.
-    """
-    levels = sorted(case.discretisation.budget_levels)
-    budget: dict[str, dict] = {}
-    for run in case.runs():
-        steps = []
-        for h in levels:
-            o = solve(_with(run, h=h, W=None, h_coarse=levels[-1]))
-            progress(f"[budget {run.label}] h_c = {h:g} a: {o.metrics['ndofs']} dofs")
-            steps.append(o.metrics.get("steps", []))
-        pre = "" if len(case.runs()) == 1 else f"{run.label}/"
-        for i, fine in enumerate(steps[0]):
-            per = [st[i] if i < len(st) else None for st in steps]
-            if any(p is None for p in per):
-                continue
-            tag = f"{pre}step{i + 1} (d = {fine['d']:g} mm)"
-            for q in ("P", "p_max"):
-                budget[f"{tag} {q}"] = _concave_row(levels, [p[q] for p in per], None)
-            budget[f"{tag} P"]["load_balance_by_h"] = {
-                str(h): abs(p["P"] - p["P_pressure"]) / abs(p["P"]) for h, p in zip(levels, per, strict=True)}
-            counts = {len(p["patches"]) for p in per}
-            if len(counts) != 1:
-                budget[f"{tag} patches"] = {"fine": len(fine["patches"]), "extrapolated": None,
-                                           "observed_order": None, "gci": None, "truncation": 0.0,
-                                           "theory": None, "theory_in_band": None,
-                                           "status": f"patch count differs between levels: {sorted(counts)}"}
-                continue
-            for k, pt in enumerate(fine["patches"]):
-                budget[f"{tag} width_fem[{k}]"] = _concave_row(
-                    levels, [p["patches"][k]["width_fem"] for p in per], pt.get("width_eq4"))
-    return budget
-
-
-def _concave_row(levels, values, theory) -> dict:
-    g = grid_study(tuple(levels), tuple(values))
-    band = g.gci * abs(g.fine)
-    return {"fine": g.fine, "extrapolated": g.extrapolated, "observed_order": _num(g.observed_order),
-            "gci": g.gci, "truncation": 0.0, "theory": _num(theory),
-            "theory_in_band": None if theory is None else bool(abs(theory - g.extrapolated) <= band),
-            "status": g.status, "truncation_status": "n/a (finite body)",
-            "by_h": dict(zip([str(v) for v in levels], values, strict=True)),
-            "error_vs_theory": None if theory is None else abs(g.extrapolated - theory) / abs(theory),
-            **({"theory_name": "eq. (4) Hertz width"} if theory is not None else {})}
 
 
 def _subsurface(outcome) -> dict:

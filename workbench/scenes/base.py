@@ -10,7 +10,12 @@ A *scene* turns a case run (:class:`cases.schema.Run`) into a contact problem an
 4. :meth:`Scene.compare` compares one converged :class:`fem.solver.ContactResult` with theory and returns an
    :class:`Outcome` (typed records; ``metrics`` is its JSON form for ``metrics.json``);
 5. :meth:`Scene.judge` compares the runs of a whole case (e.g. convective against small kinematics) and
-   returns a :class:`CaseComparison`.
+   returns a :class:`CaseComparison`;
+6. :meth:`Scene.error_budget` (``make run`` only, with ``[discretisation] budget_levels``) solves the case
+   again on the budget's grids through the pipeline's ``solve(run) -> Outcome`` and returns a
+   :class:`SceneBudget` (``metrics.json["error_budget"]``). ``None`` means: the pipeline's block budget
+   (three grids x three block sizes, :mod:`workbench.pipeline.budget`), which sits in the pipeline layer and so
+   cannot be called from a scene (the import contract: pipeline above scenes).
 
 The pipeline (:mod:`workbench.pipeline.run_case`) does the rest, the same way for every scene: read the mesh,
 call the solver with :func:`workbench.scenes.wiring.solver_options`, write the outputs. A new scene is one
@@ -25,8 +30,8 @@ from typing import Any, NamedTuple, Protocol, runtime_checkable
 
 from cases.schema import Case, Run
 
-__all__ = ["CaseComparison", "LoadPath", "Outcome", "Scene", "SceneMesh", "Series", "SCENES", "register_scene",
-           "scene_for"]
+__all__ = ["CaseComparison", "LoadPath", "Outcome", "Scene", "SceneBudget", "SceneMesh", "Series", "SCENES",
+           "register_scene", "scene_for"]
 
 
 class Series(NamedTuple):
@@ -100,6 +105,24 @@ class SceneMesh(NamedTuple):
     summary: str
 
 
+class SceneBudget(NamedTuple):
+    """What a scene's error budget returns to the pipeline.
+
+    Attributes:
+        rows: ``{quantity: row}`` for ``metrics.json["error_budget"]`` (row keys: ``fine``, ``extrapolated``,
+            ``observed_order``, ``gci``, ``truncation``, ``theory``, ``theory_in_band`` and extras).
+        subsurface: Axis samples of a Hertz run (block scenes) or None.
+        title: Heading of the budget table in the case report.
+        runs: ``{run label: [metrics of the run on every budget level, fine first]}`` (for checks that
+            need more than the rows, e.g. the concave acceptance; not written to ``metrics.json``).
+    """
+
+    rows: dict
+    subsurface: dict | None = None
+    title: str = "Error budget"
+    runs: dict = {}
+
+
 class LoadPath(NamedTuple):
     """How the rigid body is driven: ``control`` ``"force"`` (target P, N/mm, full body) or ``"displacement"``
     (target d, mm, with snapshots at ``record_at``), in ``n_steps`` steps; ``symmetric_half`` for half models."""
@@ -133,6 +156,9 @@ class Scene(Protocol):
         ...
 
     def judge(self, case: Case, outcomes: list[Outcome]) -> CaseComparison:
+        ...
+
+    def error_budget(self, case: Case, *, solve, progress) -> SceneBudget | None:
         ...
 
 

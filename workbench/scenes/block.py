@@ -183,3 +183,8 @@ class BlockScene:
         if "convective" in case.analytic.predictions and {"small", "convective"} <= set(by_kin):
             return convective_case_comparison(by_kin["small"], by_kin["convective"])
         return CaseComparison({}, {}, "", {})
+
+    def error_budget(self, case: Case, *, solve, progress) -> None:
+        """None: the block budget (three grids x three block sizes) is :mod:`workbench.pipeline.budget`'s, in
+        the pipeline layer, which a scene may not import."""
+        return None

@@ -29,7 +29,7 @@ from analytic.fit import fit_elliptical
 from analytic.superposition import ContactPair as HertzPair
 from analytic.superposition import superpose
 from cases.schema import Case, Run
-from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
+from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneBudget, SceneMesh, Series
 
 __all__ = ["ConcaveMesh", "ConcaveScene", "concave_mesh", "concave_case_comparison"]
 _SAMPLES_LCP = 300
@@ -257,6 +257,13 @@ class ConcaveScene:
 
     def judge(self, case: Case, outcomes: list[Outcome]) -> CaseComparison:
         return concave_case_comparison(case, outcomes)
+
+    def error_budget(self, case: Case, *, solve, progress) -> SceneBudget:
+        """Every step's P, peak and patch widths over the three budget levels
+        (:func:`workbench.scenes.concave_budget.concave_error_budget`)."""
+        from workbench.scenes.concave_budget import concave_error_budget
+
+        return concave_error_budget(case, solve=solve, progress=progress)
 
 
 def concave_case_comparison(case, outcomes) -> CaseComparison:
