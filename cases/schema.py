@@ -120,6 +120,10 @@ class Geometry:
         width_factor: Block width W over the classical contact half-width (>= 10).
         height_factor: Block height H over the classical contact half-width (>= 10).
         half_model: Mesh half the block with a symmetry edge (symmetric block scenes only).
+        far_field: Outer boundary of the block: ``"clamped"`` (bottom clamped, sides free) or ``"halfplane"``
+            (bottom and sides moved as the half-plane under the line load P, Flamant's field:
+            :mod:`fem.far_field`; block scenes only, force control). The error budget always uses
+            ``"halfplane"``.
     """
 
     scene: str
@@ -131,6 +135,7 @@ class Geometry:
     width_factor: float = 40.0
     height_factor: float = 40.0
     half_model: bool = True
+    far_field: str = "clamped"
 
 
 @dataclass(frozen=True)
@@ -290,6 +295,7 @@ _CHOICES = {
     ("geometry", "indenter"): ("circle", "parabola", "wedge", "particle"),
     ("geometry", "wedge_slope"): ("exact", "paper"),
     ("geometry", "design"): ("symmetric", "close_to_conformal"),
+    ("geometry", "far_field"): ("clamped", "halfplane"),
     ("loading", "control"): ("force", "displacement"),
     ("discretisation", "degree"): (1, 2),
     ("solver", "method"): ("nitsche", "penalty", "augmented_lagrangian"),
@@ -668,9 +674,10 @@ def load_case(path: str | Path) -> Case:
 
 # geometry fields each scene / indenter reads (a field given but not read is refused)
 _GEOMETRY_USED = {
-    ("block", "circle"): {"radius", "width_factor", "height_factor", "half_model"},
-    ("block", "parabola"): {"radius", "width_factor", "height_factor", "half_model"},
-    ("block", "wedge"): {"wedge_angle", "wedge_slope", "width_factor", "height_factor", "half_model"},
+    ("block", "circle"): {"radius", "width_factor", "height_factor", "half_model", "far_field"},
+    ("block", "parabola"): {"radius", "width_factor", "height_factor", "half_model", "far_field"},
+    ("block", "wedge"): {"wedge_angle", "wedge_slope", "width_factor", "height_factor", "half_model",
+                         "far_field"},
     ("concave", "particle"): {"design"},
 }
 # predictions each scene / indenter computes; "convective" also needs a small and a convective run

@@ -16,7 +16,7 @@ __all__ = ["ContactOptions", "SUPPORT_KINDS", "FORMULATIONS", "CONTROLS", "PREDI
            "MIN_FACETS_ACROSS",
            "NU_DISPLACEMENT_MAX", "check_options"]
 
-SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free")
+SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free", "halfplane")  # halfplane: fem/far_field.py
 FORMULATIONS = ("displacement", "mixed")
 CONTROLS = ("displacement", "force")
 PREDICTORS = ("auto", "hertz", "extrapolate")
@@ -104,6 +104,9 @@ def check_options(opts: ContactOptions, *, mesh_data, obstacle) -> None:
         raise ValueError(f"target must be > 0 (mm or N/mm), got {opts.target}")
     if int(opts.n_steps) < 1:
         raise ValueError(f"n_steps must be >= 1, got {opts.n_steps}")
+    from fem.far_field import check_far_field
+
+    check_far_field(supports=opts.supports, control=opts.control, obstacle=obstacle)
     if opts.contact_group not in mesh_data.physical_groups:
         raise ValueError(f"contact_group {opts.contact_group!r} not in mesh physical groups")
     if opts.formulation not in FORMULATIONS:

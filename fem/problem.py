@@ -38,6 +38,7 @@ from petsc4py import PETSc
 
 from fem.contact_forms import ContactForms, build_contact_forms
 from fem.elasticity import lame, mixed_constraint, plane_strain_modulus, sigma, sigma_mixed
+from fem.far_field import HalfPlaneFarField
 from fem.options import SUPPORT_KINDS, ContactOptions
 from fem.postprocess import (
     LOCKING_NU,
@@ -55,7 +56,7 @@ __all__ = ["ContactProblem", "MAX_ZONES", "resolve_supports"]
 MAX_ZONES = 4
 
 _counter = itertools.count()
-_COMPONENTS = {"clamped": (0, 1), "roller_x": (0,), "roller_y": (1,), "free": ()}
+_COMPONENTS = {"clamped": (0, 1), "roller_x": (0,), "roller_y": (1,), "free": (), "halfplane": (0, 1)}
 
 
 def resolve_supports(mesh_data, supports: dict | None, symmetric_half: bool) -> dict:
@@ -92,6 +93,7 @@ class ContactProblem:
         forms: :class:`fem.contact_forms.ContactForms`; method: its contact method instance.
         bcs: Dirichlet supports; ds_c: the Gauss contact measure (``quadrature_degree``).
         problem: the dolfinx NonlinearProblem; snes: its SNES; prefix: its PETSc options prefix.
+        far_field: :class:`fem.far_field.HalfPlaneFarField`, the values of ``halfplane`` supports (load level).
         qdeg, sdeg: contact quadrature and sample degrees; mult: 2 for a half model, else 1.
     """
 
@@ -157,6 +159,7 @@ class ContactProblem:
         """Dirichlet supports and the virtual-work field w (direction at constrained component dofs)."""
         V, fdim = self.V, self.mesh.topology.dim - 1
         self.bcs = []
+        self.far_field = HalfPlaneFarField(mesh=self.mesh, E=self.options.E, nu=self.options.nu)
         w = dolfinx.fem.Function(V)
         direction = self.obstacle.direction
         for name, kind in self.supports.items():
@@ -164,8 +167,11 @@ class ContactProblem:
             for c in _COMPONENTS[kind]:
                 Vc, _ = V.sub(c).collapse()
                 dofs = dolfinx.fem.locate_dofs_topological((V.sub(c), Vc), fdim, facets)
-                self.bcs.append(dolfinx.fem.dirichletbc(dolfinx.fem.Function(Vc), dofs, V.sub(c)))
+                # halfplane: Flamant's field scaled by the load level (fem/far_field.py); else 0
+                value = self.far_field.value_function(Vc, c) if kind == "halfplane" else dolfinx.fem.Function(Vc)
+                self.bcs.append(dolfinx.fem.dirichletbc(value, dofs, V.sub(c)))
                 w.x.array[dofs[0]] = direction[c]
+        self.far_field.set_load(self.options.target)  # the stepper sets each force level's own
         # the whole residual, contact terms included: where Gamma_c reaches a support (concave body: the spline
         # ends at the clamped corners) the symmetric Nitsche term -theta/gamma sigma_n(u) sigma_n(w) works on the
         # support dofs too (-a(u, w) alone missed 1.5e-3 of P in concave_symmetric)

@@ -318,6 +318,7 @@ class LoadStepper:
         opts, E_star = self.opts, self.problem.E_star
         for k in range(1, opts.n_steps + 1):
             P_goal = opts.target * k / opts.n_steps
+            self.problem.far_field.set_load(P_goal)  # halfplane supports: Flamant's field of this level
             zone = None
             if self.hertz is not None:
                 d_next, u_next, hertz_zone = self.hertz(P_goal, half=opts.symmetric_half)

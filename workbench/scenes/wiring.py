@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from cases.schema import Run, effective_formulation
+from fem.far_field import far_field_supports
 from fem.options import ContactOptions
 from workbench.scenes.base import LoadPath
 
@@ -20,13 +21,15 @@ def solver_options(run: Run, load: LoadPath, **overrides) -> ContactOptions:
 
     Material (E in MPa, nu), element degree, the contact method and its parameters, kinematics, traction and
     the bulk formulation (``"auto"`` resolved by nu, :func:`cases.schema.effective_formulation`) come from the run;
-    control, target (N/mm or mm), steps, snapshots and the half model from ``load``.
+    control, target (N/mm or mm), steps, snapshots and the half model from ``load``; the supports from the
+    geometry's ``far_field`` (None, the default, for ``"clamped"``).
     """
     sol, disc = run.solver, run.discretisation
     opts = dict(E=run.material.E, nu=run.material.nu, degree=disc.degree, method=sol.method,
                 kinematics=sol.kinematics, traction=sol.traction, kappa0=sol.kappa0, gamma0=sol.gamma0,
                 theta=sol.theta, control=load.control, target=load.target, n_steps=load.n_steps,
-                symmetric_half=load.symmetric_half, formulation=effective_formulation(run))
+                symmetric_half=load.symmetric_half, formulation=effective_formulation(run),
+                supports=far_field_supports(far_field=run.geometry.far_field, symmetric_half=load.symmetric_half))
     if load.record_at is not None:
         opts["record_at"] = load.record_at
     return ContactOptions(**(opts | overrides))
