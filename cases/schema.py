@@ -75,6 +75,16 @@ HALF_WIDTH_RANGE = (1e-8, 1e8)
 # W = H = 1e5 a measured 7.5e-13. Width and height beyond 1e4 a are refused, and W/H is kept within 1e3.
 MAX_SIZE_FACTOR = 1e4
 BUDGET_SPAN = 8.0  # error budget: largest over smallest level (the grading is refined with h_c)
+# [bands]: checks whose tolerance is the error budget's band (make run only). A listed quantity selects every
+# budget row of that quantity (block: one per run; concave: one per step and patch).
+BAND_KINDS = {
+    "contain_theory": "the band (GCI + truncation) of the quantity contains its theory",
+    "exclude_alt": "the band of the quantity excludes its alternative theory (e.g. first order, Hertz)",
+}
+BAND_QUANTITIES = {
+    "block": ("p_max", "half_width", "half_width_moment", "b_over_b0", "b_over_b0_moment"),
+    "concave": ("load_symmetry", "first_contact_width", "width_moment", "width_fem"),
+}
 MAX_ASPECT = 1e3
 
 
@@ -254,6 +264,7 @@ class Case:
     solver: Solver
     analytic: Analytic
     tolerances: dict[str, float] = field(default_factory=dict)
+    bands: dict[str, tuple[str, ...]] = field(default_factory=dict)
     variants: tuple[dict[str, Any], ...] = ()
 
     def runs(self, *, h_contact: float | None = None) -> tuple[Run, ...]:
@@ -604,7 +615,7 @@ def load_case(path: str | Path) -> Case:
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise CaseError(f"{where}: malformed TOML: {_r(str(exc).splitlines()[0])[1:-1]}") from None
-    allowed_top = {"case", *_SECTIONS, "tolerances", "variant"}
+    allowed_top = {"case", *_SECTIONS, "tolerances", "bands", "variant"}
     for key in raw:
         if key not in allowed_top:
             raise CaseError(f"{where}: {_r(key)[1:-1]} is an unknown key; "
@@ -658,6 +669,7 @@ def load_case(path: str | Path) -> Case:
         path=p,
         description=str(head.get("description", "")),
         tolerances=tol,
+        bands=_parse_bands(raw.get("bands", {}), where),
         variants=tuple(copy.deepcopy(variants)),
         **records,
     )
@@ -669,7 +681,41 @@ def load_case(path: str | Path) -> Case:
         given = set(raw.get("geometry", {})) | set((variants[i] if variants else {}).get("geometry", {}))
         _check_used_geometry(run, given, f"{where}: variant[{i}]" if variants else where)
     _check_predictions(case, runs, where)
+    _check_bands(case, runs, where)
     return case
+
+
+def _parse_bands(raw: Any, where: str) -> dict[str, tuple[str, ...]]:
+    """``[bands]``: ``contain_theory`` / ``exclude_alt`` = lists of budget quantities (see BAND_KINDS)."""
+    if not isinstance(raw, dict):
+        raise CaseError(f"{where}: bands must be a table; allowed keys: {', '.join(BAND_KINDS)}")
+    out = {}
+    for key, value in raw.items():
+        if key not in BAND_KINDS:
+            raise CaseError(f"{where}: bands.{_r(key)[1:-1]} is an unknown key; allowed keys: {', '.join(BAND_KINDS)}")
+        if (not isinstance(value, list) or not value or any(not isinstance(v, str) for v in value)
+                or len(set(value)) != len(value)):
+            raise CaseError(f"{where}: bands.{key} = {_r(value)} is not allowed; allowed: a non-empty list of "
+                            "distinct budget quantity names")
+        out[key] = tuple(value)
+    return out
+
+
+def _check_bands(case: Case, runs: tuple[Run, ...], where: str) -> None:
+    """Band checks need the error budget (budget_levels) and name quantities the scene's budget has."""
+    if not case.bands:
+        return
+    if not case.discretisation.budget_levels:
+        raise CaseError(f"{where}: bands need the error budget; allowed: [bands] together with "
+                        "discretisation.budget_levels (three levels)")
+    for run in runs:
+        allowed = BAND_QUANTITIES.get(run.geometry.scene, ())
+        for key, names in case.bands.items():
+            for name in names:
+                if name not in allowed:
+                    raise CaseError(f"{where}: bands.{key} = {_r(list(names))}: {_r(name)} is not a budget quantity "
+                                    f"of the {run.geometry.scene} scene; allowed values: "
+                                    f"{', '.join(repr(a) for a in allowed)}")
 
 
 # geometry fields each scene / indenter reads (a field given but not read is refused)

@@ -130,6 +130,7 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
 
     from fem.output import write_vtk
     from fem.solver import ContactSolveError
+    from workbench.pipeline.bands import band_checks
     from workbench.pipeline.budget import budget_table, case_error_budget, write_subsurface
     from workbench.pipeline.case_files import write_case_files
     from workbench.reports.case_report import write_case_report
@@ -161,7 +162,13 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
             metrics = case_metrics(case, outcomes, h_contact=h_contact, wall_time_s=time.perf_counter() - t0)
             if budget:
                 metrics["error_budget"] = budget
-                metrics["case_tables"]["Error budget (three grids, three block sizes)"] = budget_table(budget)
+                title = ("three grids, three block sizes" if any("by_W" in r for r in budget.values())
+                         else "three grids; finite body, no truncation")
+                metrics["case_tables"][f"Error budget ({title})"] = budget_table(budget)
+                bands = band_checks(case.bands, budget)  # tolerances that are the budget's band
+                metrics["band_checks"] = {k: c._asdict() for k, c in bands.items()}
+                metrics["checks"].update({k: c.passed for k, c in bands.items()})
+                metrics["pass"] = bool(all(metrics["checks"].values()))
             if subsurface is not None:
                 metrics["subsurface"] = subsurface["summary"]
             metrics["mpi_processes"] = comm.size

@@ -110,9 +110,39 @@ def case_report_markdown(metrics: dict, *, renders: list[tuple[str, str]] | None
     for k, t in metrics["tolerances"].items():
         v = metrics["errors"].get(k)
         lines.append(f"| {k} | {_fmt(v)} | {_fmt(t)} | {'PASS' if metrics['checks'][k] else 'FAIL'} |")
+    lines += _band_lines(metrics)
     for title, table in (metrics.get("case_tables") or {}).items():
         lines += ["", f"## {title}", "", *table]
+    if metrics.get("error_budget"):
+        lines += ["", "![error budget](budget.png)", "",
+                  "*Every budget quantity against h_c: deviation from the extrapolated value, the band (GCI + "
+                  "truncation) shaded, the theory (solid) and the alternative theory (dashed).*"]
     return "\n".join(lines) + "\n"
+
+
+def _band_lines(metrics: dict) -> list[str]:
+    """The band checks (``metrics.json["band_checks"]``): per selected budget row, the extrapolated value, the
+    band, the theory and the alternative theory with both verdicts."""
+    checks = metrics.get("band_checks") or {}
+    if not checks:
+        return []
+    budget = metrics.get("error_budget") or {}
+    lines = ["", "## Band checks (tolerance = the error budget's band)", "",
+             "| check | quantity | extrapolated | band (abs.) | theory | theory in band | alternative | alt. in band "
+             "| verdict |", "|---|---|---|---|---|---|---|---|---|"]
+    for key, c in checks.items():
+        if not c["rows"]:
+            lines.append(f"| {key} | - | - | - | - | - | - | - | FAIL ({c['reason']}) |")
+        for name, ok in c["rows"].items():
+            r = budget.get(name, {})
+            band = (None if r.get("gci") is None else
+                    (r["gci"] + (r.get("truncation") or 0.0)) * abs(r["fine"]))
+            alt = "-" if r.get("alt_value") is None else f"{r.get('alt_theory')} {_fmt(r['alt_value'])}"
+            yn = {True: "yes", False: "no", None: "n/a"}
+            lines.append(f"| {key} | {name} | {_fmt(r.get('extrapolated'))} | {_fmt(band)} | {_fmt(r.get('theory'))} | "
+                         f"{yn[r.get('theory_in_band')]} | {alt} | {yn[r.get('alt_in_band')]} | "
+                         f"{'PASS' if ok else 'FAIL'} |")
+    return lines
 
 
 def write_case_report(folder: Path) -> list[Path]:
@@ -136,6 +166,10 @@ def write_case_report(folder: Path) -> list[Path]:
     if series:
         plot_pressure_panels(pressure_panels(series, metrics), folder / "pressure.png", title=name)
         written.append(folder / "pressure.png")
+    if metrics.get("error_budget"):
+        from workbench.reports.budget_plot import plot_budget
+
+        written.append(plot_budget(metrics["error_budget"], folder / "budget.png", title=name))
     renders, render_error, view = [], None, None
     if list((folder / "vtk").glob("*/frames.json")):
         from workbench.reports.paraview_view import write_view_script

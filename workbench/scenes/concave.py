@@ -30,6 +30,7 @@ from analytic.superposition import ContactPair as HertzPair
 from analytic.superposition import superpose
 from cases.schema import Case, Run
 from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneBudget, SceneMesh, Series
+from workbench.scenes.budget_theory import moment_half_width
 
 __all__ = ["ConcaveMesh", "ConcaveScene", "concave_mesh", "concave_case_comparison"]
 _SAMPLES_LCP = 300
@@ -85,8 +86,13 @@ def _step_metrics(snap, *, curve, lcp, E_star, label):
     pairs = [pr for pr in lcp.pairs if _plausible_overlap(pr)]
     pair_s = [float(curve.arc_length(np.array([pr.t_a]))[0]) for pr in pairs]
     out_patches = []
-    for pt in patches:
-        lo, hi = pt.center - pt.half_width, pt.center + pt.half_width
+    edges = [(pt.center - pt.half_width, pt.center + pt.half_width) for pt in patches]
+    for k, pt in enumerate(patches):
+        lo, hi = edges[k]
+        # this patch's share of the surface: up to half-way to the neighbouring patches (p = 0 between them)
+        left = -math.inf if k == 0 else 0.5 * (edges[k - 1][1] + lo)
+        right = math.inf if k == len(patches) - 1 else 0.5 * (hi + edges[k + 1][0])
+        own = (s >= left) & (s <= right)
         inside = (s >= lo - 0.05 * pt.half_width) & (s <= hi + 0.05 * pt.half_width)
         fit = fit_elliptical(s[inside], p[inside]) if inside.sum() >= 5 else None
         in_pairs = [k for k, sp in enumerate(pair_s) if lo <= sp <= hi]
@@ -94,6 +100,9 @@ def _step_metrics(snap, *, curve, lcp, E_star, label):
             "center": pt.center, "half_width": pt.half_width, "p_max": pt.p_max, "P": pt.P,
             "width_eq4": hertz.patch_width_eq4(pt.P, pt.p_max) if pt.p_max > 0 else math.nan,
             "width_fem": 2.0 * pt.half_width,
+            # smooth width from the pressure's moments, 4 sqrt(M2/M0) (= 2a for a Hertz patch): an integral of p,
+            # it converges smoothly where the zero crossing (width_fem) jumps between quadrature points
+            "width_moment": 4.0 * moment_half_width(s[own], p[own], smp.weight[own]),
             "fit": fit._asdict() if fit else None,
             "pairs": in_pairs,
             "width_eq5": [hertz.patch_width_eq5(pt.P, pairs[k].relative_radius, E_star) for k in in_pairs],

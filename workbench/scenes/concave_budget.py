@@ -1,14 +1,29 @@
-"""Error budget of a concave case: every step's P, peak pressure and FEM patch widths over three grids.
+"""Error budget of a concave case: every step's P, peak pressure, patch loads and widths over three grids.
 
 The scene is solved again on the three ``[discretisation] budget_levels`` (h_c as a fraction of the smallest
 predicted patch half-width), the grading refined with them (``growth - 1`` proportional to h_c, the case's
 growth on the coarsest level: every element shrinks by the same factor). Each quantity goes through
 :func:`workbench.error_budget.grid_study` in h (fine value, Richardson value, observed order, GCI, named status).
 
-The concave body is the real geometry, not a truncated half-plane: ``truncation`` is 0. ``theory`` of a patch
-width is eq. (4) of the paper, the Hertz width of that patch at its own FEM load and peak (the superposition
-the scene tests), null for P and the peak. A step whose patch count differs between levels is named, not
-studied. Every P row also carries the load balance ``|P - P_pressure| / P`` of every level.
+The concave body is the real geometry, not a truncated half-plane: ``truncation`` is 0, and the band is
+``gci |fine|``, floored at round-off (``ROUNDOFF_BAND |fine|``: a ratio that is 1 to round-off on every grid
+must not fail a check by 1e-16). Rows, per step ``stepN (d = ... mm)`` (and per patch k where the patch
+count is the same on all three grids; otherwise one ``patches`` row names the counts, nothing is studied):
+
+* ``P`` (the load, with ``load_balance_by_h`` = |P - P_pressure| / P on every grid) and ``p_max``: no theory;
+* ``patch_P[k]``: the patch's load (int p ds over the patch): no theory;
+* ``width_fem[k]``: zero-crossing width; theory eq. (4) ``4 P / (pi p0)`` of the fine grid (the Hertz width of
+  the patch's own load and peak);
+* ``width_moment[k]``: ``4 sqrt(M2/M0)`` of the patch pressure (smooth; = 2a for a Hertz patch); theory eq. (5)
+  ``2 sqrt(4 P R / (pi E*))``, Hertz with the relative radius R of the one LCP pair in the patch at the
+  patch's extrapolated load (null when the patch holds no pair or several);
+* ``load_symmetry``: ``patch_P[1] / patch_P[0]`` where the step has two patches, each holding one LCP pair,
+  and the two pairs are mirror images (equal indentation and relative radius to ``SYMMETRY_RTOL``): theory 1
+  (the mirror-symmetric geometry loads both pairs equally; a solver whose contact search or projection is
+  biased breaks it);
+* ``first_contact_width[k]``: ``width_moment[k]`` at the first step where the patch of an LCP pair appears
+  (its activation, the smallest load it carries): theory eq. (5) of that pair (Hertz's own limit), and the
+  alternative eq. (4) of the same patch.
 """
 
 from __future__ import annotations
@@ -16,11 +31,17 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from analytic import hertz, materials
 from cases.schema import Case, Run
 from workbench.error_budget import grid_study
 from workbench.scenes.base import SceneBudget
 
-__all__ = ["concave_error_budget", "refined_run", "json_number"]
+__all__ = ["ROUNDOFF_BAND", "SYMMETRY_RTOL", "concave_error_budget", "json_number", "refined_run"]
+
+ROUNDOFF_BAND = 1e-12   # relative floor of a band (values equal to round-off on every grid)
+SYMMETRY_RTOL = 1e-9    # two LCP pairs are mirror images when delta and R agree to this (relative)
+PAIR_TRACK_S = 1.0      # mm: an LCP pair is followed from step to step within this arc length
+_TITLE = "Error budget (three grids; finite body, no truncation)"
 
 
 def refined_run(run: Run, *, h: float, h_coarse: float) -> Run:
@@ -37,7 +58,7 @@ def json_number(v):
 
 
 def concave_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
-    """The budget of a concave case (empty without ``budget_levels``).
+    """The budget of a concave case (empty without ``budget_levels``; rows in the module docstring).
 
     Args:
         case: The case (its ``[discretisation] budget_levels``).
@@ -46,7 +67,7 @@ def concave_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
     """
     levels = sorted(case.discretisation.budget_levels)
     if not levels:
-        return SceneBudget({}, title="Error budget (three grids; finite body, no truncation)")
+        return SceneBudget({}, title=_TITLE)
     budget: dict[str, dict] = {}
     runs: dict[str, list] = {}
     for run in case.runs():
@@ -56,42 +77,96 @@ def concave_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
             progress(f"[budget {run.label}] h_c = {h:g} a: {o.metrics['ndofs']} dofs")
             steps.append(o.metrics.get("steps", []))
         runs[run.label] = steps
+        E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
         pre = "" if len(case.runs()) == 1 else f"{run.label}/"
-        for i, fine in enumerate(steps[0]):
-            per = [st[i] if i < len(st) else None for st in steps]
-            if any(p is None for p in per):
-                continue
-            tag = f"{pre}step{i + 1} (d = {fine['d']:g} mm)"
-            for q in ("P", "p_max"):
-                budget[f"{tag} {q}"] = _row(levels, [p[q] for p in per], None)
-            budget[f"{tag} P"]["load_balance_by_h"] = {
-                str(h): abs(p["P"] - p["P_pressure"]) / abs(p["P"]) if p["P"] else None
-                for h, p in zip(levels, per, strict=True)}
-            counts = {len(p["patches"]) for p in per}
-            if len(counts) != 1:
-                budget[f"{tag} patches"] = {"fine": float(len(fine["patches"])), "extrapolated": None,
-                                           "observed_order": None, "gci": None, "truncation": 0.0,
-                                           "theory": None, "theory_in_band": None,
-                                           "status": f"patch count differs between levels: {sorted(counts)}"}
-                continue
-            for k, pt in enumerate(fine["patches"]):
-                budget[f"{tag} width_fem[{k}]"] = _row(
-                    levels, [p["patches"][k]["width_fem"] for p in per], pt.get("width_eq4"))
-    return SceneBudget(budget, title="Error budget (three grids; finite body, no truncation)", runs=runs)
+        budget |= _run_rows(levels, steps, E_star=E_star, pre=pre)
+    return SceneBudget(budget, title=_TITLE, runs=runs)
 
 
-def _row(levels, values, theory) -> dict:
+def _run_rows(levels, steps, *, E_star: float, pre: str) -> dict:
+    """The rows of one run from its step metrics on every level (``steps[level][step]``, fine level first)."""
+    rows: dict[str, dict] = {}
+    activated: list[tuple[float, float]] = []  # LCP pairs (s, R) whose patch has appeared
+    for i, fine in enumerate(steps[0]):
+        per = [st[i] if i < len(st) else None for st in steps]
+        if any(p is None for p in per):
+            continue
+        tag = f"{pre}step{i + 1} (d = {fine['d']:g} mm)"
+        for q in ("P", "p_max"):
+            rows[f"{tag} {q}"] = _row(levels, [p[q] for p in per], None)
+        rows[f"{tag} P"]["load_balance_by_h"] = {
+            str(h): abs(p["P"] - p["P_pressure"]) / abs(p["P"]) if p["P"] else None
+            for h, p in zip(levels, per, strict=True)}
+        counts = {len(p["patches"]) for p in per}
+        if len(counts) != 1:
+            rows[f"{tag} patches"] = {"fine": float(len(fine["patches"])), "extrapolated": None,
+                                      "observed_order": None, "gci": None, "truncation": 0.0, "theory": None,
+                                      "theory_in_band": None,
+                                      "status": f"patch count differs between levels: {sorted(counts)}"}
+            continue
+        pairs = fine["lcp_pairs"]
+        for k, pt in enumerate(fine["patches"]):
+            loads = [p["patches"][k]["P"] for p in per]
+            load_row = rows[f"{tag} patch_P[{k}]"] = _row(levels, loads, None)
+            rows[f"{tag} width_fem[{k}]"] = _row(levels, [p["patches"][k]["width_fem"] for p in per],
+                                                 pt.get("width_eq4"), theory_name="eq. (4) Hertz width")
+            widths = [p["patches"][k].get("width_moment", math.nan) for p in per]
+            eq5 = None
+            if len(pt["pairs"]) == 1 and load_row["extrapolated"] is not None:
+                eq5 = hertz.patch_width_eq5(load_row["extrapolated"], pairs[pt["pairs"][0]]["R"], E_star)
+            rows[f"{tag} width_moment[{k}]"] = _row(levels, widths, eq5, theory_name="eq. (5) Hertz, LCP pair R")
+            for j in pt["pairs"]:
+                key = (pairs[j]["s"], pairs[j]["R"])
+                if any(_same_pair(key, a) for a in activated):
+                    continue
+                activated.append(key)
+                if len(pt["pairs"]) == 1:
+                    rows[f"{tag} first_contact_width[{k}]"] = _row(
+                        levels, widths, eq5, theory_name="eq. (5) Hertz, LCP pair R",
+                        alt=("eq. (4)", pt.get("width_eq4")))
+        sym = _mirror_pairs(fine, pairs)
+        if sym:
+            rows[f"{tag} load_symmetry"] = _row(
+                levels, [p["patches"][1]["P"] / p["patches"][0]["P"] for p in per], 1.0,
+                theory_name="1 (mirror-symmetric LCP pairs)")
+    return rows
+
+
+def _same_pair(a: tuple[float, float], b: tuple[float, float]) -> bool:
+    """The same LCP pair at two displacements: (s, R) within PAIR_TRACK_S mm and 5 % (measured along the
+    Table 1 paths: a pair moves < 0.25 mm and its R by < 0.5 %; distinct pairs are >= 2.4 mm apart)."""
+    return abs(a[0] - b[0]) <= PAIR_TRACK_S and abs(a[1] - b[1]) <= 0.05 * max(abs(a[1]), abs(b[1]))
+
+
+def _mirror_pairs(step: dict, pairs: list) -> bool:
+    """Two patches, one LCP pair each, the two pairs with equal indentation and relative radius."""
+    pts = step["patches"]
+    if len(pts) != 2 or any(len(p["pairs"]) != 1 for p in pts):
+        return False
+    a, b = (pairs[p["pairs"][0]] for p in pts)
+    return all(abs(a[k] - b[k]) <= SYMMETRY_RTOL * max(abs(a[k]), abs(b[k])) for k in ("delta", "R"))
+
+
+def _row(levels, values, theory, *, theory_name: str | None = None, alt: tuple | None = None) -> dict:
+    """One budget row (keys of the results contract, plus status, by_h, error_vs_theory, theory_name, alt)."""
+    theory = json_number(theory)
     if not all(v is not None and math.isfinite(v) for v in values):
-        return {"fine": json_number(values[0]), "extrapolated": None, "observed_order": None, "gci": None,
-                "truncation": 0.0, "theory": json_number(theory), "theory_in_band": None,
-                "status": "undefined (non-finite value on a level)",
-                "by_h": {str(h): json_number(v) for h, v in zip(levels, values, strict=True)}}
-    g = grid_study(tuple(levels), tuple(values))
-    band = g.gci * abs(g.fine)
-    return {"fine": g.fine, "extrapolated": g.extrapolated, "observed_order": json_number(g.observed_order),
-            "gci": g.gci, "truncation": 0.0, "theory": json_number(theory),
-            "theory_in_band": None if theory is None else bool(abs(theory - g.extrapolated) <= band),
-            "status": g.status, "truncation_status": "n/a (finite body)",
-            "by_h": dict(zip([str(v) for v in levels], values, strict=True)),
-            "error_vs_theory": None if theory is None else abs(g.extrapolated - theory) / abs(theory),
-            **({"theory_name": "eq. (4) Hertz width"} if theory is not None else {})}
+        row = {"fine": json_number(values[0]), "extrapolated": None, "observed_order": None, "gci": None,
+               "truncation": 0.0, "theory": theory, "theory_in_band": None,
+               "status": "undefined (a non-finite value on a level)",
+               "by_h": {str(h): json_number(v) for h, v in zip(levels, values, strict=True)}}
+    else:
+        g = grid_study(tuple(levels), tuple(values))
+        band = max(g.gci, ROUNDOFF_BAND) * abs(g.fine)
+        row = {"fine": g.fine, "extrapolated": g.extrapolated, "observed_order": json_number(g.observed_order),
+               "gci": g.gci, "truncation": 0.0, "theory": theory,
+               "theory_in_band": None if theory is None else bool(abs(theory - g.extrapolated) <= band),
+               "status": g.status, "truncation_status": "n/a (finite body)",
+               "by_h": dict(zip([str(v) for v in levels], values, strict=True)),
+               "error_vs_theory": None if theory is None else abs(g.extrapolated - theory) / abs(theory)}
+        if alt is not None and json_number(alt[1]) is not None:
+            row |= {"alt_theory": alt[0], "alt_value": float(alt[1]),
+                    "alt_in_band": bool(abs(alt[1] - g.extrapolated) <= band)}
+    if theory is not None and theory_name:
+        row["theory_name"] = theory_name
+    return row

@@ -1,0 +1,103 @@
+"""Band checks (issue 12, point 3): a tolerance that is the error budget's own band.
+
+Requirement: ``[bands]`` of a case lists budget quantities whose band must contain their theory
+(``contain_theory``) or exclude the alternative theory (``exclude_alt``); a row without a theory or a band, or
+no row at all, fails the check and says why (nothing is dropped silently). A bad ``[bands]`` entry is rejected
+with one line naming the field and the allowed values, exit code 2, nothing written.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from test_cases_validation import GOOD
+
+from workbench.cli import main
+from workbench.pipeline.bands import band_checks, band_rows
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _row(x, gci, theory, alt=None):
+    r = {"fine": x, "extrapolated": x, "observed_order": 2.0, "gci": gci, "truncation": 0.0, "theory": theory,
+         "theory_in_band": None if theory is None else abs(theory - x) <= gci * abs(x)}
+    if alt is not None:
+        r |= {"alt_theory": "first order", "alt_value": alt, "alt_in_band": abs(alt - x) <= gci * abs(x)}
+    return r
+
+
+BUDGET = {
+    "b_over_b0_moment": _row(1.27240, 1e-4, 1.272402, alt=1.28868),   # converged in, first order out
+    "b_over_b0": _row(1.16512, 5e-3, 1.164566, alt=1.16094),          # band too wide: first order in
+    "p_max[coarse]": _row(1.0, 1e-6, 1.00001),                         # theory outside a tight band
+    "step1 (d = 0.6 mm) load_symmetry": _row(1.0, 0.0, 1.0),
+    "step1 (d = 0.6 mm) width_moment[0]": _row(0.9, 1e-3, None),
+}
+
+
+def test_rows_are_selected_by_quantity_variant_and_step():
+    assert band_rows(BUDGET, "b_over_b0") == ["b_over_b0"]
+    assert band_rows(BUDGET, "p_max") == ["p_max[coarse]"]
+    assert band_rows(BUDGET, "load_symmetry") == ["step1 (d = 0.6 mm) load_symmetry"]
+    assert band_rows(BUDGET, "width_moment") == ["step1 (d = 0.6 mm) width_moment[0]"]
+    assert band_rows(BUDGET, "half_width") == []
+
+
+def test_band_checks_pass_and_fail_on_the_band():
+    c = band_checks({"contain_theory": ("b_over_b0_moment", "b_over_b0", "p_max", "load_symmetry"),
+                     "exclude_alt": ("b_over_b0_moment", "b_over_b0")}, BUDGET)
+    assert c["contain_theory:b_over_b0_moment"].passed
+    assert c["exclude_alt:b_over_b0_moment"].passed            # the moment ratio tells first order apart
+    assert c["contain_theory:b_over_b0"].passed
+    assert not c["exclude_alt:b_over_b0"].passed               # the zero-crossing ratio cannot
+    assert "alternative theory inside the band" in c["exclude_alt:b_over_b0"].reason
+    assert not c["contain_theory:p_max"].passed
+    assert "theory outside the band" in c["contain_theory:p_max"].reason
+    assert c["contain_theory:load_symmetry"].passed
+
+
+def test_missing_rows_theories_and_bands_fail_with_a_reason():
+    undefined = dict(BUDGET, **{"half_width": _row(1.0, 1e-3, 1.0) | {"gci": None, "theory_in_band": None}})
+    c = band_checks({"contain_theory": ("width_moment", "half_width_moment", "half_width"),
+                     "exclude_alt": ("p_max",)}, undefined)
+    assert not c["contain_theory:width_moment"].passed and "no theory" in c["contain_theory:width_moment"].reason
+    assert not c["contain_theory:half_width_moment"].passed
+    assert c["contain_theory:half_width_moment"].reason == "no budget row"
+    assert not c["contain_theory:half_width"].passed and "band undefined" in c["contain_theory:half_width"].reason
+    assert not c["exclude_alt:p_max"].passed and "no alternative" in c["exclude_alt:p_max"].reason
+
+
+BUDGET_BLOCK = "[discretisation]\nbudget_levels = [0.2, 0.1, 0.05]\nbudget_widths = [640.0, 2560.0, 10000.0]\n"
+BAD = {
+    "unknown_kind": BUDGET_BLOCK + '[bands]\ncontains = ["p_max"]\n',
+    "not_a_list": BUDGET_BLOCK + '[bands]\ncontain_theory = "p_max"\n',
+    "empty_list": BUDGET_BLOCK + "[bands]\ncontain_theory = []\n",
+    "not_strings": BUDGET_BLOCK + "[bands]\ncontain_theory = [1.0]\n",
+    "repeated": BUDGET_BLOCK + '[bands]\ncontain_theory = ["p_max", "p_max"]\n',
+    "unknown_quantity": BUDGET_BLOCK + '[bands]\ncontain_theory = ["load_symmetry"]\n',
+    "without_budget": '[bands]\ncontain_theory = ["p_max"]\n',
+    "not_a_table": 'bands = 1.0\n',
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_bad_bands_exit_2_one_line(name, tmp_path, capsys):
+    p = tmp_path / f"{name}.toml"
+    text = GOOD + BAD[name] if name != "not_a_table" else BAD[name] + GOOD
+    p.write_text(text)
+    out = tmp_path / "results"
+    code = main(["run", str(p), "--out", str(out)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2, (name, err)
+    assert len(err.splitlines()) == 1 and "bands" in err, err
+    assert not out.exists() or not any(out.iterdir())
+
+
+def test_concave_quantities_are_refused_in_a_block_scene_and_accepted_in_a_concave_one(tmp_path):
+    from cases import load_case
+
+    text = (ROOT / "cases" / "concave_symmetric.toml").read_text()
+    p = tmp_path / "c.toml"
+    p.write_text(text.split("[bands]")[0] + '[bands]\ncontain_theory = ["load_symmetry", "first_contact_width"]\n')
+    assert load_case(p).bands == {"contain_theory": ("load_symmetry", "first_contact_width")}
