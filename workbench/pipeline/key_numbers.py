@@ -3,7 +3,10 @@
 ``key_numbers(root)`` flattens every case's ``metrics.json`` into ``{"case/field": value}``: the load ``P`` and
 ``P_pressure``, every error, the case-level analytic values (b/b0 ...), and per run ``P``, ``d``, ``p_max``,
 the patch half-width, the patches, the errors, ``ndofs`` and the Newton iterations; per concave step its
-load, peak and superposition errors. Times are left out.
+load, peak and superposition errors. From ``make run`` (issue 12) also every error-budget row's results
+contract (``fine``, ``extrapolated``, ``observed_order``, ``gci``, ``truncation``, ``theory``,
+``theory_in_band``; ``alt_value`` and ``alt_in_band`` where the row has an alternative theory) and every band
+check's verdict. Times are left out.
 
 ``python -m workbench.pipeline.key_numbers save RESULTS FILE`` writes them; ``... compare RESULTS FILE
 [--rtol 1e-10]`` prints every number that moved by more than ``rtol`` (relative) and exits 1 if any did.
@@ -20,6 +23,8 @@ from pathlib import Path
 __all__ = ["key_numbers", "compare_numbers"]
 
 _RUN_FIELDS = ("P", "P_pressure", "d", "p_max", "patch_half_width", "ndofs", "newton_iterations")
+_BUDGET_FIELDS = ("fine", "extrapolated", "observed_order", "gci", "truncation", "theory", "theory_in_band",
+                  "alt_value", "alt_in_band")
 _STEP_FIELDS = ("d", "P", "P_pressure", "p_max", "n_patches", "superposition_independent_rms_over_p0",
                 "superposition_best_rms_over_p0")
 
@@ -46,6 +51,10 @@ def key_numbers(root: Path) -> dict:
         for k in ("P", "P_pressure", "errors", "pass"):
             _flat(f"{c}/{k}", m.get(k), out)
         _flat(f"{c}/analytic", {k: v for k, v in m.get("analytic", {}).items() if k != "runs"}, out)
+        for q, row in (m.get("error_budget") or {}).items():
+            _flat(f"{c}/error_budget/{q}", {k: row[k] for k in _BUDGET_FIELDS if k in row}, out)
+        for k, chk in (m.get("band_checks") or {}).items():
+            out[f"{c}/band_checks/{k}"] = bool(chk["passed"])
         for r in m.get("runs", []):
             pre = f"{c}/runs/{r['label']}"
             for k in _RUN_FIELDS:
