@@ -40,22 +40,40 @@ def _fmt(v) -> str:
 
 
 def _budget_markdown(metrics: dict[str, dict]) -> list[str]:
-    """The error budgets (issue 12) of the cases that have one: quantities with a theory, one row each."""
-    rows = []
+    """The error budgets (issue 12) of the cases that have one: quantities with a theory, one row each (a row
+    whose band could not be computed is listed as undefined, not left out), the band checks, and each case's
+    ``budget.png`` (every quantity against h with its band)."""
+    rows, plots, bands = [], [], []
     for name, m in metrics.items():
-        for q, r in (m.get("error_budget") or {}).items():
-            if r.get("theory") is None or r.get("gci") is None:
+        budget = m.get("error_budget") or {}
+        if budget:
+            plots += [f"### {name}", "", f"![{name} error budget]({name}/budget.png)", ""]
+        for q, r in budget.items():
+            if r.get("theory") is None:
+                continue
+            if r.get("gci") is None or r.get("extrapolated") is None:
+                rows.append(f"| {name} | {q} | undefined | {r.get('status', '')} | undefined | {r['theory']:.7f} | "
+                            "- | n/a | - |")
                 continue
             band = r["gci"] + (r.get("truncation") or 0.0)
             alt = "-" if "alt_in_band" not in r else ("in band" if r["alt_in_band"] else "outside")
+            err = r.get("error_vs_theory")
             rows.append(f"| {name} | {q} | {r['extrapolated']:.7f} | {r['status']} | {band:.2e} | {r['theory']:.7f} | "
-                        f"{r['error_vs_theory']:.1e} | {'yes' if r['theory_in_band'] else 'no'} | {alt} |")
-    if not rows:
+                        f"{'-' if err is None else format(err, '.1e')} | {'yes' if r['theory_in_band'] else 'no'} | "
+                        f"{alt} |")
+        for k, c in (m.get("band_checks") or {}).items():
+            bands.append(f"| {name} | {k} | {len(c['rows'])} | {'PASS' if c['passed'] else 'FAIL'} | "
+                         f"{c['reason'] or '-'} |")
+    if not rows and not plots:
         return []
-    return ["", "## Error budget (three grids, block size extrapolated; values over the classical value)", "",
-            "| case | quantity | extrapolated | status | band (GCI + truncation) | theory | error | theory in band "
-            "| other theory |", "|---|---|---|---|---|---|---|---|---|", *rows, "",
-            "Per case: `metrics.json[\"error_budget\"]` and the table in its report.", ""]
+    out = ["", "## Error budget (three grids, block size extrapolated; block values over the classical value)",
+           "", "| case | quantity | extrapolated | status | band (GCI + truncation, rel.) | theory | error "
+           "| theory in band | other theory |", "|---|---|---|---|---|---|---|---|---|", *rows, ""]
+    if bands:
+        out += ["Band checks (tolerance = the band):", "", "| case | check | rows | verdict | why |",
+                "|---|---|---|---|---|", *bands, ""]
+    out += ["Per case: `metrics.json[\"error_budget\"]` and the table in its report.", "", *plots]
+    return out
 
 
 def summary_markdown(results: Path) -> str:
