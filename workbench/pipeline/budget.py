@@ -8,6 +8,9 @@ For every run of the case the scene is solved again on a grid of runs:
   and moment half-width at growth 1.3) then stalls the sequence on a wrong limit. The values go through
   :func:`workbench.error_budget.grid_study` in h: the fine value, the Richardson value, the observed order,
   the GCI and a named status;
+* every budget block has the ``halfplane`` far field (:mod:`fem.far_field`: bottom and sides move as the
+  half-plane under the line load P; measured truncation ~(a/W)^4 for the Hertz quantities, ~(a/W)^3 for the
+  convective ratio, instead of (a/W)^2 and a/W with the clamped block; ``far_field`` in each row);
 * the finest level on the three ``budget_widths`` (W / a, block width = height) -> the same study in 1/W (the
   half-plane is W -> infinity). Where it is asymptotic the value is corrected by ``f(inf) - f(W_max)``
   (``truncation_correction``, relative) and ``truncation`` is the W study's GCI (what is left after the
@@ -32,7 +35,10 @@ Each headline quantity is dimensionless (divided by the classical value at the r
 correction. ``theory_in_band``: ``|theory - extrapolated| <= (gci + truncation) |fine|``.
 
 For a Hertz scene the finest-level, largest-block run is also probed on the symmetry axis
-(``subsurface.csv``).
+(``subsurface.csv``), and every run's interior stress is compared with McEwen's field over |x|, z <= 4 a
+(:mod:`fem.interior`): rows ``interior_stress_l2`` (RMS error / p0 on the three grids and its rate; an error
+norm, not extrapolated) and ``vm_max`` (largest von Mises stress / p0 over the box's Gauss points, the full
+study, theory McEwen's maximum 0.5575 p0 at 0.704 a for nu = 0.3), and ``subsurface["interior"]``.
 """
 
 from __future__ import annotations
@@ -102,7 +108,7 @@ def _study(levels, widths, fine_by_h: list[float], fine_by_W: list[float], theor
         "gci": hs.gci, "truncation": truncation, "theory": _num(theory),
         "theory_in_band": None if theory is None else bool(abs(theory - extrapolated) <= band),
         "status": hs.status, "truncation_status": ws.status, "truncation_correction": correction / scale,
-        "truncation_order": _num(ws.observed_order),
+        "truncation_order": _num(ws.observed_order), "far_field": BUDGET_FAR_FIELD,
         "by_h": dict(zip([str(v) for v in levels], fine_by_h, strict=True)),
         "by_W": dict(zip([str(v) for v in widths], fine_by_W, strict=True)),
         "error_vs_theory": None if theory is None else abs(extrapolated - theory) / abs(theory),
@@ -277,7 +283,7 @@ def _interior_rows(levels, widths, interior: dict, *, suffix: str) -> dict:
     rows = {f"interior_stress_l2{suffix}": {
         "fine": l2[0], "extrapolated": None, "observed_order": rate, "gci": None, "truncation": None,
         "theory": 0.0, "theory_in_band": None,
-        "status": (f"error norm over |x|, z <= {INTERIOR_BOX:g} a: RMS |sigma_h - sigma_McEwen| / p0 = "
+        "status": (f"error norm over abs(x), z <= {INTERIOR_BOX:g} a: RMS(sigma_h - sigma_McEwen) / p0 = "
                    + ", ".join(f"{v:.2e}" for v in l2) + f" at h_c/a = {', '.join(f'{h:g}' for h in levels)}; "
                    + ("rate n/a" if rate is None else f"rate {rate:.2f}")),
         "by_h": dict(zip([str(v) for v in levels], l2, strict=True)),
@@ -357,7 +363,9 @@ def budget_table(budget: dict) -> list[str]:
         alt_in = ("yes" if r["alt_in_band"] else "no") if "alt_in_band" in r else "-"
         ib = "n/a" if r["theory_in_band"] is None else ("yes" if r["theory_in_band"] else "no")
         if r.get("gci") is None:
-            lines.append(f"| {q} | {r['fine']} | n/a | n/a | {r['status']} | n/a | n/a | n/a | n/a | - | - |")
+            fine = f(r["fine"], ".3e") if isinstance(r["fine"], float) else r["fine"]
+            lines.append(f"| {q} | {fine} | n/a | {f(r.get('observed_order'), '.2f')} | {r['status']} | n/a | n/a "
+                         f"| {f(r.get('theory'), 'g')} | n/a | - | - |")
             continue
         lines.append(f"| {q} | {f(r['fine'])} | {f(r['extrapolated'])} | {f(r['observed_order'], '.2f')} | "
                      f"{r['status']} | {f(r['gci'], '.2e')} | {f(r['truncation'], '.2e')} ({r['truncation_status']})"
