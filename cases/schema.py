@@ -76,10 +76,12 @@ HALF_WIDTH_RANGE = (1e-8, 1e8)
 MAX_SIZE_FACTOR = 1e4
 BUDGET_SPAN = 8.0  # error budget: largest over smallest level (the grading is refined with h_c)
 # [bands]: checks whose tolerance is the error budget's band (make run only). A listed quantity selects every
-# budget row of that quantity (block: one per run; concave: one per step and patch).
+# budget row of that quantity (block: one per run; concave: one per step and patch); "name[k]" selects the
+# rows of patch k only.
 BAND_KINDS = {
     "contain_theory": "the band (GCI + truncation) of the quantity contains its theory",
     "exclude_alt": "the band of the quantity excludes its alternative theory (e.g. first order, Hertz)",
+    "exclude_theory": "the band of the quantity excludes its theory (a theory the scene shows to fail)",
 }
 BAND_QUANTITIES = {
     "block": ("p_max", "half_width", "half_width_moment", "b_over_b0", "b_over_b0_moment"),
@@ -712,10 +714,10 @@ def _check_bands(case: Case, runs: tuple[Run, ...], where: str) -> None:
         allowed = BAND_QUANTITIES.get(run.geometry.scene, ())
         for key, names in case.bands.items():
             for name in names:
-                if name not in allowed:
+                if re.sub(r"\[\d+\]$", "", name) not in allowed:
                     raise CaseError(f"{where}: bands.{key} = {_r(list(names))}: {_r(name)} is not a budget quantity "
                                     f"of the {run.geometry.scene} scene; allowed values: "
-                                    f"{', '.join(repr(a) for a in allowed)}")
+                                    f"{', '.join(repr(a) for a in allowed)} (concave: optionally name[k], patch k)")
 
 
 # geometry fields each scene / indenter reads (a field given but not read is refused)

@@ -101,3 +101,16 @@ def test_concave_quantities_are_refused_in_a_block_scene_and_accepted_in_a_conca
     p = tmp_path / "c.toml"
     p.write_text(text.split("[bands]")[0] + '[bands]\ncontain_theory = ["load_symmetry", "first_contact_width"]\n')
     assert load_case(p).bands == {"contain_theory": ("load_symmetry", "first_contact_width")}
+
+
+def test_exclude_theory_and_patch_index_selection():
+    budget = {"step1 (d = 0.46 mm) first_contact_width[0]": _row(0.344, 1e-3, 0.391),
+              "step2 (d = 0.47 mm) first_contact_width[1]": _row(0.14370, 1e-3, 0.14374)}
+    assert band_rows(budget, "first_contact_width[1]") == ["step2 (d = 0.47 mm) first_contact_width[1]"]
+    c = band_checks({"exclude_theory": ("first_contact_width[0]",), "contain_theory": ("first_contact_width[1]",)},
+                    budget)
+    assert c["exclude_theory:first_contact_width[0]"].passed
+    assert c["contain_theory:first_contact_width[1]"].passed
+    c = band_checks({"exclude_theory": ("first_contact_width",)}, budget)
+    assert not c["exclude_theory:first_contact_width"].passed
+    assert "theory inside the band" in c["exclude_theory:first_contact_width"].reason

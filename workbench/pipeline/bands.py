@@ -7,11 +7,14 @@ and truncation, and the band half-width ``(gci + truncation) |fine|`` (:mod:`wor
 * ``contain_theory``: ``theory_in_band`` (``|theory - x| <= band``): the FEM converges onto the theory the
   scene exists to test;
 * ``exclude_alt``: ``not alt_in_band``: the band is tight enough to tell the alternative theory apart (e.g. the
-  convective b/b0 against the first-order theory, the exact circle against Hertz).
+  convective b/b0 against the first-order theory, the exact circle against Hertz);
+* ``exclude_theory``: ``not theory_in_band``: the FEM tells the row's theory apart (e.g. Hertz with the primary
+  LCP pair of a close-to-conformal contact, which the paper finds does not hold).
 
 A listed quantity selects every row named ``q``, ``q[run]`` (block variants) or ``<step> q`` / ``<step> q[k]``
-(concave steps and patches). No row, a row without the theory, or a band that could not be computed (NaN,
-null) fails the check and says why: nothing is dropped silently.
+(concave steps and patches); ``q[k]`` selects the concave rows of patch k only. No row, a row without the
+theory, or a band that could not be computed (NaN, null) fails the check and says why: nothing is dropped
+silently.
 """
 
 from __future__ import annotations
@@ -26,7 +29,7 @@ class BandCheck(NamedTuple):
     """One band check over every selected budget row.
 
     Attributes:
-        kind: ``"contain_theory"`` or ``"exclude_alt"``.
+        kind: ``"contain_theory"``, ``"exclude_alt"`` or ``"exclude_theory"``.
         quantity: The listed quantity.
         passed: True when every selected row passes (and at least one row exists).
         rows: ``{row name: verdict}`` (True, False) of every selected row.
@@ -47,11 +50,13 @@ def band_rows(budget: dict, quantity: str) -> list[str]:
 
 
 def _verdict(kind: str, row: dict) -> tuple[bool, str]:
-    if kind == "contain_theory":
+    if kind in ("contain_theory", "exclude_theory"):
         if row.get("theory") is None:
             return False, "no theory"
         if row.get("theory_in_band") is None:
             return False, "band undefined"
+        if kind == "exclude_theory":
+            return (not row["theory_in_band"]), "theory inside the band" if row["theory_in_band"] else ""
         return bool(row["theory_in_band"]), "" if row["theory_in_band"] else "theory outside the band"
     if "alt_in_band" not in row or row["alt_in_band"] is None:
         return False, "no alternative theory"
