@@ -151,3 +151,18 @@ def test_bad_far_field_exit_2_one_line(text, words, tmp_path, capsys):
     for w in words:
         assert w in err, (w, err)
     assert not out.exists()
+
+
+def test_case_field_reaches_the_solver_options(tmp_path):
+    """``[geometry] far_field`` goes through the case wiring into the solver's supports."""
+    from cases import load_case
+    from workbench.scenes.base import LoadPath
+    from workbench.scenes.wiring import solver_options
+
+    for far, supports in (("clamped", None), ("halfplane", {"clamped": "halfplane", "sides": "halfplane",
+                                                            "symmetry": "roller_x"})):
+        p = tmp_path / f"{far}.toml"
+        p.write_text(BLOCK.replace("FAR", far))
+        run = load_case(p).runs()[0]
+        opts = solver_options(run, LoadPath("force", 100.0, 1, symmetric_half=True))
+        assert opts.supports == supports
