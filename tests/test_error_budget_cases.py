@@ -64,11 +64,24 @@ def test_hertz_subsurface_axis_within_one_percent_of_p0(results):
             "vm_exact"} <= set(rows[0])
 
 
+def test_hertz_interior_stress_converges_onto_mcewen(results):
+    """Interior field (issue 12 point 4): the L2 stress error over |x|, z <= 4 a falls with the grids (measured
+    3.0e-3, 9.4e-4, 2.6e-4 p0, rate 1.78) and the largest von Mises stress has McEwen's value in its band."""
+    b = _budget(results, "hertz_cylinder")
+    r = b["interior_stress_l2"]
+    assert r["observed_order"] > 1.5 and r["fine"] < 1e-3, r
+    v = b["vm_max"]
+    assert v["theory_in_band"] and abs(v["extrapolated"] - v["theory"]) / v["theory"] < 2e-3, v
+    m = json.loads((results / "hertz_cylinder" / "metrics.json").read_text())["subsurface"]["interior"]
+    assert abs(m["vm_max_fem_at_over_a"][1] - m["vm_max_exact_depth_over_a"]) < 0.05, m
+
+
 def test_wedge_convective_moment_ratio_onto_converged_theory(results):
     r = _budget(results, "wedge_convective")["b_over_b0_moment"]
     assert abs(r["extrapolated"] - r["theory"]) / r["theory"] <= 1e-4, r
     assert r["theory_in_band"] and not r["alt_in_band"], r
-    assert r["truncation_status"] == "asymptotic" and abs(r["truncation_order"] - 1.0) < 0.15, r
+    # the budget's blocks have the half-plane far field: truncation left 5.6e-7 (clamped: 4.7e-5, order 1 in a/W)
+    assert r["truncation"] < 1e-5, r
     report = (results / "wedge_convective" / "report.md").read_text()
     assert "Error budget" in report and "b_over_b0_moment" in report
 
