@@ -4,17 +4,19 @@ A finite block clamped at its bottom is not the half-plane of contact theory: me
 carry a truncation error ~ (a/W)^2 (Hertz peak and width) and ~ a/W (the convective ratio, interior stresses).
 The support kind ``halfplane`` prescribes instead, on every component of the outer boundary's dofs (the block's
 ``clamped`` bottom and ``sides``), the displacement of the half-plane under a line load P at the contact centre
-(the origin of the block mesh): Flamant's field, :func:`analytic.flamant.flamant_displacement`. The pressure's
-resultant is exactly P; what the line load leaves out is the second moment (``M2 = int p x^2 dx``), whose field
-decays like a^2 / r^2 relative to the line load's (first moment: 0 by symmetry).
+(the origin of the block mesh, surface y = 0, body y <= 0): Flamant's field,
+:func:`analytic.flamant.flamant_displacement`. The pressure's resultant is exactly P; what the line load leaves
+out is the second moment (``M2 = int p x^2 dx``), whose field decays like a^2 / r^2 relative to the line load's
+(first moment: 0 by symmetry). Measured (h_c = a/80, docs/error_budget.md): the truncation left falls like
+(a/W)^4 (Hertz: 7.4e-6 at W = 20 a, 4.9e-7 at 40 a) and (a/W)^3 (wedge convective ratio: 4.8e-5, 5.1e-6).
 
 Load: force control only. The boundary data are Flamant's field at the load level ``P_k`` (N/mm, full body) the
-stepper is solving for (:meth:`HalfPlaneFarField.set_load`; the last level and its force corrections: the target),
-so the data of a level are fixed and the problem stays the same (linear in u and d for a fixed active set) as with
-a clamped block. The converged level has P = P_k to ``force_rtol`` only at the target; at the earlier levels the
-data are consistent with the level's goal, not with the exact P reached, which does not matter: frictionless
-elastic contact is path independent. (Under displacement control the load is an unknown of the solve and the data
-would need a fixed point on P: refused, :func:`check_far_field`.)
+stepper is solving for (:meth:`HalfPlaneFarField.set_load`; the last level and its force corrections: the target).
+Within a level the data are fixed, so the problem is as linear in (u, d) for a fixed active set as the clamped
+one, and the converged target state is the half-plane state at the target load (frictionless elastic contact is
+path independent). With the data fixed at the target for every level instead, the first levels are far from a
+half-plane state and the wedge's secant in d lost contact (measured). Under displacement control the load is an
+unknown of the solve and the data would need a fixed point on P: refused, :func:`check_far_field`.
 
 Rigid-motion reference: the 2D field grows like ln r and is defined up to a rigid motion. u_x has no
 translation and no rotation (the field is symmetric about x = 0, as are the block scenes); u_y = 0 at the depth
@@ -55,8 +57,8 @@ def check_far_field(*, supports: dict | None, control: str, obstacle) -> None:
     if not supports or HALFPLANE not in supports.values():
         return
     if control != "force":
-        raise ValueError(f"supports {HALFPLANE!r} needs control='force' (the far field is scaled by the target "
-                         f"load), got control={control!r}")
+        raise ValueError(f"supports {HALFPLANE!r} needs control='force' (the far field is scaled by the load "
+                         f"level), got control={control!r}")
     direction = np.asarray(obstacle.direction, dtype=float)
     if not (abs(direction[0]) < 1e-14 and direction[1] < 0):
         raise ValueError(f"supports {HALFPLANE!r} needs an obstacle pushing along -y (a block scene), "
