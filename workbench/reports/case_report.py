@@ -65,7 +65,8 @@ def case_report_markdown(metrics: dict, *, renders: list[tuple[str, str]] | None
     """The case report as Markdown from ``metrics.json``: description, plot, renders, runs, patches, errors,
     checks. ``renders``: (caption, file name) of the pyvista renders; ``render_error``: why they are missing."""
     lines = [f"# {metrics['case']}", "", metrics.get("description", ""), "",
-             f"Verdict: **{'PASS' if metrics['pass'] else 'FAIL'}** against the case tolerances. "
+             f"Verdict: **{'PASS' if metrics['pass'] else 'FAIL'}** against the case tolerances"
+             f"{' and bands (error budget)' if metrics.get('band_checks') else ''}. "
              f"Wall time {metrics['wall_time_s']:.1f} s on {metrics.get('mpi_processes', 1)} process(es) "
              "(includes meshing, and form compilation when the JIT cache is cold).", ""]
     if metrics.get("headline"):
