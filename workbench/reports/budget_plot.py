@@ -17,7 +17,10 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from workbench.reports.plots import plt, save_figure
+from matplotlib.ticker import NullFormatter
+
+from workbench.atomic import atomic_path
+from workbench.reports.plots import plt
 
 __all__ = ["budget_panels", "plot_budget"]
 
@@ -84,10 +87,17 @@ def plot_budget(budget: dict, path: Path, *, title: str) -> Path | None:
         if pn["alt"] is not None:
             _mark(ax, pn["alt"], (-lim, lim), style="--", label=pn["alt_name"] or "alternative")
         ax.set_xlim(h_lo, h_hi)
+        ax.set_xticks(pn["h"], [f"{v:g}" for v in pn["h"]])
+        ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_ylim(-lim, lim)
         ax.set_xlabel("h_c (fraction of the half-width)", fontsize=6)
         ax.set_ylabel("f / extrapolated - 1", fontsize=6)
         ax.text(0.98, 0.05, pn["status"], transform=ax.transAxes, ha="right", fontsize=6)
     axes.flat[0].legend(fontsize=6, loc="upper right")
     fig.suptitle(f"{title}: error budget (band = GCI + truncation)", fontsize=9)
-    return save_figure(fig, path, dpi=110)
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.3 / (2.4 * nrows)))  # room for the title
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    return path
