@@ -112,13 +112,17 @@ class LoadStepper:
         ob = problem.obstacle
         hertz_ok = (opts.control == "force" and hasattr(ob, "hertz_contact")
                     and abs(ob.direction[0]) < 1e-14 and ob.direction[1] < 0)
-        if opts.predictor == "hertz" and not hertz_ok:
-            raise ValueError("predictor='hertz' needs control='force', a circle/parabola obstacle and "
+        if opts.predictor in ("hertz", "hertz_zone") and not hertz_ok:
+            raise ValueError(f"predictor={opts.predictor!r} needs control='force', a circle/parabola obstacle and "
                              "direction (0, -1)")
-        use_hertz = opts.predictor == "hertz" or (opts.predictor == "auto" and hertz_ok)
-        self.hertz = (HertzPredictor(u=pb.u, obstacle=ob, lame=pb.lame, E_star=pb.E_star, bcs=pb.bcs, ds_c=pb.ds_c,
-                                     facets=pb.contact_facets, prefix=pb.prefix + "hertz_") if use_hertz else None)
         self.tangent_ok = not opts.mixed and pb.forms.update is None and pb.method.supports_tangent
+        # hertz_zone: the Hertz zone from the unloaded state and the tangent of that prescribed-set solve (no
+        # stiffness solve); where the tangent does not apply, the Hertz predictor.
+        self.zone_start = opts.predictor == "hertz_zone" and self.tangent_ok
+        use_hertz = opts.predictor in ("hertz", "hertz_zone") or (opts.predictor == "auto" and hertz_ok)
+        self.hertz = (HertzPredictor(u=pb.u, obstacle=ob, lame=pb.lame, E_star=pb.E_star, bcs=pb.bcs, ds_c=pb.ds_c,
+                                     facets=pb.contact_facets, prefix=pb.prefix + "hertz_",
+                                     linear_solver=opts.linear_solver) if use_hertz else None)
 
     def add_step_callback(self, fn: Callable[[dict], None]) -> None:
         """Call ``fn(record)`` after every converged solve (after the ones already registered)."""
@@ -206,8 +210,9 @@ class LoadStepper:
         return d2 + (P_goal - P2) * (d2 - d1) / (P2 - P1)
 
     # -- solves ---------------------------------------------------------------------------------------------
-    def attempt(self, d_new, x_pred, kind, zone=None, predict_active_set=True) -> tuple[int, int]:
-        """One solve at d_new from x_pred; on convergence append the state and the record and call on_step."""
+    def attempt(self, d_new, x_pred, kind, zone=None, predict_active_set=True, done_its=0) -> tuple[int, int]:
+        """One solve at d_new from x_pred; on convergence append the state and the record and call on_step.
+        ``done_its``: Newton iterations already spent on this solve (counted in the record)."""
         t0 = time.perf_counter()
         pb = self.problem
         if zone is None and predict_active_set and self.opts.active_set_predictor:
@@ -215,6 +220,7 @@ class LoadStepper:
         use_zone = (zone is not None and self.opts.active_set_predictor and predict_active_set
                     and len(zone) <= MAX_ZONES)
         reason, its, extra = pb.solve_once(d_new, x_pred, rest=self.states[-1].x, zone=zone if use_zone else None)
+        its += done_its
         self.factored = self.factored or its > 0
         if reason <= 0:
             return reason, its
@@ -319,6 +325,14 @@ class LoadStepper:
         for k in range(1, opts.n_steps + 1):
             P_goal = opts.target * k / opts.n_steps
             zone = None
+            if self.zone_start and len(self.states) == 1:
+                start = self.hertz_zone_start(P_goal)
+                if start is not None:
+                    d_next, x_next = start
+                    reason, _ = self.attempt(d_next, x_next, "step", predict_active_set=False, done_its=1)
+                    if reason > 0:
+                        continue
+                self.problem.set_state(self.states[-1].x)
             if self.hertz is not None:
                 d_next, u_next, hertz_zone = self.hertz(P_goal, half=opts.symmetric_half)
                 zone = (hertz_zone,)
@@ -328,6 +342,31 @@ class LoadStepper:
                 d_next = P_goal / (0.3 * E_star) if len(self.states) == 1 else self.secant(P_goal)
                 u_next = None
             self.reach(d_next, k, "step", u_next, zone)
+
+    def hertz_zone_start(self, P_goal: float) -> tuple[float, np.ndarray] | None:
+        """``predictor="hertz_zone"``, first load level from the unloaded state: (d, state) of the prescribed
+        active set = the Hertz zone of P_goal (:meth:`fem.predictor.HertzPredictor.zone`), without a stiffness
+        solve. One Newton iteration on that set from the unloaded state at a guess ``d0 = P_goal / (0.3 E')``
+        gives u0; for a fixed active set the small-strain equations are linear in (u, d), so the tangent
+        ``t = du/dd`` of that set (the same factorisation) moves it to the d of ``P = P_goal``:
+        ``d = d0 + (P_goal - P(u0)) / (dP/dd)``, ``u = u0 + (d - d0) t``. None when the tangent fails."""
+        pb, opts = self.problem, self.opts
+        zone = (self.hertz.zone(P_goal, half=opts.symmetric_half),)
+        d0 = P_goal / (0.3 * pb.E_star)
+        pb.d.value = d0
+        pb.set_state(self.states[-1].x)
+        with pb.prescribed_active_set(zone):
+            with pb.max_iterations(1):
+                pb.problem.solve()
+            u0 = pb.get_state()
+            P0 = pb.measure()[0]
+            tan = pb.tangent(u0, d0)
+        self.factored = True
+        if tan is None:
+            return None
+        t_arr, dP = tan
+        dd = (P_goal - P0) / dP
+        return d0 + dd, u0 + dd * t_arr
 
     def correct_force(self) -> None:
         """Correct d at the last level until ``|P - target| <= force_rtol target`` (tangent, then secant)."""
