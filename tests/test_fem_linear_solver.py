@@ -75,3 +75,23 @@ def test_hertz_zone_needs_force_control(mesh10):
     with pytest.raises(ValueError, match="predictor='hertz_zone' needs control='force'"):
         solve_contact(mesh10, CircleObstacle(center=(0.0, R), radius=R), E=E, nu=NU, control="displacement",
                       target=0.01, symmetric_half=True, predictor="hertz_zone")
+
+
+def test_bench_config_refuses_bad_scale_solver():
+    from workbench.studies.config import BenchConfig
+
+    for kw, field in ((dict(scale_linear_solver="cholesky"), "scale_linear_solver"),
+                      (dict(scale_predictor="hertz"), "scale_predictor"),
+                      (dict(krylov_threshold=-1), "krylov_threshold"),
+                      (dict(krylov_threshold=1.5), "krylov_threshold")):
+        with pytest.raises(ValueError, match=field):
+            BenchConfig(**kw)
+
+
+def test_scale_rows_switch_to_gamg_above_threshold():
+    from workbench.studies.bench import scale_overrides
+    from workbench.studies.config import BenchConfig
+
+    cfg = BenchConfig(krylov_threshold=1000, scale_linear_solver="lu_reuse")
+    assert scale_overrides(cfg, 1000)["linear_solver"] == "lu_reuse"
+    assert scale_overrides(cfg, 1001) == {"predictor": "hertz_zone", "linear_solver": "gamg"}

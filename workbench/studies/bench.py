@@ -23,11 +23,15 @@ Sections:
    warm time of the first configuration that reaches it (mesh + solve + comparison; solver only also kept).
 2. Contact solve against one linear elastic solve on the same mesh (same LU/MUMPS, assembly included),
    Newton iterations per load step, and the PETSc factorisation counts (PETSc log events).
-3. Cost growth: P2, the case's Nitsche solver, on graded meshes of decreasing h_c and on uniform meshes up
-   to ~1e6 dofs, one subprocess per size. Peak memory = the high-water mark VmHWM of that process
-   (``ru_maxrss`` is inherited from the parent across fork/exec on Linux, so after a big section it only
-   shows the parent's peak; both are kept). Fitted exponent of time against ndofs
-   (:func:`workbench.studies.rates.fit_exponent`).
+3. Cost growth: P2, the case's Nitsche scene, on graded meshes of decreasing h_c and on uniform meshes up
+   to ~1e6 dofs, one subprocess per size. Each size is solved with the row's options
+   (:func:`scale_overrides`: ``scale_predictor``, ``scale_linear_solver``, and ``linear_solver="gamg"`` above
+   ``krylov_threshold`` dofs) and compared with one linear elastic solve on the same mesh with the same kind of
+   linear solver; below the threshold the case solver runs too (its cost in linear solves and the relative
+   differences of P, p_max and the half-width). Peak memory = the high-water mark VmHWM of that process after
+   the mesh, after the first contact solve, and at the end (``ru_maxrss`` is inherited from the parent across
+   fork/exec on Linux, so after a big section it only shows the parent's peak; both are kept). Fitted exponent
+   of time against ndofs (:func:`workbench.studies.rates.fit_exponent`).
 4. MPI: ``mpiexec -n 2 workbench run hertz_cylinder`` against the serial run (P, p0, half-width to
    1e-8 relative) and the speed-up (default size and a larger one).
 5. Repeated work: cold (fresh FFCx cache via ``XDG_CACHE_HOME`` and a fresh mesh cache, in a subprocess)
@@ -69,7 +73,8 @@ from workbench.atomic import write_json, write_text
 from workbench.studies.config import BENCH_SECTIONS, SCALE_FAMILIES, BenchConfig, from_json, to_json
 from workbench.studies.rates import fit_exponent
 
-__all__ = ["BenchConfig", "LOG_EVENTS", "first_reaching", "main", "rel_diff", "run_bench", "uniform_box_mesh"]
+__all__ = ["BenchConfig", "LOG_EVENTS", "first_reaching", "main", "rel_diff", "run_bench", "scale_overrides",
+           "uniform_box_mesh"]
 
 LOG_EVENTS = ("MatLUFactorSym", "MatLUFactorNum", "MatSolve", "SNESJacobianEval", "SNESFunctionEval")
 _DEFAULT = BenchConfig()
