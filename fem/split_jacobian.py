@@ -61,7 +61,8 @@ class SplitJacobian:
             J.zeroEntries()
             dolfinx.fem.petsc.assemble_matrix(J, self.J_form, bcs=self.bcs, diag=1.0)
             J.assemble()
-            same = J.getInfo()["nz_used"] == self.K.getInfo()["nz_used"]
+            info = PETSc.Mat.InfoType.GLOBAL_SUM  # the same decision on every rank
+            same = J.getInfo(info)["nz_used"] == self.K.getInfo(info)["nz_used"]
             self._structure = (PETSc.Mat.Structure.SAME_NONZERO_PATTERN if same
                                else PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
             return
