@@ -137,8 +137,10 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
             augmented Lagrangian's default samples are its contact nodes).
         predictor: ``"extrapolate"`` (u linear in d from the last two states), ``"hertz"`` (force control,
             circle/parabola, direction (0, -1): linear solve with the Hertz pressure of the load level as a
-            Neumann load; d from the displacement at the first-contact point) or ``"auto"`` (hertz when
-            applicable).
+            Neumann load; d from the displacement at the first-contact point), ``"hertz_zone"`` (the same
+            applicability; the first load level from the unloaded state with the Hertz zone as the prescribed active
+            set and d from that set's tangent, no stiffness solve: :meth:`fem.stepping.LoadStepper.hertz_zone_start`;
+            later levels as ``"hertz"``) or ``"auto"`` (hertz when applicable).
         active_set_predictor: before each Newton solve do one iteration with a prescribed active set (the
             Hertz zone, or contact edges extrapolated linearly in d from the last two states; single-patch
             scenes with the surface coordinate X1). Without it the sign of the tiny gaps of the predicted u
