@@ -217,6 +217,10 @@ class Solver:
         theta: Nitsche variant: 1 (symmetric), 0 (skew-less), -1 (skew-symmetric).
         formulation: ``"auto"`` (displacement below nu = NU_MIXED, Taylor-Hood mixed from there on),
             ``"displacement"`` (refused above nu = NU_DISPLACEMENT_MAX) or ``"mixed"`` (degree 2, block scenes).
+        linear_solver: The linear solver of the Newton iterations (:mod:`fem.linear_solver`): ``"lu"`` (MUMPS LU
+            of every Jacobian), ``"lu_reuse"`` (GMRES preconditioned by the LU of an earlier Jacobian) or
+            ``"gamg"`` (GMRES + algebraic multigrid with the rigid-body near-nullspace; not with the mixed
+            formulation). The converged answer is the same.
     """
 
     method: str = "nitsche"
@@ -226,6 +230,7 @@ class Solver:
     gamma0: float = 10.0
     theta: int = 1
     formulation: str = "auto"
+    linear_solver: str = "lu"
 
 
 @dataclass(frozen=True)
@@ -316,6 +321,7 @@ _CHOICES = {
     ("solver", "traction"): ("halfplane", "obstacle"),
     ("solver", "theta"): (1, 0, -1),
     ("solver", "formulation"): ("auto", "displacement", "mixed"),
+    ("solver", "linear_solver"): ("lu", "lu_reuse", "gamg"),
 }
 # (low, high, low_inclusive, high_inclusive, text)
 _RANGES = {
@@ -525,6 +531,9 @@ def _check_formulation(run: Run, where: str) -> None:
         if run.geometry.scene != "block":
             raise CaseError(f"{where}: {why}, which needs an analytic obstacle (block scenes); allowed on the "
                             f"concave scene: nu < {NU_MIXED}")
+        if sol.linear_solver == "gamg":
+            raise CaseError(f"{where}: solver.linear_solver = 'gamg' with the mixed formulation ({why}): a saddle "
+                            "point; allowed: linear_solver = 'lu' or 'lu_reuse'")
 
 
 def _classical_half_width(run: Run) -> float:

@@ -12,14 +12,16 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from fem.linear_solver import LINEAR_SOLVERS
+
 __all__ = ["ContactOptions", "SUPPORT_KINDS", "FORMULATIONS", "CONTROLS", "PREDICTORS", "ACTIVE_SETS",
-           "MIN_FACETS_ACROSS",
+           "MIN_FACETS_ACROSS", "LINEAR_SOLVERS",
            "NU_DISPLACEMENT_MAX", "check_options"]
 
 SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free", "halfplane")  # halfplane: fem/far_field.py
 FORMULATIONS = ("displacement", "mixed")
 CONTROLS = ("displacement", "force")
-PREDICTORS = ("auto", "hertz", "extrapolate")
+PREDICTORS = ("auto", "hertz", "extrapolate", "hertz_zone")
 ACTIVE_SETS = ("extrapolate", "geometry")
 # A patch spanning fewer contact facets than this is reported "contact unresolved" (ContactResult.warnings):
 # with P2 and 2 Gauss points per facet the edge-location error is about one Gauss spacing, so < 8 facets
@@ -73,6 +75,8 @@ class ContactOptions:
     min_facets_across: int = MIN_FACETS_ACROSS
     uzawa_rtol: float = 1e-10
     uzawa_max_it: int = 100
+    linear_solver: str = "lu"
+    split_jacobian: bool = True
 
     @property
     def mixed(self) -> bool:
@@ -119,11 +123,16 @@ def check_options(opts: ContactOptions, *, mesh_data, obstacle) -> None:
     if opts.mixed and not getattr(obstacle, "analytic", False):
         raise ValueError("formulation='mixed' needs an analytic obstacle (not a CurveObstacle)")
     if opts.predictor not in PREDICTORS:
-        raise ValueError(f"predictor must be 'auto', 'hertz' or 'extrapolate', got {opts.predictor!r}")
+        raise ValueError(f"predictor must be one of {PREDICTORS}, got {opts.predictor!r}")
     if opts.active_set not in ACTIVE_SETS:
         raise ValueError(f"active_set must be 'extrapolate' or 'geometry', got {opts.active_set!r}")
     if not 0.0 < opts.first_step_fraction <= 1.0:
         raise ValueError(f"first_step_fraction must be in (0, 1], got {opts.first_step_fraction}")
+    if opts.linear_solver not in LINEAR_SOLVERS:
+        raise ValueError(f"linear_solver must be one of {LINEAR_SOLVERS}, got {opts.linear_solver!r}")
+    if opts.linear_solver == "gamg" and opts.mixed:
+        raise ValueError("linear_solver='gamg' needs formulation='displacement' (the mixed u-p system is a saddle "
+                         "point); use 'lu' or 'lu_reuse'")
     if opts.control == "displacement" and opts.record_at:
         levels = [float(v) for v in opts.record_at]
         if any(v <= 0 for v in levels) or levels != sorted(levels) or levels[-1] != float(opts.target):

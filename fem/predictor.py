@@ -25,6 +25,7 @@ from petsc4py import PETSc
 
 from analytic.hertz import hertz, hertz_pressure
 from fem.elasticity import sigma
+from fem.linear_solver import linear_options, set_near_nullspace
 
 __all__ = ["HertzPredictor"]
 
@@ -32,7 +33,7 @@ __all__ = ["HertzPredictor"]
 class HertzPredictor:
     """Callable ``P -> (d, u_array)`` (see module docstring)."""
 
-    def __init__(self, *, u, obstacle, lame, E_star: float, bcs, ds_c, facets, prefix: str):
+    def __init__(self, *, u, obstacle, lame, E_star: float, bcs, ds_c, facets, prefix: str, linear_solver: str = "lu"):
         V = u.function_space
         mesh = V.mesh
         self.x_c, self.y_low, self.R = obstacle.hertz_contact()
@@ -43,10 +44,8 @@ class HertzPredictor:
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
         p_h = hertz_pressure(X[0], a=self.a, p0=self.p0, center=self.x_c, xp=ufl)
         self.uh = dolfinx.fem.Function(V)
-        self.problem = dolfinx.fem.petsc.LinearProblem(
-            ufl.inner(sigma(du, lame), ufl.grad(v)) * ufl.dx, -p_h * v[1] * ds_c, bcs=bcs, u=self.uh,
-            petsc_options_prefix=prefix,
-            petsc_options={"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"})
+        self._forms = (ufl.inner(sigma(du, lame), ufl.grad(v)) * ufl.dx, -p_h * v[1] * ds_c, bcs)
+        self._linear_solver, self._prefix, self._problem = linear_solver, prefix, None
         # First-contact dof: the Gamma_c dof nearest to (x_c, y_low), decided globally.
         fdim = mesh.topology.dim - 1
         dofs = dolfinx.fem.locate_dofs_topological(V, fdim, facets)
@@ -61,6 +60,18 @@ class HertzPredictor:
         self.y_c = mesh.comm.bcast(float(xyz[i, 1]) if mesh.comm.rank == self.owner else None, root=self.owner)
         self.comm = mesh.comm
         self._factored = False
+
+    @property
+    def problem(self):
+        """The LinearProblem of K (created at the first solve: a ``hertz_zone`` start never needs it)."""
+        if self._problem is None:
+            a, L, bcs = self._forms
+            self._problem = dolfinx.fem.petsc.LinearProblem(
+                a, L, bcs=bcs, u=self.uh, petsc_options_prefix=self._prefix,
+                petsc_options=linear_options(self._linear_solver))
+            if self._linear_solver == "gamg":
+                set_near_nullspace(self._problem.A, self.uh.function_space)
+        return self._problem
 
     def _solve(self):
         """``problem.solve()`` with K assembled (and so factored by the KSP) at the first call only."""
@@ -79,6 +90,11 @@ class HertzPredictor:
         pb.solver.solve(pb.b, pb.x)  # unchanged operator: PETSc keeps the LU factors
         pb.x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
         dolfinx.fem.petsc.assign(pb.x, pb.u)
+
+    def zone(self, P: float, *, half: bool = False) -> tuple[float, float]:
+        """The Hertz contact zone (lo, hi) in X1 of the full-body load P (N/mm); lo = -inf for a half model."""
+        a = hertz(P, self.R, self.E_star).half_width
+        return (-np.inf if half else self.x_c - a, self.x_c + a)
 
     def __call__(self, P: float, *, half: bool = False) -> tuple[float, np.ndarray, tuple[float, float]]:
         """Return (d, u array, Hertz zone (lo, hi) in X1) for the full-body load P (N/mm)."""

@@ -4,7 +4,8 @@ Plane strain, units mm, N, MPa; loads P per unit thickness (N/mm). Gap g > 0 ope
 compressive. The weak forms are documented in :mod:`fem.contact_forms` and the method modules
 (:mod:`fem.methods`); the load stepping that drives this object is :class:`fem.stepping.LoadStepper`.
 
-Solution: semismooth Newton (PETSc SNES ``newtonls`` with ``basic`` full steps, LU/MUMPS), options with a
+Solution: semismooth Newton (PETSc SNES ``newtonls`` with ``basic`` full steps; the linear solver of
+:mod:`fem.linear_solver`, default LU/MUMPS), options with a
 unique prefix; the Jacobian is the exact Gateaux derivative of the residual.
 
 Measured load ``P`` (virtual work): ``P = -F(u; w)``, the whole residual ``F = a + F_c`` (bulk and contact
@@ -39,6 +40,8 @@ from petsc4py import PETSc
 from fem.contact_forms import ContactForms, build_contact_forms
 from fem.elasticity import lame, mixed_constraint, plane_strain_modulus, sigma, sigma_mixed
 from fem.far_field import HalfPlaneFarField
+from fem.linear_solver import configure as configure_linear_solver
+from fem.linear_solver import snes_options
 from fem.options import SUPPORT_KINDS, ContactOptions
 from fem.postprocess import (
     LOCKING_NU,
@@ -49,6 +52,7 @@ from fem.postprocess import (
     penetration_warning,
     resolution_warnings,
 )
+from fem.split_jacobian import SplitJacobian
 
 __all__ = ["ContactProblem", "MAX_ZONES", "resolve_supports"]
 
@@ -187,9 +191,9 @@ class ContactProblem:
         self.prefix = opts.petsc_prefix or f"fem_contact_{next(_counter)}_"
         x_all = self.mesh.geometry.x
         L = comm.allreduce(float(np.max(np.ptp(x_all[:, :2], axis=0))) if x_all.size else 0.0, op=MPI.MAX)
-        petsc = {"snes_type": "newtonls", "snes_linesearch_type": "basic", "ksp_type": "preonly", "pc_type": "lu",
-                 "pc_factor_mat_solver_type": "mumps", "snes_rtol": opts.snes_rtol, "snes_atol": 1e-13 * opts.E * L,
-                 "snes_stol": 0.0, "snes_max_it": opts.max_it}
+        petsc = {"snes_type": "newtonls", "snes_linesearch_type": "basic", **snes_options(opts.linear_solver),
+                 "snes_rtol": opts.snes_rtol, "snes_atol": 1e-13 * opts.E * L, "snes_stol": 0.0,
+                 "snes_max_it": opts.max_it}
         petsc.update(opts.petsc_options or {})
         if self.ph is not None:
             du_t, dp_t = self._trials
@@ -202,6 +206,11 @@ class ContactProblem:
                                                               petsc_options_prefix=self.prefix,
                                                               petsc_options=petsc)
         self.snes = self.problem.solver
+        configure_linear_solver(self.snes, self.problem.A, self.V, opts.linear_solver)
+        if self.ph is None and opts.split_jacobian:  # J = K (assembled once) + contact terms per iteration
+            self.split_jacobian = SplitJacobian(u=self.u, bulk_residual=forms.F - forms.F_c,
+                                                contact_residual=forms.F_c, J_form=self.problem.J, bcs=self.bcs)
+            self.snes.setJacobian(self.split_jacobian, self.problem.A, self.problem.P_mat)
         if forms.update is not None:
             self.snes.setFunction(self._residual_with_update, self.problem.b)
 
@@ -312,9 +321,10 @@ class ContactProblem:
             self.snes.setForceIteration(False)
         return self.snes.getConvergedReason(), self.snes.getIterationNumber()
 
-    def predictor_iteration(self, zones: Sequence[tuple[float, float]]) -> None:
-        """One Newton iteration with the prescribed active set ``lo_k < X1 < hi_k`` (at most :data:`MAX_ZONES`
-        runs); the mask is off afterwards."""
+    @contextmanager
+    def prescribed_active_set(self, zones: Sequence[tuple[float, float]]):
+        """While inside: the contact law holds on the prescribed active set ``lo_k < X1 < hi_k`` (at most
+        :data:`MAX_ZONES` runs) instead of the sign of the Nitsche/penalty argument; off afterwards."""
         mask = self.mask
         if len(zones) > MAX_ZONES:
             raise ValueError(f"at most {MAX_ZONES} predicted contact runs, got {len(zones)}")
@@ -322,10 +332,16 @@ class ContactProblem:
         for k in range(MAX_ZONES):
             lo, hi = zones[k] if k < len(zones) else (1e300, 1e300)
             mask[1 + 2 * k].value, mask[2 + 2 * k].value = max(lo, -1e300), min(hi, 1e300)
-        self.snes.setTolerances(max_it=1)
-        self.problem.solve()
-        self.snes.setTolerances(max_it=self.options.max_it)
-        mask[0].value = 0.0
+        try:
+            yield
+        finally:
+            mask[0].value = 0.0
+
+    def predictor_iteration(self, zones: Sequence[tuple[float, float]]) -> None:
+        """One Newton iteration with the prescribed active set ``lo_k < X1 < hi_k`` (at most :data:`MAX_ZONES`
+        runs); the mask is off afterwards."""
+        with self.prescribed_active_set(zones), self.max_iterations(1):
+            self.problem.solve()
 
     def solve_once(self, d_value: float, state: np.ndarray, *, rest=None, zone=None) -> tuple[int, int, dict]:
         """Solve at obstacle displacement ``d_value`` (mm) from ``state``.

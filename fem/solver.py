@@ -108,6 +108,7 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
                   first_step_fraction: float = 0.1,
                   record_at: Sequence[float] | None = None, formulation: str = "displacement",
                   min_facets_across: int = MIN_FACETS_ACROSS, uzawa_rtol: float = 1e-10, uzawa_max_it: int = 100,
+                  linear_solver: str = "lu", split_jacobian: bool = True,
                   options: ContactOptions | None = None) -> ContactResult:
     """Solve frictionless contact of the meshed body against a rigid obstacle.
 
@@ -136,8 +137,10 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
             augmented Lagrangian's default samples are its contact nodes).
         predictor: ``"extrapolate"`` (u linear in d from the last two states), ``"hertz"`` (force control,
             circle/parabola, direction (0, -1): linear solve with the Hertz pressure of the load level as a
-            Neumann load; d from the displacement at the first-contact point) or ``"auto"`` (hertz when
-            applicable).
+            Neumann load; d from the displacement at the first-contact point), ``"hertz_zone"`` (the same
+            applicability; the first load level from the unloaded state with the Hertz zone as the prescribed active
+            set and d from that set's tangent, no stiffness solve: :meth:`fem.stepping.LoadStepper.hertz_zone_start`;
+            later levels as ``"hertz"``) or ``"auto"`` (hertz when applicable).
         active_set_predictor: before each Newton solve do one iteration with a prescribed active set (the
             Hertz zone, or contact edges extrapolated linearly in d from the last two states; single-patch
             scenes with the surface coordinate X1). Without it the sign of the tiny gaps of the predicted u
@@ -166,6 +169,12 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
             the contact conditions to uzawa_rtol times the largest displacement (mm/mm;
             :mod:`fem.methods.augmented_lagrangian`).
         uzawa_max_it: augmented Lagrangian only: Uzawa updates allowed per load level (then ContactSolveError).
+        linear_solver: the linear solver of the Newton iterations and the Hertz predictor (:mod:`fem.linear_solver`):
+            ``"lu"`` (MUMPS LU of every Jacobian), ``"lu_reuse"`` (GMRES preconditioned by the MUMPS LU of an earlier
+            Jacobian, refactored when the Krylov solve slows down) or ``"gamg"`` (GMRES + algebraic multigrid
+            with the rigid-body near-nullspace; displacement formulation). The converged answer is the same.
+        split_jacobian: assemble the elastic stiffness once and only the contact terms per Newton iteration
+            (displacement formulation; :mod:`fem.split_jacobian`); the same Jacobian to round-off.
         options: a :class:`ContactOptions` instead of the keywords above (then pass none of them).
 
     Raises:

@@ -85,6 +85,38 @@ def _single(zone) -> bool:
     return zone is not None and len(zone) == 1
 
 
+def _origin(run: tuple, before: tuple | None) -> tuple:
+    """Where ``run`` came from in the runs ``before``: the envelope of those it overlaps; else a point at its
+    centre (its end 0 for a run from the first sample)."""
+    lo, hi = run
+    hit = [r for r in (before or ()) if r[0] < hi and lo < r[1]]
+    if hit:
+        return (min(r[0] for r in hit), max(r[1] for r in hit))
+    return (lo, 0.0) if np.isinf(lo) else (0.5 * (lo + hi),) * 2
+
+
+def _grow(r1: tuple, r2: tuple, f: float) -> tuple:
+    """The run r2 extrapolated by f intervals from r1: centre linear, squared half-width linear (a run from the
+    first sample: its squared end)."""
+    (a1, b1), (a2, b2) = r1, r2
+    if np.isinf(a2):
+        return (-np.inf, float(np.sqrt(max(b2 * b2 + f * (b2 * b2 - b1 * b1), 0.0))))
+    c1, c2, w1, w2 = 0.5 * (a1 + b1), 0.5 * (a2 + b2), 0.5 * (b1 - a1), 0.5 * (b2 - a2)
+    c, w = c2 + f * (c2 - c1), float(np.sqrt(max(w2 * w2 + f * (w2 * w2 - w1 * w1), 0.0)))
+    return (c - w, c + w)
+
+
+def _merged(runs: tuple) -> tuple:
+    """Runs sorted by their start, overlapping ones merged."""
+    out: list = []
+    for lo, hi in sorted(runs, key=lambda r: r[0]):
+        if out and lo <= out[-1][1]:
+            out[-1] = (out[-1][0], max(out[-1][1], hi))
+        else:
+            out.append((lo, hi))
+    return tuple(out)
+
+
 class LoadStepper:
     """Drives a :class:`ContactProblem` through the load levels (module docstring).
 
@@ -112,13 +144,17 @@ class LoadStepper:
         ob = problem.obstacle
         hertz_ok = (opts.control == "force" and hasattr(ob, "hertz_contact")
                     and abs(ob.direction[0]) < 1e-14 and ob.direction[1] < 0)
-        if opts.predictor == "hertz" and not hertz_ok:
-            raise ValueError("predictor='hertz' needs control='force', a circle/parabola obstacle and "
+        if opts.predictor in ("hertz", "hertz_zone") and not hertz_ok:
+            raise ValueError(f"predictor={opts.predictor!r} needs control='force', a circle/parabola obstacle and "
                              "direction (0, -1)")
-        use_hertz = opts.predictor == "hertz" or (opts.predictor == "auto" and hertz_ok)
-        self.hertz = (HertzPredictor(u=pb.u, obstacle=ob, lame=pb.lame, E_star=pb.E_star, bcs=pb.bcs, ds_c=pb.ds_c,
-                                     facets=pb.contact_facets, prefix=pb.prefix + "hertz_") if use_hertz else None)
         self.tangent_ok = not opts.mixed and pb.forms.update is None and pb.method.supports_tangent
+        # hertz_zone: the Hertz zone from the unloaded state and the tangent of that prescribed-set solve (no
+        # stiffness solve); where the tangent does not apply, the Hertz predictor.
+        self.zone_start = opts.predictor == "hertz_zone" and self.tangent_ok
+        use_hertz = opts.predictor in ("hertz", "hertz_zone") or (opts.predictor == "auto" and hertz_ok)
+        self.hertz = (HertzPredictor(u=pb.u, obstacle=ob, lame=pb.lame, E_star=pb.E_star, bcs=pb.bcs, ds_c=pb.ds_c,
+                                     facets=pb.contact_facets, prefix=pb.prefix + "hertz_",
+                                     linear_solver=opts.linear_solver) if use_hertz else None)
 
     def add_step_callback(self, fn: Callable[[dict], None]) -> None:
         """Call ``fn(record)`` after every converged solve (after the ones already registered)."""
@@ -162,23 +198,21 @@ class LoadStepper:
     def predicted_runs(self, d_new: float, x_pred: np.ndarray | None) -> tuple | None:
         """``active_set="geometry"``: contact runs ((lo, hi), ...) at d_new (None: no prediction).
 
-        * the last two states have the same number of runs: each edge extrapolated linearly in d;
-        * the last state touches and the one before did not (or is the unloaded state): each run grown linearly
-          in d from its centre (a run from the first sample: from that end);
+        * the last state touches: each of its runs extrapolated in d from its origin in the state before (the
+          envelope of the runs it overlaps there; none: its centre, or its end for a run from the first sample):
+          the centre linearly, the squared half-width linearly (a Hertz-like run grows as sqrt(d); measured on
+          close_to_conformal, linear edges over-predicted the 0.5 -> 0.7 mm growth twofold); predicted runs
+          that overlap are merged;
         * no state touches yet (the first step, or all earlier states open), with ``x_pred``: the geometry, the
           runs of the overlap of the predicted state at d_new (the rigid overlap of the undeformed body when it
           is unloaded), each shrunk by :data:`GEOMETRIC_SHRINK` (:meth:`geometric_zone`);
-        * otherwise (a run appears, disappears or merges): the runs of the last state.
         """
         if len(self.states) >= 2 and self.states[-1].zone:
             (d1, _, _, e1), (d2, _, _, e2) = self.states[-2], self.states[-1]
-            if not e1:  # from a state without contact: runs shrunk to their first-contact points
-                e1 = tuple((lo, 0.0) if np.isinf(lo) else (0.5 * (lo + hi),) * 2 for lo, hi in e2)
-            if len(e1) != len(e2) or d2 == d1:
+            if d2 == d1:
                 return e2
             f = (d_new - d2) / (d2 - d1)
-            return tuple((-np.inf if np.isinf(a2) else a2 + f * (a2 - a1), b2 + f * (b2 - b1))
-                         for (a1, b1), (a2, b2) in zip(e1, e2, strict=True))
+            return _merged(tuple(_grow(_origin(r2, e1), r2, f) for r2 in e2))
         if x_pred is None:
             return None
         return self.geometric_zone(d_new, x_pred)
@@ -206,8 +240,9 @@ class LoadStepper:
         return d2 + (P_goal - P2) * (d2 - d1) / (P2 - P1)
 
     # -- solves ---------------------------------------------------------------------------------------------
-    def attempt(self, d_new, x_pred, kind, zone=None, predict_active_set=True) -> tuple[int, int]:
-        """One solve at d_new from x_pred; on convergence append the state and the record and call on_step."""
+    def attempt(self, d_new, x_pred, kind, zone=None, predict_active_set=True, done_its=0) -> tuple[int, int]:
+        """One solve at d_new from x_pred; on convergence append the state and the record and call on_step.
+        ``done_its``: Newton iterations already spent on this solve (counted in the record)."""
         t0 = time.perf_counter()
         pb = self.problem
         if zone is None and predict_active_set and self.opts.active_set_predictor:
@@ -215,6 +250,7 @@ class LoadStepper:
         use_zone = (zone is not None and self.opts.active_set_predictor and predict_active_set
                     and len(zone) <= MAX_ZONES)
         reason, its, extra = pb.solve_once(d_new, x_pred, rest=self.states[-1].x, zone=zone if use_zone else None)
+        its += done_its
         self.factored = self.factored or its > 0
         if reason <= 0:
             return reason, its
@@ -320,6 +356,14 @@ class LoadStepper:
             P_goal = opts.target * k / opts.n_steps
             self.problem.far_field.set_load(P_goal)  # halfplane supports: Flamant's field of this level
             zone = None
+            if self.zone_start and len(self.states) == 1:
+                start = self.hertz_zone_start(P_goal)
+                if start is not None:
+                    d_next, x_next = start
+                    reason, _ = self.attempt(d_next, x_next, "step", predict_active_set=False, done_its=1)
+                    if reason > 0:
+                        continue
+                self.problem.set_state(self.states[-1].x)
             if self.hertz is not None:
                 d_next, u_next, hertz_zone = self.hertz(P_goal, half=opts.symmetric_half)
                 zone = (hertz_zone,)
@@ -329,6 +373,31 @@ class LoadStepper:
                 d_next = P_goal / (0.3 * E_star) if len(self.states) == 1 else self.secant(P_goal)
                 u_next = None
             self.reach(d_next, k, "step", u_next, zone)
+
+    def hertz_zone_start(self, P_goal: float) -> tuple[float, np.ndarray] | None:
+        """``predictor="hertz_zone"``, first load level from the unloaded state: (d, state) of the prescribed
+        active set = the Hertz zone of P_goal (:meth:`fem.predictor.HertzPredictor.zone`), without a stiffness
+        solve. One Newton iteration on that set from the unloaded state at a guess ``d0 = P_goal / (0.3 E')``
+        gives u0; for a fixed active set the small-strain equations are linear in (u, d), so the tangent
+        ``t = du/dd`` of that set (the same factorisation) moves it to the d of ``P = P_goal``:
+        ``d = d0 + (P_goal - P(u0)) / (dP/dd)``, ``u = u0 + (d - d0) t``. None when the tangent fails."""
+        pb, opts = self.problem, self.opts
+        zone = (self.hertz.zone(P_goal, half=opts.symmetric_half),)
+        d0 = P_goal / (0.3 * pb.E_star)
+        pb.d.value = d0
+        pb.set_state(self.states[-1].x)
+        with pb.prescribed_active_set(zone):
+            with pb.max_iterations(1):
+                pb.problem.solve()
+            u0 = pb.get_state()
+            P0 = pb.measure()[0]
+            tan = pb.tangent(u0, d0)
+        self.factored = True
+        if tan is None:
+            return None
+        t_arr, dP = tan
+        dd = (P_goal - P0) / dP
+        return d0 + dd, u0 + dd * t_arr
 
     def correct_force(self) -> None:
         """Correct d at the last level until ``|P - target| <= force_rtol target`` (tangent, then secant)."""

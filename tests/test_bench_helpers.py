@@ -82,7 +82,7 @@ def test_report_states_unmet_targets():
         "events": {n: {"count": 1, "time_s": 0.0} for n in LOG_EVENTS},
     }
     text = to_markdown({"load_avg_start": (1.0, 1.0, 1.0), "cpu_count": 2, "linear": lin})
-    assert "| contact solve <= 4 linear solves (default case) | 7 | NOT met |" in text
+    assert "| contact solve <= 1.5 linear solves (default case) | 7 | NOT met |" in text
 
 
 def test_quick_config_and_json_round_trip():

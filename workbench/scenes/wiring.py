@@ -29,7 +29,8 @@ def solver_options(run: Run, load: LoadPath, **overrides) -> ContactOptions:
                 kinematics=sol.kinematics, traction=sol.traction, kappa0=sol.kappa0, gamma0=sol.gamma0,
                 theta=sol.theta, control=load.control, target=load.target, n_steps=load.n_steps,
                 symmetric_half=load.symmetric_half, formulation=effective_formulation(run),
-                supports=far_field_supports(far_field=run.geometry.far_field, symmetric_half=load.symmetric_half))
+                supports=far_field_supports(far_field=run.geometry.far_field, symmetric_half=load.symmetric_half),
+                linear_solver=sol.linear_solver)
     if load.record_at is not None:
         opts["record_at"] = load.record_at
     return ContactOptions(**(opts | overrides))

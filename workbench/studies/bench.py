@@ -23,11 +23,15 @@ Sections:
    warm time of the first configuration that reaches it (mesh + solve + comparison; solver only also kept).
 2. Contact solve against one linear elastic solve on the same mesh (same LU/MUMPS, assembly included),
    Newton iterations per load step, and the PETSc factorisation counts (PETSc log events).
-3. Cost growth: P2, the case's Nitsche solver, on graded meshes of decreasing h_c and on uniform meshes up
-   to ~1e6 dofs, one subprocess per size. Peak memory = the high-water mark VmHWM of that process
-   (``ru_maxrss`` is inherited from the parent across fork/exec on Linux, so after a big section it only
-   shows the parent's peak; both are kept). Fitted exponent of time against ndofs
-   (:func:`workbench.studies.rates.fit_exponent`).
+3. Cost growth: P2, the case's Nitsche scene, on graded meshes of decreasing h_c and on uniform meshes up
+   to ~1e6 dofs, one subprocess per size. Each size is solved with the row's options
+   (:func:`scale_overrides`: ``scale_predictor``, ``scale_linear_solver``, and ``linear_solver="gamg"`` above
+   ``krylov_threshold`` dofs) and compared with one linear elastic solve on the same mesh with the same kind of
+   linear solver; below the threshold the case solver runs too (its cost in linear solves and the relative
+   differences of P, p_max and the half-width). Peak memory = the high-water mark VmHWM of that process after
+   the mesh, after the first contact solve, and at the end (``ru_maxrss`` is inherited from the parent across
+   fork/exec on Linux, so after a big section it only shows the parent's peak; both are kept). Fitted exponent
+   of time against ndofs (:func:`workbench.studies.rates.fit_exponent`).
 4. MPI: ``mpiexec -n 2 workbench run hertz_cylinder`` against the serial run (P, p0, half-width to
    1e-8 relative) and the speed-up (default size and a larger one).
 5. Repeated work: cold (fresh FFCx cache via ``XDG_CACHE_HOME`` and a fresh mesh cache, in a subprocess)
@@ -69,7 +73,8 @@ from workbench.atomic import write_json, write_text
 from workbench.studies.config import BENCH_SECTIONS, SCALE_FAMILIES, BenchConfig, from_json, to_json
 from workbench.studies.rates import fit_exponent
 
-__all__ = ["BenchConfig", "LOG_EVENTS", "first_reaching", "main", "rel_diff", "run_bench", "uniform_box_mesh"]
+__all__ = ["BenchConfig", "LOG_EVENTS", "first_reaching", "main", "rel_diff", "run_bench", "scale_overrides",
+           "uniform_box_mesh"]
 
 LOG_EVENTS = ("MatLUFactorSym", "MatLUFactorNum", "MatSolve", "SNESJacobianEval", "SNESFunctionEval")
 _DEFAULT = BenchConfig()
@@ -393,14 +398,15 @@ def _block_mesh_data(run, cfg: BenchConfig, *, comm):
     return read_mesh(files.msh, comm)
 
 
-def linear_solve(mesh_data, run, *, repeats: int = 3) -> dict:
+def linear_solve(mesh_data, run, *, repeats: int = 3, linear_solver: str = "lu") -> dict:
     """Warm time of one linear elastic solve (assembly of A and b, MUMPS LU, solve) on ``mesh_data``.
 
     ``linear_s``: a new problem each time (symbolic + numeric factorisation); ``linear_resolve_s``: the same
     problem solved again (PETSc keeps the symbolic factorisation: same nonzero pattern).
 
     Weak form: ``a(u, v) = -int_Gc p_H v_y ds`` with the Hertz pressure of the case load (MPa), clamped
-    bottom, roller symmetry edge; options ``preonly`` / ``lu`` / ``mumps`` as the contact Newton iterations.
+    bottom, roller symmetry edge; options ``preonly`` / ``lu`` / ``mumps`` as the contact Newton iterations
+    (``linear_solver="gamg"``: GMRES + GAMG with the rigid-body near-nullspace, :mod:`fem.linear_solver`).
     """
     import dolfinx
     import dolfinx.fem.petsc
@@ -409,6 +415,7 @@ def linear_solve(mesh_data, run, *, repeats: int = 3) -> dict:
     from analytic.hertz import hertz, hertz_pressure
     from analytic.materials import plane_strain_modulus
     from fem.elasticity import lame, sigma
+    from fem.linear_solver import linear_options, set_near_nullspace
 
     mesh = mesh_data.mesh
     lm = lame(E=run.material.E, nu=run.material.nu)
@@ -436,12 +443,14 @@ def linear_solve(mesh_data, run, *, repeats: int = 3) -> dict:
         pb = dolfinx.fem.petsc.LinearProblem(
             a_form, L_form, bcs=bcs, petsc_options_prefix=f"bench_lin_{next(_ids)}_", petsc_options=opts
         )
+        if linear_solver == "gamg":
+            set_near_nullspace(pb.A, V)
         pb.solve()
         return pb
 
     a_form = ufl.inner(sigma(du, lm), ufl.grad(v)) * ufl.dx
     L_form = -p_h * v[1] * ds(mesh_data.physical_groups["contact"].tag)
-    opts = {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
+    opts = linear_options(linear_solver)
     pb = fresh()  # warm-up: forms loaded
     best, pb = _best_of(fresh, repeats=repeats, budget_s=5.0)
     again, _ = _best_of(pb.solve, repeats=1, budget_s=0.0)
@@ -502,8 +511,25 @@ def _family_mesh(family: str, level: float, cfg: BenchConfig, *, comm):
     return run, uniform_box_mesh(width=cfg.scale_box * a0, height=cfg.scale_box * a0, h=level * a0, comm=comm)
 
 
+def _ndofs(md, run) -> int:
+    """Global displacement dofs of the run's element on ``md`` (decides the row's linear solver)."""
+    import dolfinx
+
+    V = dolfinx.fem.functionspace(md.mesh, ("Lagrange", run.discretisation.degree, (2,)))
+    return V.dofmap.index_map.size_global * 2
+
+
+def scale_overrides(cfg: BenchConfig, ndofs: int) -> dict:
+    """Solver overrides of a cost-growth row of ``ndofs`` dofs: ``scale_predictor`` and ``scale_linear_solver``,
+    ``"gamg"`` above ``krylov_threshold``."""
+    kind = "gamg" if ndofs > cfg.krylov_threshold else cfg.scale_linear_solver
+    return {"predictor": cfg.scale_predictor, "linear_solver": kind}
+
+
 def _worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
-    """One size of section 3, in its own process: mesh, contact solve(s), linear solve, peak memory."""
+    """One size of section 3, in its own process: mesh, contact solve(s) with the row's solver
+    (:func:`scale_overrides`), the case solver as reference (below ``krylov_threshold``), one linear solve with
+    the row's linear solver, peak memory."""
     import dolfinx_solver  # noqa: F401
 
     from mpi4py import MPI
@@ -513,20 +539,26 @@ def _worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
     t0 = time.perf_counter()
     run, md = _family_mesh(family, level, cfg, comm=comm)
     mesh_s = time.perf_counter() - t0
+    peak_mesh = _peak_rss_mb()
+    over = scale_overrides(cfg, _ndofs(md, run))
     PETSc.Log.begin()
     before = _log_counts()
-    res = _solve_case(run, md)
+    res = _solve_case(run, md, **over)
     events = _log_delta(before, _log_counts())
-    peak_first = _peak_rss_mb()  # mesh + one contact solve (its two MUMPS factors alive)
+    peak_first = _peak_rss_mb()  # mesh + one contact solve (every factor it made still alive)
     times = [res.wall_time_s]
     small = res.ndofs < cfg.small_ndofs
-    times += [_solve_case(run, md).wall_time_s for _ in range(2 if small else 1)]  # warm: forms loaded
-    lin = linear_solve(md, run, repeats=3 if small else 1)
+    times += [_solve_case(run, md, **over).wall_time_s for _ in range(2 if small else 1)]  # warm: forms loaded
+    kind = "gamg" if over["linear_solver"] == "gamg" else "lu"
+    lin = linear_solve(md, run, repeats=3 if small else 1, linear_solver=kind)
     its = list(res.newton_iterations)
-    return {
+    pt = max(res.patches, key=lambda p: p.P) if res.patches else None
+    row = {
         "family": family,
         "h_over_a": level,
         "ndofs": res.ndofs,
+        "overrides": over,
+        "linear_kind": kind,
         "mesh_read_s": mesh_s,
         "solve_s": min(times),
         "solve_first_s": times[0],
@@ -537,10 +569,22 @@ def _worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
         "newton_per_step": sum(its) / len(its),
         "events": events,
         "rms": _hertz_errors(res, run)["rms"],
+        "P": res.P,
+        "p_max": pt.p_max if pt else float("nan"),
+        "half_width": pt.half_width if pt else float("nan"),
         "maxrss_mb": _maxrss_mb(),
-        "peak_rss_mb": _peak_rss_mb(),
+        "peak_rss_mesh_mb": peak_mesh,
         "peak_rss_first_solve_mb": peak_first,
     }
+    if res.ndofs <= cfg.krylov_threshold:  # the case solver on the same mesh: its time and the same answer
+        ref = [_solve_case(run, md) for _ in range(2 if small else 1)]
+        rpt = max(ref[-1].patches, key=lambda p: p.P)
+        row["case"] = {"solve_s": min(r.wall_time_s for r in ref), "newton_iterations": list(ref[-1].newton_iterations),
+                       "linear_solves_equivalent": min(r.wall_time_s for r in ref) / lin["linear_s"]}
+        row["rel_diff_vs_case"] = {"P": rel_diff(res.P, ref[-1].P), "p_max": rel_diff(row["p_max"], rpt.p_max),
+                                   "half_width": rel_diff(row["half_width"], rpt.half_width)}
+    row["peak_rss_mb"] = _peak_rss_mb()
+    return row
 
 
 def _worker_cold(cfg: BenchConfig) -> dict:
@@ -621,6 +665,8 @@ def cost_growth(cfg: BenchConfig, *, progress) -> dict:
         n = [r["ndofs"] for r in rows]
         fits = {}
         for key in ("solve_s", "linear_s", "peak_rss_mb", "peak_rss_first_solve_mb"):
+            if any(key not in r for r in rows):
+                continue
             t = [r[key] for r in rows]
             fits[key] = {
                 "all": fit_exponent(n, t)._asdict(),

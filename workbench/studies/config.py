@@ -256,6 +256,8 @@ def _solver_variants() -> dict:
 
 BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free")
 ACTIVE_SETS = ("extrapolate", "geometry")  # fem.options.ACTIVE_SETS (a study config imports no fem)
+LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg")  # fem.linear_solver.LINEAR_SOLVERS
+SCALE_PREDICTORS = ("auto", "hertz_zone")  # the force-control predictors of the cost-growth rows
 SCALE_FAMILIES = ("graded", "uniform")
 
 
@@ -278,6 +280,13 @@ class BenchConfig:
         small_ndofs: Below this a size is timed 3 times in its process (best kept).
         mpi_levels: h_c of the MPI comparisons (None: the case default).
         option_level: h_c of the solver-options comparison (graded, ~9e4 dofs).
+        scale_linear_solver: The ``linear_solver`` of the cost-growth rows up to ``krylov_threshold`` dofs
+            (:mod:`fem.linear_solver`; ``"lu"`` is the case default).
+        scale_predictor: The ``predictor`` of the cost-growth rows: ``"auto"`` (the case: the Hertz predictor, a
+            stiffness solve) or ``"hertz_zone"`` (the Hertz zone prescribed from the unloaded state, no stiffness
+            solve). Each row below ``krylov_threshold`` also runs the case solver, as the reference.
+        krylov_threshold: Cost-growth rows with more dofs than this use ``linear_solver="gamg"`` (no LU factor:
+            memory ~ ndofs) and compare with a GAMG linear solve; >= 0.
         reuse_lu: PETSc options reusing the LU of the FIRST Jacobian through GMRES for the whole run
             (snes_lag_preconditioner -2). The later Jacobians differ from it only in the rows of the contact
             dofs whose state changed, so GMRES needs about as many triangular solves as there are such dofs: a
@@ -311,6 +320,9 @@ class BenchConfig:
     small_ndofs: int = 50_000
     mpi_levels: tuple[float | None, ...] = (None, 0.00078125)
     option_level: float = 0.00078125
+    scale_linear_solver: str = "lu_reuse"
+    scale_predictor: str = "hertz_zone"
+    krylov_threshold: int = 400_000
     reuse_lu: dict = field(default_factory=lambda: {
         "ksp_type": "gmres", "ksp_rtol": 1e-12, "ksp_atol": 0.0, "ksp_gmres_restart": 300, "ksp_max_it": 300,
         "snes_lag_preconditioner": -2, "snes_lag_preconditioner_persists": True,
@@ -318,7 +330,8 @@ class BenchConfig:
     reuse_meshes: tuple[tuple[str, float], ...] = (("uniform", 0.2), ("graded", 0.003125))
     solver_variants: dict = field(default_factory=_solver_variants)
     targets: dict = field(default_factory=lambda: {"speedup_vs_baseline": 10.0, "default_warm_s": 3.0,
-                                                   "linear_solves": 4.0, "exponent": 1.3})
+                                                   "linear_solves": 1.5, "exponent": 1.15, "peak_mb": 2048.0,
+                                                   "largest_ndofs": 900_000})
     predictor_free_cases: tuple[str, ...] = ("hertz_cylinder", "wedge", "wedge_convective", "parabola_convective",
                                              "concave_symmetric", "close_to_conformal")
     predictor_free_active_set: str = "geometry"
@@ -350,6 +363,14 @@ class BenchConfig:
         if self.predictor_free_active_set not in ACTIVE_SETS:
             raise ValueError(f"predictor_free_active_set must be one of {list(ACTIVE_SETS)}, "
                              f"got {self.predictor_free_active_set!r}")
+        if self.scale_linear_solver not in LINEAR_SOLVERS:
+            raise ValueError(f"scale_linear_solver must be one of {list(LINEAR_SOLVERS)}, "
+                             f"got {self.scale_linear_solver!r}")
+        if self.scale_predictor not in SCALE_PREDICTORS:
+            raise ValueError(f"scale_predictor must be one of {list(SCALE_PREDICTORS)}, got {self.scale_predictor!r}")
+        if isinstance(self.krylov_threshold, bool) or int(self.krylov_threshold) != self.krylov_threshold \
+                or self.krylov_threshold < 0:
+            raise ValueError(f"krylov_threshold must be an integer >= 0 (dofs), got {self.krylov_threshold!r}")
         if not self.predictor_free_target > 0:
             raise ValueError(f"predictor_free_target must be > 0, got {self.predictor_free_target!r}")
         if not set(self.sections) <= set(BENCH_SECTIONS):

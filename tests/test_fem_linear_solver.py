@@ -1,0 +1,97 @@
+"""Solver options of issue 16 that change only the cost: ``linear_solver`` (``lu``, ``lu_reuse``, ``gamg``),
+``split_jacobian`` (K assembled once) and ``predictor="hertz_zone"`` (no stiffness solve). Each gives the same
+answer as the default path (P, peak pressure and half-width to 1e-8 relative); bad values are refused with a
+ValueError naming the option.
+
+Scene: the Hertz scene of :mod:`tests.test_fem_active_set` (exact circle R = 10 mm, a = 0.5 mm, half model, P2,
+h_contact = a/10, E = 200 GPa, nu = 0.3), force control to the Hertz load of a, one load step.
+"""
+
+import dolfinx_solver  # noqa: F401
+
+import pytest
+from dolfinx.io import gmsh as dgmsh
+from mpi4py import MPI
+
+from analytic.hertz import hertz_load_from_half_width
+from fem.elasticity import plane_strain_modulus
+from fem.obstacles import CircleObstacle
+from fem.solver import solve_contact
+from meshes.block import build_block_mesh
+
+R, E, NU = 10.0, 200e3, 0.3
+A = 0.05 * R
+P_TARGET = hertz_load_from_half_width(A, R, plane_strain_modulus(E=E, nu=NU))
+
+
+@pytest.fixture(scope="module")
+def mesh10(tmp_path_factory):
+    mf = build_block_mesh(width=40 * A, height=40 * A, contact_half_width=A, h_contact=A / 10, half_model=True,
+                          out_dir=tmp_path_factory.mktemp("linear_solver"), name="hertz_linear_solver")
+    return dgmsh.read_from_msh(str(mf.msh), MPI.COMM_WORLD, 0, gdim=2)
+
+
+def _solve(mesh, **kw):
+    return solve_contact(mesh, CircleObstacle(center=(0.0, R), radius=R), E=E, nu=NU, control="force", target=P_TARGET,
+                         n_steps=1, symmetric_half=True, traction="halfplane", **kw)
+
+
+@pytest.fixture(scope="module")
+def reference(mesh10):
+    return _solve(mesh10, split_jacobian=False)
+
+
+@pytest.mark.parametrize("kw", [dict(), dict(linear_solver="lu_reuse"), dict(linear_solver="gamg"),
+                                dict(predictor="hertz_zone"),
+                                dict(predictor="hertz_zone", linear_solver="lu_reuse")],
+                         ids=["split", "lu_reuse", "gamg", "hertz_zone", "hertz_zone_lu_reuse"])
+def test_same_answer(mesh10, reference, kw):
+    res = _solve(mesh10, **kw)
+    ref = reference
+    for got, want in ((res.P, ref.P), (res.patches[0].p_max, ref.patches[0].p_max),
+                      (res.patches[0].half_width, ref.patches[0].half_width)):
+        assert abs(got - want) <= 1e-8 * abs(want), (kw, got, want)
+    assert not res.warnings, res.warnings
+
+
+def test_hertz_zone_needs_no_stiffness_solve(mesh10):
+    """One load step from the Hertz zone: the prescribed-set iteration, then at most two Newton iterations (the
+    discrete edge within a point of the Hertz one) and no force correction beyond the tangent."""
+    res = _solve(mesh10, predictor="hertz_zone")
+    assert res.newton_iterations[0] <= 3 and len(res.newton_iterations) <= 2, res.newton_iterations
+
+
+@pytest.mark.parametrize("kw, words", [
+    (dict(linear_solver="cholesky"), "linear_solver must be one of"),
+    (dict(linear_solver="gamg", formulation="mixed"), "linear_solver='gamg' needs formulation='displacement'"),
+    (dict(predictor="lcp"), "predictor must be one of"),
+])
+def test_bad_values_refused(mesh10, kw, words):
+    with pytest.raises(ValueError, match=words):
+        _solve(mesh10, **kw)
+
+
+def test_hertz_zone_needs_force_control(mesh10):
+    with pytest.raises(ValueError, match="predictor='hertz_zone' needs control='force'"):
+        solve_contact(mesh10, CircleObstacle(center=(0.0, R), radius=R), E=E, nu=NU, control="displacement",
+                      target=0.01, symmetric_half=True, predictor="hertz_zone")
+
+
+def test_bench_config_refuses_bad_scale_solver():
+    from workbench.studies.config import BenchConfig
+
+    for kw, field in ((dict(scale_linear_solver="cholesky"), "scale_linear_solver"),
+                      (dict(scale_predictor="hertz"), "scale_predictor"),
+                      (dict(krylov_threshold=-1), "krylov_threshold"),
+                      (dict(krylov_threshold=1.5), "krylov_threshold")):
+        with pytest.raises(ValueError, match=field):
+            BenchConfig(**kw)
+
+
+def test_scale_rows_switch_to_gamg_above_threshold():
+    from workbench.studies.bench import scale_overrides
+    from workbench.studies.config import BenchConfig
+
+    cfg = BenchConfig(krylov_threshold=1000, scale_linear_solver="lu_reuse")
+    assert scale_overrides(cfg, 1000)["linear_solver"] == "lu_reuse"
+    assert scale_overrides(cfg, 1001) == {"predictor": "hertz_zone", "linear_solver": "gamg"}
