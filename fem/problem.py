@@ -7,10 +7,14 @@ compressive. The weak forms are documented in :mod:`fem.contact_forms` and the m
 Solution: semismooth Newton (PETSc SNES ``newtonls`` with ``basic`` full steps, LU/MUMPS), options with a
 unique prefix; the Jacobian is the exact Gateaux derivative of the residual.
 
+Bulk: the material model's stress (:mod:`fem.hyperelastic`): small-strain sigma(u), or for finite kinematics the
+first Piola-Kirchhoff P(u) in a total Lagrangian form (then ``a(u, w) = int P(u) : Grad w dX``).
+
 Measured load ``P`` (virtual work): ``P = -a(u, w)`` with ``w`` equal to the loading direction at every
 Dirichlet-constrained component dof and 0 elsewhere, i.e. the support reaction along the direction; it
 equals the discrete contact force. ``P_pressure = int p (n_o . direction) ds`` is the resultant of the
-contact pressure along the direction (with the method's contact quadrature; it equals P up to round-off for
+contact pressure along the direction (with the method's contact quadrature; finite kinematics: the current
+pressure times the surface Jacobian ds/dS, :mod:`fem.contact_forms`; it equals P up to round-off for
 penalty, Nitsche and the augmented Lagrangian, because the Nitsche stress terms vanish for a rigid test field;
 it is a consistency check of the assembly). For ``symmetric_half=True`` both are doubled (full-body values).
 """
@@ -31,7 +35,8 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from fem.contact_forms import ContactForms, build_contact_forms
-from fem.elasticity import lame, mixed_constraint, plane_strain_modulus, sigma, sigma_mixed
+from fem.elasticity import lame, mixed_constraint, plane_strain_modulus, sigma_mixed
+from fem.hyperelastic import bulk_law
 from fem.options import SUPPORT_KINDS, ContactOptions
 from fem.postprocess import (
     LOCKING_NU,
@@ -137,9 +142,11 @@ class ContactProblem:
             self.stress = sigma_mixed(u, self.ph, lm)
             bulk = (ufl.inner(self.stress, ufl.grad(v_t)) + mixed_constraint(u, self.ph, q_t, lm)) * ufl.dx
             mixed_kw = dict(v=v_t, stress_u=self.stress, stress_v=sigma_mixed(v_t, q_t, lm), bulk=bulk)
-        else:
-            self.stress = sigma(u, lm)
-            mixed_kw = {}
+        else:  # the bulk law of the material model: sigma(u) (linear) or the first Piola-Kirchhoff P(u)
+            v_t = ufl.TestFunction(self.V)
+            law = bulk_law(u, v_t, opts.material_model, lm)
+            self.stress = law.stress
+            mixed_kw = dict(v=v_t, stress_u=law.stress, stress_v=law.stress_v)
         return build_contact_forms(u=u, obstacle=self.obstacle, d=self.d, lame=lm, method=opts.method,
                                    kinematics=opts.kinematics, traction=opts.traction, ds_c=self.ds_c,
                                    contact_facets=self.contact_facets, mask=self.mask, **opts.method_params(),
@@ -161,7 +168,7 @@ class ContactProblem:
         self.reaction_form = dolfinx.fem.form(-ufl.inner(self.stress, ufl.grad(w)) * ufl.dx)
         forms = self.forms
         self.pressure_form = dolfinx.fem.form(
-            -forms.pressure * ufl.dot(forms.n_c, ufl.as_vector(direction)) * forms.ds_c)
+            forms.on_surface(-forms.pressure * ufl.dot(forms.n_c, ufl.as_vector(direction))) * forms.ds_c)
 
     def _build_solver(self) -> None:
         """NonlinearProblem with SNES newtonls/basic, LU (MUMPS); atol scaled by E and the body size L."""

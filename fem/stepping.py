@@ -23,9 +23,9 @@ Reported ``iterations`` count that predictor iteration too (1 = the prescribed a
   (:meth:`fem.problem.ContactProblem.tangent`): ``Delta d = (target - P) / (dP/dd)``, ``u + Delta d t``; that
   state then goes through the same SNES solve (true law, same tolerances and converged-reason checks), which
   accepts it without iterating (0 iterations recorded) when the active set did not change, and may take one
-  Newton iteration otherwise. When the tangent does not apply (mixed formulation, curve obstacles, a method with
-  its own multiplier loop, a miss above 1 % of the target), its solve needs more than one iteration (discarded),
-  or it needed one or cut the force miss less than tenfold (an active-set change between the factored J and the
+  Newton iteration otherwise. When the tangent does not apply (mixed formulation, finite strain, curve obstacles,
+  a method with its own multiplier loop, a miss above 1 % of the target), its solve needs more than one iteration
+  (discarded), or it needed one or cut the force miss less than tenfold (an active-set change between the factored J and the
   converged state), the remaining corrections are secant steps through the last two (d, P) states.
 
 Divergence (SNES converged reason <= 0) restores the last converged state and halves the increment, up to
@@ -118,7 +118,9 @@ class LoadStepper:
         use_hertz = opts.predictor == "hertz" or (opts.predictor == "auto" and hertz_ok)
         self.hertz = (HertzPredictor(u=pb.u, obstacle=ob, lame=pb.lame, E_star=pb.E_star, bcs=pb.bcs, ds_c=pb.ds_c,
                                      facets=pb.contact_facets, prefix=pb.prefix + "hertz_") if use_hertz else None)
-        self.tangent_ok = not opts.mixed and pb.forms.update is None and pb.method.supports_tangent
+        # the tangent correction measures dP/dd as P(t), which needs P linear in u: not for finite strain
+        self.tangent_ok = (not opts.mixed and pb.forms.update is None and pb.method.supports_tangent
+                           and opts.kinematics != "finite")
 
     def add_step_callback(self, fn: Callable[[dict], None]) -> None:
         """Call ``fn(record)`` after every converged solve (after the ones already registered)."""

@@ -49,16 +49,23 @@ def compare_result(result, run: Run) -> BlockComparison:
     """Compare a :class:`fem.solver.ContactResult` of a block run with half-plane theory at its measured load.
 
     A half model's samples (x >= 0) are mirrored to the full body; the main patch is the one carrying the
-    largest load.
+    largest load. A finite-strain run (``kinematics = "finite"``) is compared in the deformed configuration: the
+    abscissa is the current ``x1 = X1 + u1`` and the pressure the current one (force per deformed length),
+    ``docs/models.md``; small and convective runs use the material abscissa X1 (the same to first order).
     """
-    smp = result.samples
+    smp, patches = result.samples, result.patches
+    if run.solver.kinematics == "finite":
+        from fem.postprocess import find_patches
+
+        smp = smp._replace(s=smp.x[:, 0].copy())
+        patches = find_patches(smp, half=result.half)
     x, p, snn = smp.s, smp.p, smp.sigma_nn
     if result.half:  # mirror the half model (x >= 0) to the full body for plots and errors
         keep = x > 0
         x = np.concatenate([-x[keep][::-1], x])
         p = np.concatenate([p[keep][::-1], p])
         snn = np.concatenate([snn[keep][::-1], snn])
-    main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
+    main = max(patches, key=lambda pt: pt.P) if patches else None
     half_width = main.half_width if main else math.nan
     p_max = main.p_max if main else math.nan
     theory, errors = compare_block(x=x, p=p, P=result.P, P_pressure=result.P_pressure,
@@ -173,7 +180,8 @@ class BlockScene:
             predictions["exact circle (at measured P)"] = circle_pressure(x, b=ex.half_width, R=theory.R,
                                                                           E_star=theory.E_star)
         lim = 1.6 * max(cmp.half_width if math.isfinite(cmp.half_width) else 0.0, theory.half_width)
-        series = Series(run.label, x, p, snn, predictions, "x (mm, material)", (-lim, lim))
+        axis = "x (mm, current)" if run.solver.kinematics == "finite" else "x (mm, material)"
+        series = Series(run.label, x, p, snn, predictions, axis, (-lim, lim))
         return Outcome(run.label, run, metrics, [series], theory, cmp, result)
 
     def judge(self, case: Case, outcomes: list[Outcome]) -> CaseComparison:
