@@ -25,8 +25,8 @@ Reported ``iterations`` count that predictor iteration too (1 = the prescribed a
   accepts it without iterating (0 iterations recorded) when the active set did not change, and may take one
   Newton iteration otherwise. When the tangent does not apply (mixed formulation, finite strain, curve obstacles,
   a method with its own multiplier loop, a miss above 1 % of the target), its solve needs more than one iteration
-  (discarded), or it needed one or cut the force miss less than tenfold (an active-set change between the factored J and the
-  converged state), the remaining corrections are secant steps through the last two (d, P) states.
+  (discarded), or it needed one or cut the force miss less than tenfold (an active-set change between the factored
+  J and the converged state), the remaining corrections are secant steps through the last two (d, P) states.
 
 Divergence (SNES converged reason <= 0) restores the last converged state and halves the increment, up to
 ``max_cutbacks`` times per step, then raises :class:`fem.errors.ContactSolveError` naming the reason (e.g.
