@@ -35,7 +35,7 @@ import ufl
 from fem.elasticity import Lame, epsilon, sigma
 
 __all__ = ["MATERIAL_MODELS", "HYPERELASTIC_MODELS", "BulkLaw", "bulk_law", "deformation_gradient",
-           "first_piola", "strain_energy", "cauchy"]
+           "first_piola", "strain_energy", "cauchy", "cauchy_zz"]
 
 MATERIAL_MODELS = ("linear", "saint_venant_kirchhoff", "neo_hookean")
 HYPERELASTIC_MODELS = MATERIAL_MODELS[1:]
@@ -83,6 +83,21 @@ def cauchy(u, model: str, lm: Lame):
         return sigma(u, lm)
     F = deformation_gradient(u)
     return first_piola(u, model, lm) * F.T / ufl.det(F)
+
+
+def cauchy_zz(u, model: str, lm: Lame, lmbda=None):
+    """Out-of-plane Cauchy stress (MPa) of plane strain: ``S_33 / J`` (module docstring); ``lambda tr eps`` for
+    linear. ``lmbda``: a dolfinx Constant to use for lambda (so that nu = 0 does not fold the expression to 0)."""
+    lmb = lm.lmbda if lmbda is None else lmbda
+    if model == "linear":
+        return lmb * ufl.tr(epsilon(u))
+    F = deformation_gradient(u)
+    J = ufl.det(F)
+    if model == "saint_venant_kirchhoff":
+        return lmb * ufl.tr(0.5 * (F.T * F - ufl.Identity(len(u)))) / J
+    if model == "neo_hookean":
+        return lmb * ufl.ln(J) / J
+    raise ValueError(f"material_model must be one of {MATERIAL_MODELS}, got {model!r}")
 
 
 class BulkLaw(NamedTuple):
