@@ -33,12 +33,11 @@ from typing import NamedTuple
 import ufl
 
 from fem.elasticity import Lame, epsilon, sigma
+from fem.options import HYPERELASTIC_MODELS, MATERIAL_MODELS
 
 __all__ = ["MATERIAL_MODELS", "HYPERELASTIC_MODELS", "BulkLaw", "bulk_law", "deformation_gradient",
            "first_piola", "strain_energy", "cauchy", "cauchy_zz"]
 
-MATERIAL_MODELS = ("linear", "saint_venant_kirchhoff", "neo_hookean")
-HYPERELASTIC_MODELS = MATERIAL_MODELS[1:]
 
 
 def deformation_gradient(u):
