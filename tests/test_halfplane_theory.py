@@ -124,3 +124,15 @@ def test_cli_bad_arguments_one_line_exit_2(args, capsys):
     assert code == 2
     assert err.out == ""
     assert len(err.err.strip().splitlines()) == 1, err.err
+
+
+def test_flamant_superposition_reproduces_mcewen_off_the_axis():
+    from analytic.flamant import stress_under_pressure
+    from analytic.subsurface import hertz_subsurface_stress
+
+    x = np.array([0.0, 0.3, 0.9, 1.5, -0.7])
+    z = np.array([0.2, 0.5, 0.1, 1.0, 0.8])
+    s = stress_under_pressure(x, z, pressure=lambda t: 2.0 * math.sqrt(max(1.0 - t * t, 0.0)), b=1.0, nu=0.3)
+    e = hertz_subsurface_stress(x, z, a=1.0, p0=2.0, nu=0.3)
+    for k in ("sxx", "szz", "sxz", "syy"):
+        np.testing.assert_allclose(getattr(s, k), getattr(e, k), atol=1e-9)
