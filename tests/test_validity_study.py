@@ -128,3 +128,16 @@ def test_assemble_report_summary_and_claims_row(tmp_path):
     (folder / "validity.json").write_text(json.dumps(data, default=float))
     c = _stress_claim(tmp_path)
     assert c.verdict.startswith("not confirmed") and "30.00 %" in c.ours
+
+
+def test_config_default_folders_and_frozen():
+    import dataclasses
+    from pathlib import Path
+
+    from workbench.paths import default_paths
+
+    cfg = ValidityConfig()
+    assert cfg.out_dir == default_paths().study("validity")
+    assert cfg.cache_dir == default_paths().mesh_cache
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        cfg.out = Path("x")  # type: ignore[misc]
