@@ -51,15 +51,19 @@ def draw_maps(data: dict, folder: Path) -> list[Path]:
             continue
         xs = sorted({p["param"] for p in pts})
         betas = sorted({p["beta"] for p in pts})
-        fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.6), squeeze=False)
-        for ax, (theory, q, title) in zip(axes[0], panels, strict=True):
+        ncols = 2 if len(panels) == 4 else len(panels)
+        nrows = math.ceil(len(panels) / ncols)
+        fig, axes = plt.subplots(nrows, ncols, figsize=(4.6 * ncols, 3.2 * nrows + 0.8), squeeze=False)
+        for ax, (theory, q, title) in zip(axes.ravel(), panels, strict=True):
             for p in pts:
                 i, j = xs.index(p["param"]), betas.index(p["beta"])
                 band = p.get("bands", {}).get(theory, {}).get(q)
                 colour = BAND_COLOURS[band["band"]] if band else "white"
                 ax.add_patch(plt.Rectangle((i, j), 1, 1, facecolor=colour, edgecolor="white", linewidth=2))
                 text = "no run" if band is None else f"{100 * band['difference']:.2g}%"
-                ax.text(i + 0.5, j + 0.5, text, ha="center", va="center", fontsize=8)
+                dark = band is not None and band["band"] in ("<0.1%", ">5%")
+                ax.text(i + 0.5, j + 0.5, text, ha="center", va="center", fontsize=8,
+                        color="white" if dark else "black")
             ax.set_xlim(0, len(xs))
             ax.set_ylim(0, len(betas))
             ax.set_xticks([i + 0.5 for i in range(len(xs))], [_label(scene, v) for v in xs], fontsize=8)
@@ -72,7 +76,7 @@ def draw_maps(data: dict, folder: Path) -> list[Path]:
         fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8, frameon=False)
         fig.suptitle(f"{scene}: theory against the most complete FEM model (difference, cell colour = band)",
                      fontsize=10)
-        fig.tight_layout(rect=(0, 0.08, 1, 0.95))
+        fig.tight_layout(rect=(0, 0.06, 1, 0.95))
         path = Path(folder) / f"map_{scene}.png"
         fig.savefig(path, dpi=110)
         plt.close(fig)
