@@ -14,8 +14,11 @@ Every accepted field is used, or refused here: ``[case] name`` is a slug (it nam
 (``radius`` of a wedge, ``design`` of a block, ...) is refused when given; the block scene is force-
 controlled and the concave scene displacement-controlled; ``[solver] formulation`` switches itself to the
 mixed one from ``nu >= NU_MIXED`` (``"auto"``), and an explicit ``"displacement"`` beyond ``NU_DISPLACEMENT_MAX``
-is refused with that advice. Magnitudes the solver cannot represent are refused with their cause (E beyond
-``E_MAX``; a block contact smaller than ``MIN_A_OVER_R`` of the radius or outside ``HALF_WIDTH_RANGE``).
+is refused with that advice. The model hierarchy (``docs/models.md``): ``[material] model`` (linear or a
+hyperelastic model) goes with ``[solver] kinematics`` (small/convective or finite), and finite kinematics
+needs ``traction = "obstacle"``, the displacement formulation and the block scene; other combinations are
+refused. Magnitudes the solver cannot represent are refused with their cause (E beyond ``E_MAX``; a block
+contact smaller than ``MIN_A_OVER_R`` of the radius or outside ``HALF_WIDTH_RANGE``).
 
 A case may carry ``[[variant]]`` tables. Each variant overrides fields of the base case (same section
 layout, e.g. ``[variant.solver] kinematics = "convective"``) and is run as its own FEM run; the case's
