@@ -146,7 +146,16 @@ _MESHES: dict = {}
 
 
 def solve_task(task: Task, mesh_cache: str) -> dict:
-    """Run one task in this process (MPI.COMM_SELF); returns its record (never raises for a solver failure)."""
+    """Run one task in this process (MPI.COMM_SELF); returns its record. Never raises: any failure becomes the
+    record's named ``error`` (an exception object holding PETSc state could not even be sent back)."""
+    try:
+        return _solve_task(task, mesh_cache)
+    except Exception as exc:  # noqa: BLE001
+        return {"task": asdict(task), "model": task.model, "converged": False,
+                "error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}"}
+
+
+def _solve_task(task: Task, mesh_cache: str) -> dict:
     import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
 
     from mpi4py import MPI
@@ -182,6 +191,9 @@ def solve_task(task: Task, mesh_cache: str) -> dict:
         return rec | {"error": f"diverged: {' '.join(str(exc).split())[:300]}", "time_s": time.perf_counter() - t0}
     except (ValueError, TypeError) as exc:
         return rec | {"error": f"refused: {' '.join(str(exc).split())[:300]}", "time_s": time.perf_counter() - t0}
+    except Exception as exc:  # noqa: BLE001  (e.g. a PETSc error: recorded by name, never pickled back)
+        return rec | {"error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}",
+                      "time_s": time.perf_counter() - t0}
     cmp = compare_result(res, run)
     th = cmp.theory
     s = res.samples
@@ -223,7 +235,7 @@ def run_study(cfg: ValidityConfig, *, progress=print) -> tuple[list[dict], list[
         progress(f"validity: {len(meshes)} meshes in {timing['meshes_s']:.0f} s; {len(todo)} runs on "
                  f"{cfg.workers} processes")
         records = []
-        for i, rec in enumerate(pool.map(solve_task, todo, [cache] * len(todo), chunksize=4), 1):
+        for i, rec in enumerate(pool.map(solve_task, todo, [cache] * len(todo), chunksize=2), 1):
             records.append(rec)
             if i % 50 == 0 or i == len(todo):
                 progress(f"validity: {i}/{len(todo)} runs, {time.perf_counter() - t0:.0f} s")
