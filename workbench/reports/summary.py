@@ -71,7 +71,7 @@ def trust_markdown(results: Path) -> list[str]:
     lines = ["## How far the theory can be trusted", ""]
     f = Path(results) / "validity" / "validity.json"
     if not f.is_file():
-        return lines + ["Not measured yet: run `make validity` (about 10 min on 2 cores).", ""]
+        return lines + ["Not measured yet: run `make validity`.", ""]
     data = json.loads(f.read_text())
     pts, cfg = data.get("points", []), data.get("config", {})
     thr = cfg.get("thresholds", [1e-3, 1e-2, 5e-2])
