@@ -36,7 +36,7 @@ for c in "$$PYTHON" python3.13 python3.12 \
 done; exit 1
 endef
 
-.PHONY: help setup test run ci lint clean convergence stability bench report list example check-numbers fuzz faults $(CASES)
+.PHONY: help setup test run ci lint clean convergence stability validity bench report list example check-numbers fuzz faults $(CASES)
 .PHONY: viz-check
 
 # Exit codes: the workbench exits 1 on a tolerance FAIL (results written) and 2 on bad input (nothing written).
@@ -52,6 +52,7 @@ help:
 	@echo "make ci           every case at its coarsest level, fails on a tolerance violation"
 	@echo "make convergence  error against run time study"
 	@echo "make stability    stiff/extreme-case sweep"
+	@echo "make validity     where Hertz / the wedge / Ciavarella-Hills hold, model by model -> results/validity/"
 	@echo "make bench        performance benchmark"
 	@echo "make check-numbers  make run's key numbers against tests/data/key_numbers_run.json (1e-10)"
 	@echo "make example     examples/hertz_contact.py"
@@ -107,6 +108,10 @@ convergence: setup
 
 stability: setup
 	$(WB) stability
+
+# two processes (the study's own pool); prints its wall time at the end
+validity: setup
+	$(WB) validity
 
 bench: setup
 	$(WB) bench

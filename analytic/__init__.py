@@ -5,15 +5,16 @@ Modules (each with one job):
     hertz           2D Hertz line contact, Table 1 data of the close-to-conformal paper
     wedge           classical frictionless rigid wedge on a half-plane
     convective      Ciavarella & Hills convective correction: closed forms + nonlinear solver
+    halfplane       any symmetric profile (exact circle, parabola, wedge), classical and convective
     fit             least-squares semi-elliptical fit of sampled pressures
     superposition   sum of independent Hertz patches along the arc length of a concave surface
     curves, lcp, designs   (convex/concave curves and the local contact problem; another module owner)
 
 Units everywhere: mm, N, MPa; loads per unit thickness (N/mm). Pressure positive in compression.
-Command line: ``python -m analytic {hertz,wedge,convective,table1,lcp} ... [--json]``.
+Command line: ``python -m analytic {hertz,wedge,convective,halfplane,table1,lcp} ... [--json]``.
 """
 
-__all__ = ["convective", "fit", "hertz", "materials", "superposition", "wedge"]
+__all__ = ["convective", "fit", "halfplane", "hertz", "materials", "superposition", "wedge"]
 
 
 def __getattr__(name: str):

@@ -1,4 +1,4 @@
-"""Command line: ``python -m analytic {hertz,wedge,convective,table1,lcp} ... [--json]``.
+"""Command line: ``python -m analytic {hertz,wedge,convective,halfplane,table1,lcp} ... [--json]``.
 
 Units: mm, N/mm, MPa, rad. A bad value prints ONE line on stderr naming the field and its range and
 exits with code 2. Computing lives in the modules; this file only parses and formats.
@@ -12,6 +12,8 @@ import math
 import sys
 from collections.abc import Sequence
 from typing import Any, NoReturn
+
+import numpy as np
 
 __all__ = ["main"]
 
@@ -31,6 +33,9 @@ def _emit(data: dict[str, Any], as_json: bool) -> None:
     for key, value in data.items():
         if isinstance(value, float):
             print(f"{key:32s} {value:.10g}")
+        elif isinstance(value, dict):
+            for sub, seq in value.items():
+                print(f"{key + '.' + sub:32s} " + " ".join(f"{v:.10g}" for v in seq))
         else:
             print(f"{key:32s} {value}")
 
@@ -111,6 +116,57 @@ def _cmd_convective(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
+def _cmd_halfplane(args: argparse.Namespace) -> dict[str, Any]:
+    from analytic import halfplane, materials, wedge
+
+    _body(args)
+    if args.profile == "wedge":
+        if args.R is not None:
+            raise ValueError("--R is given with --profile wedge: the wedge takes --theta (0 < --theta < pi/2), not --R")
+        if args.theta is None or not 0.0 < args.theta < 0.5 * math.pi:
+            raise ValueError(f"--theta = {args.theta!r} out of range: --profile wedge needs 0 < --theta < pi/2 (rad)")
+        prof = halfplane.profile("wedge", m=wedge.wedge_slope(args.theta, convention=args.convention))
+    else:
+        if args.theta is not None:
+            raise ValueError(f"--theta is given with --profile {args.profile}: it takes --R (mm, > 0), not --theta")
+        if args.R is None or not (math.isfinite(args.R) and args.R > 0.0):
+            raise ValueError(f"--R = {args.R!r} out of range: --profile {args.profile} needs --R > 0 (mm)")
+        prof = halfplane.profile(args.profile, R=args.R)
+    if not (math.isfinite(args.P) and args.P > 0.0):
+        raise ValueError(f"--P = {args.P!r} out of range: need --P > 0 (N/mm)")
+    if not (math.isfinite(args.beta) and -0.5 <= args.beta <= 0.5):
+        raise ValueError(f"--beta = {args.beta!r} out of range: need -0.5 <= --beta <= 0.5 (rigid indenter: <= 0)")
+    if args.pressure is not None and not 2 <= args.pressure <= 100000:
+        raise ValueError(f"--pressure = {args.pressure!r} out of range: need 2 <= --pressure <= 100000 (points)")
+    E_star = materials.composite_modulus(args.E, args.nu)
+    sol = halfplane.solve_halfplane(prof, P=args.P, E_star=E_star, beta=args.beta)
+    out: dict[str, Any] = {
+        "profile": prof.kind,
+        "label": prof.label,
+        "P": sol.P,
+        "E_star": E_star,
+        "beta": sol.beta,
+        "half_width": sol.half_width,
+        "p_max": sol.p_max if math.isfinite(sol.p_max) else None,
+        "p_max_note": "log-singular at the wedge apex" if prof.kind == "wedge" else "at x = 0",
+        "moment_half_width": sol.moment_half_width,
+        "half_width_classical": sol.b_classical,
+        "b_over_b_classical": sol.half_width / sol.b_classical,
+        "iterations": sol.iterations,
+        "n_nodes": sol.n_nodes,
+    }
+    if prof.kind in ("circle", "parabola"):
+        from analytic import hertz
+
+        h = hertz.hertz(args.P, args.R, E_star)
+        out |= {"hertz_half_width": h.half_width, "hertz_p0": h.p0,
+                "half_width_over_hertz": sol.half_width / h.half_width, "p_max_over_hertz": sol.p_max / h.p0}
+    if args.pressure is not None:
+        x = np.linspace(-sol.half_width, sol.half_width, int(args.pressure))
+        out["pressure"] = {"x": x.tolist(), "p": sol.pressure(x).tolist()}
+    return out
+
+
 def _cmd_table1(args: argparse.Namespace) -> dict[str, Any]:
     from analytic import hertz
 
@@ -182,6 +238,20 @@ def _build_parser() -> _Parser:
     p.add_argument("--nodes", type=int, default=65536, help="Gauss-Chebyshev nodes")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_convective)
+
+    p = sub.add_parser("halfplane", help="rigid circle / parabola / wedge on a half-plane at a load, beta = 0 or not")
+    p.add_argument("--profile", choices=("circle", "parabola", "wedge"), required=True)
+    p.add_argument("--R", type=float, default=None, help="radius (mm): circle, parabola")
+    p.add_argument("--theta", type=float, default=None, help="external wedge angle (rad): wedge")
+    p.add_argument("--convention", choices=("paper", "exact"), default="exact",
+                   help="wedge slope m = theta (paper) or tan(theta) (exact)")
+    p.add_argument("--E", type=float, required=True, help="Young's modulus of the body (MPa)")
+    p.add_argument("--nu", type=float, required=True, help="Poisson's ratio of the body")
+    p.add_argument("--P", type=float, required=True, help="load per unit thickness (N/mm)")
+    p.add_argument("--beta", type=float, default=0.0, help="Dundurs beta (0: classical; convective otherwise)")
+    p.add_argument("--pressure", type=int, default=None, metavar="N", help="also print p(x) at N points")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_halfplane)
 
     p = sub.add_parser("table1", help="eq. (4)/(5) patch sizes of Table 1 (close-to-conformal paper)")
     p.add_argument("--E-star", dest="E_star", type=float, default=235000.0, help="E* (MPa)")

@@ -14,8 +14,11 @@ Every accepted field is used, or refused here: ``[case] name`` is a slug (it nam
 (``radius`` of a wedge, ``design`` of a block, ...) is refused when given; the block scene is force-
 controlled and the concave scene displacement-controlled; ``[solver] formulation`` switches itself to the
 mixed one from ``nu >= NU_MIXED`` (``"auto"``), and an explicit ``"displacement"`` beyond ``NU_DISPLACEMENT_MAX``
-is refused with that advice. Magnitudes the solver cannot represent are refused with their cause (E beyond
-``E_MAX``; a block contact smaller than ``MIN_A_OVER_R`` of the radius or outside ``HALF_WIDTH_RANGE``).
+is refused with that advice. The model hierarchy (``docs/models.md``): ``[material] model`` (linear or a
+hyperelastic model) goes with ``[solver] kinematics`` (small/convective or finite), and finite kinematics
+needs ``traction = "obstacle"``, the displacement formulation and the block scene; other combinations are
+refused. Magnitudes the solver cannot represent are refused with their cause (E beyond ``E_MAX``; a block
+contact smaller than ``MIN_A_OVER_R`` of the radius or outside ``HALF_WIDTH_RANGE``).
 
 A case may carry ``[[variant]]`` tables. Each variant overrides fields of the base case (same section
 layout, e.g. ``[variant.solver] kinematics = "convective"``) and is run as its own FEM run; the case's
@@ -88,6 +91,8 @@ BAND_QUANTITIES = {
     "concave": ("load_symmetry", "first_contact_width", "width_moment", "width_fem"),
 }
 MAX_ASPECT = 1e3
+# The finite-strain material models (material.model; "linear" is the small-strain one), docs/models.md.
+HYPERELASTIC_MODELS = ("saint_venant_kirchhoff", "neo_hookean")
 
 
 def _r(value: Any) -> str:
@@ -104,15 +109,19 @@ class CaseError(ValueError):
 
 @dataclass(frozen=True)
 class Material:
-    """Linear elastic material of the deformable body (the indenter is rigid).
+    """Elastic material of the deformable body (the indenter is rigid), plane strain.
 
     Attributes:
-        E: Young's modulus in MPa, E > 0.
-        nu: Poisson's ratio, -1 < nu < 0.5. The FEM bulk model is plane strain.
+        E: Young's modulus in MPa, E > 0 (the small-strain modulus of every model).
+        nu: Poisson's ratio, -1 < nu < 0.5 (the small-strain ratio of every model).
+        model: ``"linear"`` (small-strain Hooke, with solver.kinematics "small" or "convective"),
+            ``"saint_venant_kirchhoff"`` or ``"neo_hookean"`` (hyperelastic, with solver.kinematics = "finite"
+            only; :mod:`fem.hyperelastic`, ``docs/models.md``).
     """
 
     E: float
     nu: float
+    model: str = "linear"
 
 
 @dataclass(frozen=True)
@@ -207,8 +216,11 @@ class Solver:
         method: ``"nitsche"``, ``"penalty"`` or ``"augmented_lagrangian"`` (Uzawa updates of a nodal
             multiplier around the penalty Newton: the constraint holds exactly for any kappa0,
             :mod:`fem.methods.augmented_lagrangian`).
-        kinematics: ``"small"`` (gap at the undeformed position, the Hertz hypothesis) or
-            ``"convective"`` (obstacle evaluated at the current position X + u).
+        kinematics: ``"small"`` (gap at the undeformed position, the Hertz hypothesis),
+            ``"convective"`` (obstacle evaluated at the current position X + u) or ``"finite"`` (finite-strain
+            hyperelasticity, total Lagrangian; contact at X + u with the traction along the obstacle's current
+            normal; needs a hyperelastic material.model, traction = "obstacle", the displacement formulation and
+            the block scene; ``docs/models.md``).
         traction: ``"halfplane"`` (vertical gap and traction, as half-plane theory assumes) or
             ``"obstacle"`` (gap and traction along the rigid curve's normal).
         kappa0: Dimensionless penalty factor, kappa = kappa0 E / h, > 0 (the augmentation stiffness of the
@@ -317,7 +329,8 @@ _CHOICES = {
     ("loading", "control"): ("force", "displacement"),
     ("discretisation", "degree"): (1, 2),
     ("solver", "method"): ("nitsche", "penalty", "augmented_lagrangian"),
-    ("solver", "kinematics"): ("small", "convective"),
+    ("material", "model"): ("linear", "saint_venant_kirchhoff", "neo_hookean"),
+    ("solver", "kinematics"): ("small", "convective", "finite"),
     ("solver", "traction"): ("halfplane", "obstacle"),
     ("solver", "theta"): (1, 0, -1),
     ("solver", "formulation"): ("auto", "displacement", "mixed"),
@@ -483,7 +496,32 @@ def _check_run(run: Run, where: str) -> None:
     if g.scene == "block" and ld.control == "force" and (ld.P is None) != (ld.half_width is None):
         _check_block_scale(run, where)
     _check_formulation(run, where)
+    _check_model(run, where)
     _check_budget(run, where)
+
+
+def _check_model(run: Run, where: str) -> None:
+    """The model hierarchy's combinations (``docs/models.md``): a hyperelastic material goes with finite
+    kinematics and finite kinematics with a hyperelastic material, the obstacle traction, the displacement
+    formulation and the block scene (the options :func:`fem.options.check_model` checks again)."""
+    model, sol = run.material.model, run.solver
+    if sol.kinematics == "finite":
+        if model not in HYPERELASTIC_MODELS:
+            raise CaseError(f"{where}: solver.kinematics = 'finite' needs a hyperelastic material.model (got "
+                            f"{_r(model)}); allowed: 'saint_venant_kirchhoff', 'neo_hookean'")
+        if sol.traction != "obstacle":
+            raise CaseError(f"{where}: solver.kinematics = 'finite' needs solver.traction = 'obstacle' (got "
+                            f"{_r(sol.traction)}); allowed: 'obstacle' (traction along the obstacle's current normal)")
+        if effective_formulation(run) != "displacement":
+            raise CaseError(f"{where}: solver.kinematics = 'finite' supports the displacement formulation only (got "
+                            f"{_r(effective_formulation(run))}); allowed: formulation = 'displacement' or 'auto' with "
+                            f"nu < {NU_MIXED}")
+        if run.geometry.scene != "block":
+            raise CaseError(f"{where}: solver.kinematics = 'finite' is not supported by the {_r(run.geometry.scene)} "
+                            "scene; allowed: scene = 'block'")
+    elif model != "linear":
+        raise CaseError(f"{where}: material.model = {_r(model)} needs solver.kinematics = 'finite' (got "
+                        f"{_r(sol.kinematics)}); allowed with small or convective kinematics: model = 'linear'")
 
 
 def _check_budget(run: Run, where: str) -> None:
@@ -766,10 +804,10 @@ def _check_predictions(case: Case, runs: tuple[Run, ...], where: str) -> None:
                                 f"allowed values: {', '.join(repr(a) for a in allowed)}")
     if "convective" in case.analytic.predictions:
         kinematics = {r.solver.kinematics for r in runs}
-        if kinematics != {"small", "convective"}:
+        if not {"small", "convective"} <= kinematics:
             raise CaseError(f"{where}: analytic.predictions lists 'convective', which compares a small and a "
                             f"convective run; got kinematics {sorted(kinematics)}; allowed: [[variant]] runs with "
-                            "solver.kinematics = 'small' and 'convective'")
+                            "solver.kinematics = 'small' and 'convective' (finite runs may be added)")
 
 
 def case_names() -> list[str]:

@@ -8,6 +8,7 @@ Import ``dolfinx_solver`` happens inside the submodules (before dolfinx). Public
     from fem.stepping import LoadStepper            # load steps, cut-backs, force control, predictors
     from fem.methods import REGISTRY, register      # contact methods, one module each
     from fem.output import write_vtk
+    from fem.hyperelastic import bulk_law         # material models: linear, St Venant-Kirchhoff, neo-Hookean
 """
 
 __all__ = [

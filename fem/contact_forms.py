@@ -9,6 +9,18 @@ On the candidate contact boundary Gamma_c (reference configuration, outward body
 * kinematics ``small``: gap at the undeformed position, linear in u: ``g = g(X) + n_o(X) . u`` (obstacle mode)
   or ``g = phi(X1) - d - (X2 + u2)`` (half-plane mode). ``convective``: the obstacle is evaluated where the
   material point is, ``x = X + u``: ``g = g(X + u)``, ``n_o = n_o(X + u)``, or ``g = phi(X1 + u1) - d - x2``.
+* kinematics ``finite`` (finite-strain hyperelasticity, total Lagrangian, :mod:`fem.hyperelastic`): the gap and
+  normal are the convective ones at ``x = X + u`` (obstacle traction only); the pressure p is the current
+  configuration's (force per deformed area), so every contact integral over the reference Gamma_c carries the
+  surface Jacobian ``ds/dS = J |F^-T N|`` (``N = n_b``): ``int_gamma p n_c . v ds = int_Gamma p n_c . v (ds/dS)
+  dS``, and the stress-based normal traction is ``sigma_n(P) = n_c . P N / (ds/dS)`` (the current traction
+  ``t = P N dS/ds``). The Nitsche test stress is the Gateaux derivative ``dP(u)[v]`` (:mod:`fem.methods.nitsche`).
+  Penalty and augmented Lagrangian state their law per reference length, ``p_ref = [q]_+`` with
+  ``F_c = int_Gamma p_ref (n_c . v) dS``, and report the current pressure ``p = p_ref / (ds/dS)`` (the same
+  traction; only the penalty stiffness is measured per reference length). Why: with the law per current length,
+  the residual's derivative carries ``p d(ds/dS)[du]``, which at the first iterate of a load step (the rigid
+  overlap of the undeformed body, p = kappa d) is far too large; measured on the flat-punch patch test the
+  semismooth Newton then cycled between "all in contact" and "all open" (a 4e-8 mm overshoot of a 1e-3 mm step).
 * traction ``obstacle``: ``n_c = -n_o`` (signed distance along the rigid curve's normal); ``halfplane``:
   vertical gap and ``n_c = e_y`` (traction normal to the undeformed flat surface; obstacle moved along -e_y).
 
@@ -54,7 +66,7 @@ __all__ = ["ContactForms", "ContactKinematics", "positive_part", "contact_kinema
            "METHODS", "KINEMATICS", "TRACTIONS"]
 
 METHODS = method_names()  # ("nitsche", "penalty", "augmented_lagrangian"): the registry of fem.methods
-KINEMATICS = ("small", "convective")
+KINEMATICS = ("small", "convective", "finite")
 TRACTIONS = ("obstacle", "halfplane")
 
 
@@ -73,6 +85,8 @@ class ContactForms(NamedTuple):
         update: callable(u_function) refreshing nodal gap data (Curve obstacles) or None.
         method: the :class:`fem.methods.base.ContactMethod` instance that built ``F_c``.
         ds_c: the contact measure of ``F_c`` (the method's quadrature; resultants of p use it too).
+        ds_scale: UFL surface Jacobian ds/dS of finite kinematics (current over reference length), None for
+            small and convective kinematics (1): resultants of p are ``int p (...) ds_scale dS``.
     """
 
     F: Any
@@ -86,6 +100,11 @@ class ContactForms(NamedTuple):
     update: Callable | None
     method: Any = None
     ds_c: Any = None
+    ds_scale: Any = None
+
+    def on_surface(self, integrand):
+        """``integrand`` times the surface Jacobian ds/dS (unchanged for small and convective kinematics)."""
+        return integrand if self.ds_scale is None else integrand * self.ds_scale
 
 
 class ContactKinematics(NamedTuple):
@@ -99,6 +118,7 @@ class ContactKinematics(NamedTuple):
         h: UFL cell diameter (mm), the scale of the penalty/Nitsche parameters.
         update: callable(u_function) refreshing nodal gap data (Curve obstacles) or None.
         u: the displacement Function (its space and mesh, for methods with unknowns of their own).
+        ds_scale: surface Jacobian ``ds/dS = J |F^-T N|`` of finite kinematics (UFL), None otherwise (= 1).
     """
 
     gap: Any
@@ -108,10 +128,24 @@ class ContactKinematics(NamedTuple):
     h: Any
     update: Callable | None
     u: Any
+    ds_scale: Any = None
 
     def sigma_n(self, stress):
-        """``n_c . stress n_b`` (MPa)."""
-        return ufl.dot(self.n_c, ufl.dot(stress, self.n_b))
+        """``n_c . stress n_b`` (MPa); finite kinematics: the current normal traction ``n_c . P N / (ds/dS)``
+        from the first Piola-Kirchhoff stress P."""
+        s_n = ufl.dot(self.n_c, ufl.dot(stress, self.n_b))
+        return s_n if self.ds_scale is None else s_n / self.ds_scale
+
+    def on_surface(self, integrand):
+        """``integrand`` of a current-configuration contact integral pulled back to the reference Gamma_c:
+        times ``ds/dS`` for finite kinematics, unchanged otherwise (module docstring)."""
+        return integrand if self.ds_scale is None else integrand * self.ds_scale
+
+    def current_pressure(self, p_ref):
+        """The current-configuration pressure (MPa, per deformed length) of a pressure ``p_ref`` per reference
+        length: ``p_ref / (ds/dS)`` for finite kinematics, unchanged otherwise. Penalty and augmented Lagrangian
+        state their law per reference length (``F_c = int p_ref (n_c . v) dS``, module docstring)."""
+        return p_ref if self.ds_scale is None else p_ref / self.ds_scale
 
 
 def _check(name, value, allowed):
@@ -162,7 +196,8 @@ def contact_kinematics(*, u, obstacle, d, kinematics: str, traction: str, contac
     Args:
         u: displacement Function.  obstacle: an obstacle from :mod:`fem.obstacles`.
         d: dolfinx Constant, rigid displacement (mm) of the obstacle along ``obstacle.direction``.
-        kinematics: ``"small"`` or ``"convective"``.  traction: ``"obstacle"`` or ``"halfplane"``.
+        kinematics: ``"small"``, ``"convective"`` or ``"finite"``.  traction: ``"obstacle"`` or ``"halfplane"``
+            (finite: obstacle only).
         contact_facets: local facet indices of Gamma_c (needed for Curve obstacles).
     """
     _check("kinematics", kinematics, KINEMATICS)
@@ -172,6 +207,12 @@ def contact_kinematics(*, u, obstacle, d, kinematics: str, traction: str, contac
     n_b = ufl.FacetNormal(mesh)
     h = ufl.CellDiameter(mesh)
     update = None
+    ds_scale = None
+    if kinematics == "finite":
+        if traction != "obstacle":
+            raise ValueError(f"kinematics='finite' needs traction='obstacle', got {traction!r}")
+        F = ufl.Identity(2) + ufl.grad(u)
+        ds_scale = ufl.det(F) * ufl.sqrt(ufl.dot(ufl.inv(F).T * n_b, ufl.inv(F).T * n_b))
     if traction == "halfplane":
         if abs(obstacle.direction[0]) > 1e-14 or obstacle.direction[1] > 0:
             raise ValueError(f"traction='halfplane' needs direction (0, -1), got {obstacle.direction}")
@@ -194,7 +235,7 @@ def contact_kinematics(*, u, obstacle, d, kinematics: str, traction: str, contac
     else:
         gap, n_c, update = _curve_gap(u=u, obstacle=obstacle, d=d, contact_facets=contact_facets,
                                       kinematics=kinematics)
-    return ContactKinematics(gap=gap, n_c=n_c, n_b=n_b, X=X, h=h, update=update, u=u)
+    return ContactKinematics(gap=gap, n_c=n_c, n_b=n_b, X=X, h=h, update=update, u=u, ds_scale=ds_scale)
 
 
 def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str | ContactMethod, kinematics: str,
@@ -220,9 +261,10 @@ def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str | C
             prescribed active set, ``p = q`` where ``lo_k < X1 < hi_k`` for some k and 0 elsewhere (the solver's
             active-set predictor iteration); ``on = 0`` gives the true contact law.
         v: test function (default ``TestFunction`` of u's space; a mixed formulation passes its own).
-        stress_u, stress_v: UFL stress of the state and of the test field entering the Nitsche terms (default
-            ``sigma(u)``, ``sigma(v)``; the mixed u-p formulation passes ``2 mu eps - p I`` and ``2 mu eps(v) -
-            q I``). The contact terms are otherwise unchanged.
+        stress_u, stress_v: UFL stress of the state and of the test field entering the bulk and the Nitsche terms
+            (default ``sigma(u)``, ``sigma(v)``; the mixed u-p formulation passes ``2 mu eps - p I`` and
+            ``2 mu eps(v) - q I``; finite kinematics the first Piola-Kirchhoff ``P(u)`` and ``dP(u)[v]``,
+            :func:`fem.hyperelastic.bulk_law`). The contact terms are otherwise unchanged.
         bulk: UFL bulk residual replacing ``inner(sigma(u), grad v) dx`` (mixed formulation).
     """
     if isinstance(method, str):
@@ -240,7 +282,7 @@ def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str | C
     J = ufl.derivative(F, u, ufl.TrialFunction(u.function_space)) if bulk is None else None
     return ContactForms(F=F, J=J, gap=kin.gap, argument=terms.argument, pressure=terms.pressure, n_c=kin.n_c,
                         sigma_nn=-kin.sigma_n(stress_u), F_c=terms.F_c, update=kin.update, method=method,
-                        ds_c=ds_c)
+                        ds_c=ds_c, ds_scale=kin.ds_scale)
 
 
 def _method_measure(ds_c, method, u):

@@ -15,7 +15,7 @@ import numpy as np
 from fem.linear_solver import LINEAR_SOLVERS
 
 __all__ = ["ContactOptions", "SUPPORT_KINDS", "FORMULATIONS", "CONTROLS", "PREDICTORS", "ACTIVE_SETS",
-           "MIN_FACETS_ACROSS", "LINEAR_SOLVERS",
+           "MIN_FACETS_ACROSS", "LINEAR_SOLVERS", "MATERIAL_MODELS", "HYPERELASTIC_MODELS", "FINITE_METHODS",
            "NU_DISPLACEMENT_MAX", "check_options"]
 
 SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free", "halfplane")  # halfplane: fem/far_field.py
@@ -23,6 +23,13 @@ FORMULATIONS = ("displacement", "mixed")
 CONTROLS = ("displacement", "force")
 PREDICTORS = ("auto", "hertz", "extrapolate", "hertz_zone")
 ACTIVE_SETS = ("extrapolate", "geometry")
+# Bulk material models (:mod:`fem.hyperelastic`): "linear" is small-strain Hooke (kinematics small or convective);
+# the hyperelastic ones are the finite-strain models and go with kinematics="finite" only (and it needs one).
+MATERIAL_MODELS = ("linear", "saint_venant_kirchhoff", "neo_hookean")
+HYPERELASTIC_MODELS = ("saint_venant_kirchhoff", "neo_hookean")
+# Contact methods with a finite-strain form (current-configuration pressure, surface Jacobian ds/dS; the
+# Nitsche terms use the current normal traction n_c . P N / (ds/dS), :mod:`fem.contact_forms`).
+FINITE_METHODS = ("penalty", "nitsche", "augmented_lagrangian")
 # A patch spanning fewer contact facets than this is reported "contact unresolved" (ContactResult.warnings):
 # with P2 and 2 Gauss points per facet the edge-location error is about one Gauss spacing, so < 8 facets
 # across the patch means a half-width error above ~ 1/16 and a peak that depends on where the nodes fall.
@@ -77,6 +84,7 @@ class ContactOptions:
     uzawa_max_it: int = 100
     linear_solver: str = "lu"
     split_jacobian: bool = True
+    material_model: str = "linear"
 
     @property
     def mixed(self) -> bool:
@@ -122,6 +130,7 @@ def check_options(opts: ContactOptions, *, mesh_data, obstacle) -> None:
         raise ValueError(f"degree must be >= 2 for formulation='mixed' (Taylor-Hood), got {opts.degree}")
     if opts.mixed and not getattr(obstacle, "analytic", False):
         raise ValueError("formulation='mixed' needs an analytic obstacle (not a CurveObstacle)")
+    check_model(opts, obstacle=obstacle)
     if opts.predictor not in PREDICTORS:
         raise ValueError(f"predictor must be one of {PREDICTORS}, got {opts.predictor!r}")
     if opts.active_set not in ACTIVE_SETS:
@@ -137,3 +146,24 @@ def check_options(opts: ContactOptions, *, mesh_data, obstacle) -> None:
         levels = [float(v) for v in opts.record_at]
         if any(v <= 0 for v in levels) or levels != sorted(levels) or levels[-1] != float(opts.target):
             raise ValueError("record_at must be increasing values > 0 (mm) ending at target")
+
+
+def check_model(opts: ContactOptions, *, obstacle=None) -> None:
+    """The model combination (ValueError naming the option): the material model against the kinematics, and
+    what finite strain supports (traction='obstacle', the displacement formulation, :data:`FINITE_METHODS`)."""
+    if opts.material_model not in MATERIAL_MODELS:
+        raise ValueError(f"material_model must be one of {MATERIAL_MODELS}, got {opts.material_model!r}")
+    finite = opts.kinematics == "finite"
+    if finite and opts.material_model not in HYPERELASTIC_MODELS:
+        raise ValueError(f"kinematics='finite' needs a hyperelastic material_model {HYPERELASTIC_MODELS}, got "
+                         f"{opts.material_model!r}")
+    if not finite and opts.material_model != "linear":
+        raise ValueError(f"material_model={opts.material_model!r} needs kinematics='finite' (got "
+                         f"{opts.kinematics!r}); small and convective kinematics use material_model='linear'")
+    if finite and opts.traction != "obstacle":
+        raise ValueError(f"kinematics='finite' needs traction='obstacle' (the traction along the obstacle's normal "
+                         f"in the current configuration), got traction={opts.traction!r}")
+    if finite and opts.mixed:
+        raise ValueError("kinematics='finite' supports formulation='displacement' only, got formulation='mixed'")
+    if finite and opts.method not in FINITE_METHODS:
+        raise ValueError(f"kinematics='finite' supports method in {FINITE_METHODS}, got {opts.method!r}")

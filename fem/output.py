@@ -7,7 +7,8 @@ Files in ``out_dir`` (rank 0 writes them; the fields of every rank are gathered 
 
   - ``displacement_mm`` (components X Y Z, Z = 0): *Warp By Vector* on it shows the deformed body;
   - ``stress_MPa``: the Cauchy stress as a symmetric tensor, components ``XX YY ZZ XY YZ XZ`` (ZZ is the
-    plane-strain out-of-plane stress ``lambda tr eps``, YZ = XZ = 0);
+    plane-strain out-of-plane stress ``lambda tr eps``, YZ = XZ = 0; a finite-strain run writes the Cauchy
+    stress ``P F^T / J`` and ``S_33 / J``, :mod:`fem.hyperelastic`, on the reference mesh);
   - ``von_Mises_MPa`` (plane strain, with sigma_zz);
   - field data ``TimeValue`` (= ``step``), ``step``, ``d_mm`` (rigid displacement), ``P_N_per_mm`` (load,
     full body), ``recorded`` (1 at a ``record_at`` displacement) and ``mirrored``.
@@ -43,6 +44,7 @@ import numpy as np
 import ufl
 
 from fem.elasticity import epsilon, sigma, sigma_mixed, von_mises
+from fem.hyperelastic import cauchy, cauchy_zz
 from fem.vtk_files import SYM_TENSOR_COMPONENTS, VECTOR_COMPONENTS, write_pvd, write_vtp, write_vtu
 
 __all__ = ["Frame", "FrameRecorder", "VtkFiles", "solve_recording", "write_samples_csv", "write_vtk"]
@@ -128,9 +130,15 @@ class _BodyFields:
         stress = sigma(self.u, lm) if self.ph is None else sigma_mixed(self.u, self.ph, lm)
         lmbda = dolfinx.fem.Constant(mesh, float(lm.lmbda))  # a Constant: nu = 0 must not fold sigma_zz to 0.0
         szz = lmbda * ufl.tr(epsilon(self.u)) if self.ph is None else -self.ph
+        vm = von_mises(self.u, lm, self.ph)
+        model = (getattr(result, "options", None) or {}).get("material_model", "linear")
+        if model != "linear":  # finite strain: the Cauchy stress of the current configuration
+            stress, szz = cauchy(self.u, model, lm), cauchy_zz(self.u, model, lm, lmbda)
+            vm = ufl.sqrt(0.5 * ((stress[0, 0] - stress[1, 1]) ** 2 + (stress[1, 1] - szz) ** 2
+                                 + (szz - stress[0, 0]) ** 2) + 3.0 * stress[0, 1] ** 2)
         self.exprs = [(self.s, dolfinx.fem.Expression(stress, T.element.interpolation_points)),
                       (self.szz, dolfinx.fem.Expression(szz, S.element.interpolation_points)),
-                      (self.vm, dolfinx.fem.Expression(von_mises(self.u, lm, self.ph), S.element.interpolation_points))]
+                      (self.vm, dolfinx.fem.Expression(vm, S.element.interpolation_points))]
         self.n_cells = mesh.topology.index_map(mesh.topology.dim).size_local
         self.S = S
 

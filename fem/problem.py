@@ -8,13 +8,17 @@ Solution: semismooth Newton (PETSc SNES ``newtonls`` with ``basic`` full steps; 
 :mod:`fem.linear_solver`, default LU/MUMPS), options with a
 unique prefix; the Jacobian is the exact Gateaux derivative of the residual.
 
+Bulk: the material model's stress (:mod:`fem.hyperelastic`): small-strain sigma(u), or for finite kinematics the
+first Piola-Kirchhoff P(u) in a total Lagrangian form (then ``a(u, w) = int P(u) : Grad w dX``).
+
 Measured load ``P`` (virtual work): ``P = -F(u; w)``, the whole residual ``F = a + F_c`` (bulk and contact
 terms) tested with ``w``, equal to the loading direction at every Dirichlet-constrained component dof and 0
 elsewhere (and the mixed pressure test q = 0): the support reaction along the direction. With ``e`` the rigid
 translation along the direction, ``e - w`` is an admissible test field, so at a converged state
 ``P = -F(u; e) + F(u; e - w) = -F_c(u; e) + (residual)`` and ``a(u, e) = 0``: P equals the discrete contact
 force. ``P_pressure = int p (n_o . direction) ds`` is the resultant of the contact pressure along the direction
-(with the method's contact quadrature); ``-F_c(u; e)`` is exactly that for penalty, Nitsche and the augmented
+(with the method's contact quadrature; finite kinematics: the current pressure times the surface Jacobian
+ds/dS, :mod:`fem.contact_forms`); ``-F_c(u; e)`` is exactly that for penalty, Nitsche and the augmented
 Lagrangian, because the Nitsche stress terms vanish for a rigid test field, so ``P = P_pressure`` up to the
 residual (round-off): a consistency check of the assembly and of the solve. The bulk part ``-a(u, w)`` alone
 is not the reaction where the contact boundary reaches a support: there ``F_c(u; w)`` (the symmetric Nitsche
@@ -38,8 +42,9 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from fem.contact_forms import ContactForms, build_contact_forms
-from fem.elasticity import lame, mixed_constraint, plane_strain_modulus, sigma, sigma_mixed
+from fem.elasticity import lame, mixed_constraint, plane_strain_modulus, sigma_mixed
 from fem.far_field import HalfPlaneFarField
+from fem.hyperelastic import bulk_law
 from fem.linear_solver import configure as configure_linear_solver
 from fem.linear_solver import snes_options
 from fem.options import SUPPORT_KINDS, ContactOptions
@@ -150,10 +155,12 @@ class ContactProblem:
             self.stress = sigma_mixed(u, self.ph, lm)
             bulk = (ufl.inner(self.stress, ufl.grad(v_t)) + mixed_constraint(u, self.ph, q_t, lm)) * ufl.dx
             mixed_kw = dict(v=v_t, stress_u=self.stress, stress_v=sigma_mixed(v_t, q_t, lm), bulk=bulk)
-        else:
-            self.stress = sigma(u, lm)
-            mixed_kw = {}
-            self._test_to_support = {ufl.TestFunction(self.V): None}
+        else:  # the bulk law of the material model: sigma(u) (linear) or the first Piola-Kirchhoff P(u)
+            v_t = ufl.TestFunction(self.V)
+            law = bulk_law(u, v_t, opts.material_model, lm)
+            self.stress = law.stress
+            mixed_kw = dict(v=v_t, stress_u=law.stress, stress_v=law.stress_v)
+            self._test_to_support = {v_t: None}
         return build_contact_forms(u=u, obstacle=self.obstacle, d=self.d, lame=lm, method=opts.method,
                                    kinematics=opts.kinematics, traction=opts.traction, ds_c=self.ds_c,
                                    contact_facets=self.contact_facets, mask=self.mask, **opts.method_params(),
@@ -183,7 +190,7 @@ class ContactProblem:
         self.reaction_form = dolfinx.fem.form(-ufl.replace(self.forms.F, tests))
         forms = self.forms
         self.pressure_form = dolfinx.fem.form(
-            -forms.pressure * ufl.dot(forms.n_c, ufl.as_vector(direction)) * forms.ds_c)
+            forms.on_surface(-forms.pressure * ufl.dot(forms.n_c, ufl.as_vector(direction))) * forms.ds_c)
 
     def _build_solver(self) -> None:
         """NonlinearProblem with SNES newtonls/basic, LU (MUMPS); atol scaled by E and the body size L."""
@@ -207,7 +214,8 @@ class ContactProblem:
                                                               petsc_options=petsc)
         self.snes = self.problem.solver
         configure_linear_solver(self.snes, self.problem.A, self.V, opts.linear_solver)
-        if self.ph is None and opts.split_jacobian:  # J = K (assembled once) + contact terms per iteration
+        # J = K (assembled once) + contact terms per iteration; not for a hyperelastic bulk (K depends on u)
+        if self.ph is None and opts.split_jacobian and opts.material_model == "linear":
             self.split_jacobian = SplitJacobian(u=self.u, bulk_residual=forms.F - forms.F_c,
                                                 contact_residual=forms.F_c, J_form=self.problem.J, bcs=self.bcs)
             self.snes.setJacobian(self.split_jacobian, self.problem.A, self.problem.P_mat)

@@ -108,7 +108,7 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
                   first_step_fraction: float = 0.1,
                   record_at: Sequence[float] | None = None, formulation: str = "displacement",
                   min_facets_across: int = MIN_FACETS_ACROSS, uzawa_rtol: float = 1e-10, uzawa_max_it: int = 100,
-                  linear_solver: str = "lu", split_jacobian: bool = True,
+                  linear_solver: str = "lu", split_jacobian: bool = True, material_model: str = "linear",
                   options: ContactOptions | None = None) -> ContactResult:
     """Solve frictionless contact of the meshed body against a rigid obstacle.
 
@@ -118,7 +118,8 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
         E: Young's modulus (MPa) > 0.  nu: Poisson's ratio in (-1, 0.5).
         degree: Lagrange degree (1 or 2).
         method: a registered contact method (:mod:`fem.methods`): ``"nitsche"``, ``"penalty"`` or
-            ``"augmented_lagrangian"``.  kinematics: ``"small"`` or ``"convective"``.
+            ``"augmented_lagrangian"``.  kinematics: ``"small"``, ``"convective"`` or ``"finite"`` (finite-strain
+            hyperelasticity, total Lagrangian, contact at the deformed position; :mod:`fem.hyperelastic`).
         traction: ``"obstacle"`` or ``"halfplane"``.  kappa0, gamma0, theta: method parameters (kappa0: penalty
             stiffness, and the augmentation stiffness of the augmented Lagrangian; gamma0, theta: Nitsche).
         control: ``"displacement"`` (target = d, mm) or ``"force"`` (target = P, N/mm; full body).
@@ -174,7 +175,11 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
             Jacobian, refactored when the Krylov solve slows down) or ``"gamg"`` (GMRES + algebraic multigrid
             with the rigid-body near-nullspace; displacement formulation). The converged answer is the same.
         split_jacobian: assemble the elastic stiffness once and only the contact terms per Newton iteration
-            (displacement formulation; :mod:`fem.split_jacobian`); the same Jacobian to round-off.
+            (displacement formulation, linear material; :mod:`fem.split_jacobian`); the same Jacobian to
+            round-off. Not used for a hyperelastic material (its stiffness depends on u).
+        material_model: ``"linear"`` (small-strain Hooke; kinematics small/convective) or a hyperelastic model
+            ``"saint_venant_kirchhoff"`` / ``"neo_hookean"`` (kinematics="finite" only; both with the small-strain
+            E and nu, :mod:`fem.hyperelastic`).
         options: a :class:`ContactOptions` instead of the keywords above (then pass none of them).
 
     Raises:
@@ -230,7 +235,7 @@ def _result(problem: ContactProblem, stepper: LoadStepper) -> ContactResult:
                    control=opts.control, target=opts.target, n_steps=opts.n_steps, symmetric_half=opts.symmetric_half,
                    supports=problem.supports, quadrature_degree=problem.qdeg, sample_degree=problem.sdeg,
                    prefix=problem.prefix, predictor="hertz" if stepper.hertz is not None else "extrapolate",
-                   formulation=opts.formulation, **problem.method.options())
+                   formulation=opts.formulation, material_model=opts.material_model, **problem.method.options())
     records = stepper.records
     return ContactResult(ndofs=problem.ndofs, wall_time_s=stepper.wall_time_s,
                          newton_iterations=[r["iterations"] for r in records], load_steps=records,

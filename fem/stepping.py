@@ -23,10 +23,10 @@ Reported ``iterations`` count that predictor iteration too (1 = the prescribed a
   (:meth:`fem.problem.ContactProblem.tangent`): ``Delta d = (target - P) / (dP/dd)``, ``u + Delta d t``; that
   state then goes through the same SNES solve (true law, same tolerances and converged-reason checks), which
   accepts it without iterating (0 iterations recorded) when the active set did not change, and may take one
-  Newton iteration otherwise. When the tangent does not apply (mixed formulation, curve obstacles, a method with
-  its own multiplier loop, a miss above 1 % of the target), its solve needs more than one iteration (discarded),
-  or it needed one or cut the force miss less than tenfold (an active-set change between the factored J and the
-  converged state), the remaining corrections are secant steps through the last two (d, P) states.
+  Newton iteration otherwise. When the tangent does not apply (mixed formulation, finite strain, curve obstacles,
+  a method with its own multiplier loop, a miss above 1 % of the target), its solve needs more than one iteration
+  (discarded), or it needed one or cut the force miss less than tenfold (an active-set change between the factored
+  J and the converged state), the remaining corrections are secant steps through the last two (d, P) states.
 
 Divergence (SNES converged reason <= 0) restores the last converged state and halves the increment, up to
 ``max_cutbacks`` times per step, then raises :class:`fem.errors.ContactSolveError` naming the reason (e.g.
@@ -147,7 +147,9 @@ class LoadStepper:
         if opts.predictor in ("hertz", "hertz_zone") and not hertz_ok:
             raise ValueError(f"predictor={opts.predictor!r} needs control='force', a circle/parabola obstacle and "
                              "direction (0, -1)")
-        self.tangent_ok = not opts.mixed and pb.forms.update is None and pb.method.supports_tangent
+        # the tangent correction measures dP/dd as P(t), which needs P linear in u: not for finite strain
+        self.tangent_ok = (not opts.mixed and pb.forms.update is None and pb.method.supports_tangent
+                           and opts.kinematics != "finite")
         # hertz_zone: the Hertz zone from the unloaded state and the tangent of that prescribed-set solve (no
         # stiffness solve); where the tangent does not apply, the Hertz predictor.
         self.zone_start = opts.predictor == "hertz_zone" and self.tangent_ok

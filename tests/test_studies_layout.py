@@ -17,12 +17,13 @@ from workbench.studies.config import BenchConfig, ConvectiveTableConfig, Converg
 
 STUDY_DIR = Path(__file__).resolve().parents[1] / "workbench" / "studies"
 RUNNERS = {"workbench.studies.bench", "workbench.studies.convergence", "workbench.studies.stability",
-           "workbench.studies.convective_table"}
+           "workbench.studies.convective_table", "workbench.studies.validity"}
 # what each runner may import of the other study modules: its own report and plot, the shared config and rates
 OWN = {"workbench.studies.bench": {"workbench.studies.bench_report", "workbench.studies.bench_plot"},
        "workbench.studies.convergence": {"workbench.studies.convergence_report", "workbench.studies.convergence_plot"},
        "workbench.studies.stability": {"workbench.studies.stability_plot"},
-       "workbench.studies.convective_table": set()}
+       "workbench.studies.convective_table": set(),
+       "workbench.studies.validity": {"workbench.studies.validity_report", "workbench.studies.validity_plot"}}
 SHARED = {"workbench.studies.config", "workbench.studies.rates"}
 
 
@@ -45,7 +46,7 @@ def test_a_study_imports_no_other_study(graph, study):
 
 
 @pytest.mark.parametrize("module", ["bench_report", "bench_plot", "convergence_report", "convergence_plot",
-                                    "stability_plot", "config", "rates"])
+                                    "stability_plot", "validity_report", "validity_plot", "config", "rates"])
 def test_reports_plots_and_shared_modules_import_no_study(graph, module):
     """Reports and plots read the study JSON; config and rates are leaves every study may import."""
     assert _studies_imported_by(graph, f"workbench.studies.{module}") <= SHARED

@@ -11,6 +11,7 @@ Subcommands:
     stability            study: stiff and extreme cases (``<out>/stability/``)
     bench                study: performance (``<out>/bench/``)
     convective-table     b/b0 of the convective theory against the paper's figures (``<out>/analytic/``)
+    validity             study: where the half-plane theories hold, model by model (``<out>/validity/``)
 
 ``<out>`` is ``--out`` (default: ``results/`` of this checkout, or ``$WORKBENCH_RESULTS``); nothing depends on
 the working directory. A study's own options follow its name (``workbench convergence --help``).
@@ -38,6 +39,7 @@ STUDIES = {
     "stability": "workbench.studies.stability",
     "bench": "workbench.studies.bench",
     "convective-table": "workbench.studies.convective_table",
+    "validity": "workbench.studies.validity",
 }
 
 

@@ -24,6 +24,11 @@ Adding a method::
             return MethodTerms(argument=q, pressure=p, F_c=p * ufl.dot(kin.n_c, v) * ds_c)
 
 and append ``my_method`` to the import line below.
+
+Finite kinematics (:mod:`fem.contact_forms`): a contact integral over the reference Gamma_c of a
+current-configuration pressure carries the surface Jacobian (``kin.on_surface(...)``), or the law is stated per
+reference length and the current pressure reported as ``kin.current_pressure(p_ref)``; a method that does this
+is listed in :data:`fem.options.FINITE_METHODS` (the others are refused with kinematics="finite").
 """
 
 from __future__ import annotations

@@ -119,7 +119,7 @@ class AugmentedLagrangian(ContactMethod):
         w = self._nodal("w")
         self._idx = np.flatnonzero(w > 0)  # owned contact dofs
         self._w = w[self._idx]
-        return MethodTerms(argument=q, pressure=p, F_c=p * ufl.dot(kin.n_c, v) * ds_c)
+        return MethodTerms(argument=q, pressure=kin.current_pressure(p), F_c=p * ufl.dot(kin.n_c, v) * ds_c)
 
     def nodal_fields(self, kin) -> dict:
         """Extra UFL fields f whose nodal averages ``int^nodal f N_i ds / w_i`` :meth:`law_gap` reads (none)."""

@@ -9,6 +9,12 @@ so ``p = -[P_gamma]_- = [-sigma_n(u) - gamma g]_+``. theta = 1 symmetric, 0 inco
 with a consistent pressure), -1 skew-symmetric. With theta = 0 penalty and Nitsche share
 ``F = a + int p (n_c . v)``. Consistent: an exact solution in the discrete space (flat punch) is reproduced to
 round-off. Contact integral: Gauss rule of the solver's ``quadrature_degree``.
+
+Finite kinematics (:mod:`fem.contact_forms`): ``sigma_n(u) = n_c . P(u) N / (ds/dS)`` is the current normal
+traction from the first Piola-Kirchhoff stress, ``sigma_n(v)`` uses the Gateaux derivative ``dP(u)[v]`` at fixed
+``n_c`` and ``ds/dS``, and the integrand is pulled back with ``ds/dS``. The method stays consistent for any test
+expression in place of ``sigma_n(v)``: its factor ``theta/gamma ([P_gamma]_- - sigma_n(u))`` vanishes at an exact
+solution (in contact ``P_gamma = sigma_n <= 0``, out of contact ``sigma_n = 0`` and ``P_gamma > 0``).
 """
 
 from __future__ import annotations
@@ -42,6 +48,6 @@ class Nitsche(ContactMethod):
         P_gamma = sig_n(stress_u) + gamma * kin.gap
         q = -P_gamma
         p = contact_law(q, kin.X, mask)
-        F_c = (-theta / gamma * sig_n(stress_u) * sig_n(stress_v)
-               - p / gamma * (theta * sig_n(stress_v) - gamma * ufl.dot(kin.n_c, v))) * ds_c
+        F_c = kin.on_surface(-theta / gamma * sig_n(stress_u) * sig_n(stress_v)
+                             - p / gamma * (theta * sig_n(stress_v) - gamma * ufl.dot(kin.n_c, v))) * ds_c
         return MethodTerms(argument=q, pressure=p, F_c=F_c)

@@ -82,7 +82,7 @@ class Penalty(ContactMethod):
         kappa = self.kappa0 * self.E / kin.h
         q = -kappa * kin.gap
         p = contact_law(q, kin.X, mask)
-        return MethodTerms(argument=q, pressure=p, F_c=p * ufl.dot(kin.n_c, v) * ds_c)
+        return MethodTerms(argument=q, pressure=kin.current_pressure(p), F_c=p * ufl.dot(kin.n_c, v) * ds_c)
 
     # -- the stiff penalty's hooks (the base class's defaults otherwise) -------------------------------------
     def measure_metadata(self, *, degree: int, quadrature_degree: int):

@@ -50,7 +50,8 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
     summed, ``P``/``P_pressure``/``patches`` are those of the first run, ``errors`` holds the worst value of
     each error over the runs plus case-level comparisons (e.g. ``b_over_b0``), and ``runs`` lists every run.
     An error that is NaN or missing in any run is NaN for the case (its check fails), and
-    ``errors_undefined`` names the runs where it was.
+    ``errors_undefined`` names the runs where it was. ``checked_errors`` names the error each tolerance reads
+    (its own key, or the scene's choice of the theory that applies, :class:`workbench.scenes.base.CaseComparison`).
     """
     runs = [o.metrics for o in outcomes]
     first = runs[0]
@@ -67,7 +68,8 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
     extra = scene_for(outcomes[0].run).judge(case, outcomes)
     errors.update(extra.errors)
     tol = dict(case.tolerances)
-    checks = {k: bool(errors.get(k) is not None and errors[k] <= t) for k, t in tol.items()}
+    checked = {k: extra.checked.get(k, k) for k in tol}  # the error each check reads (the theory that applies)
+    checks = {k: bool(errors.get(checked[k]) is not None and errors[checked[k]] <= t) for k, t in tol.items()}
     kin = sorted({r["kinematics"] for r in runs})
     return extra.top | {
         "case": case.name,
@@ -87,6 +89,7 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
         "errors_undefined": undefined,
         "tolerances": tol,
         "checks": checks,
+        "checked_errors": checked,
         "pass": bool(all(checks.values())),
         "headline": extra.headline,
         "case_tables": extra.tables,

@@ -15,10 +15,10 @@ from cases import case_names
 from workbench.atomic import write_text
 from workbench.reports.markdown import fmt, markdown_to_html
 
-__all__ = ["STUDY_REPORTS", "load_metrics", "summary_markdown", "write_summary"]
+__all__ = ["STUDY_REPORTS", "load_metrics", "summary_markdown", "trust_markdown", "write_summary"]
 
 STUDY_REPORTS = ("convergence/report.md", "stability/report.md", "bench/report.md", "analytic/convective.md",
-                 "ci_report.md")
+                 "validity/report.md", "ci_report.md")
 """The reports (Markdown) below the output folder other than the summary and the cases' (the studies and the CI
 report); writing the summary gives each an HTML twin."""
 
@@ -76,6 +76,56 @@ def _budget_markdown(metrics: dict[str, dict]) -> list[str]:
     return out
 
 
+_TRUST_THEORIES = (("cylinder", "hertz", "moment", "Hertz"), ("cylinder", "exact_circle", "moment", "exact circle"),
+                   ("cylinder", "ch_circle", "moment", "Ciavarella-Hills (circle)"),
+                   ("cylinder", "ch_first_order", "half_width", "C-H first order (cylinder)"),
+                   ("wedge", "wedge", "moment", "classical wedge"),
+                   ("wedge", "ch_wedge", "moment", "Ciavarella-Hills (wedge)"),
+                   ("wedge", "ch_first_order", "half_width", "C-H first order (wedge)"))
+
+
+def trust_markdown(results: Path) -> list[str]:
+    """The section "How far the theory can be trusted", from ``validity/validity.json`` (or how to make it)."""
+    lines = ["## How far the theory can be trusted", ""]
+    f = Path(results) / "validity" / "validity.json"
+    if not f.is_file():
+        return lines + ["Not measured yet: run `make validity`.", ""]
+    data = json.loads(f.read_text())
+    pts, cfg = data.get("points", []), data.get("config", {})
+    thr = cfg.get("thresholds", [1e-3, 1e-2, 5e-2])
+    bands = [f"<{100 * t:g}%" for t in thr] + [f">{100 * thr[-1]:g}%", "unresolved"]
+    lines += ["Each theory against the most complete FEM model (finite strain where it runs, else the traction "
+              "along the indenter's normal with the convective gap) at every point of the validity study: the "
+              "cylinder over a/R, the wedge over theta, each over beta (through nu). Cells: the band of the "
+              "difference (moment half-width; the first-order forms: the zero-crossing half-width), `unresolved` "
+              "where the FEM uncertainty is not well below it. Details: [validity report](validity/report.md).", "",
+              "![cylinder](validity/map_cylinder.png)", "", "![wedge](validity/map_wedge.png)", "",
+              "| theory | points | " + " | ".join(bands) + " |", "|---|---|" + "---|" * len(bands)]
+    for scene, name, q, label in _TRUST_THEORIES:
+        got = [p["bands"].get(name, {}).get(q, {}).get("band") for p in pts if p["scene"] == scene]
+        got = [g for g in got if g]
+        if got:
+            lines.append(f"| {label} | {len(got)} | " + " | ".join(str(got.count(b)) for b in bands) + " |")
+    splits = [p for p in pts if p.get("split")]
+    if splits:
+        worst = max(splits, key=lambda p: abs(p["split"]["total"]["value"]))
+        s = worst["split"]
+
+        def pc(k):
+            v = s[k]["value"]
+            return "not run" if v is None else f"{100 * v:+.2f} %"
+
+        lines += ["", f"Largest gap to classical theory: {worst['scene']} at parameter {worst['param']:.4g}, beta = "
+                  f"{worst['beta']:.3g}: {pc('total')} = profile {pc('profile')} + convective {pc('convective')} + "
+                  f"traction direction {pc('traction')} + finite strain {pc('finite_strain')} (moment half-width)."]
+    v = (data.get("claim") or {}).get("verdict")
+    if v:
+        lines += ["", f"The paper's internal-stress claim (theta < pi/5, 0.5 %): {v['text']}."]
+    s = data.get("summary", {})
+    lines += ["", f"{s.get('runs')} runs ({s.get('failed')} failed), wall time {s.get('wall_time_s', 0):.0f} s.", ""]
+    return lines
+
+
 def summary_markdown(results: Path) -> str:
     """The summary report as Markdown."""
     from workbench.reports.paper_claims import claims_markdown
@@ -126,8 +176,10 @@ def summary_markdown(results: Path) -> str:
                   "Table 1 as printed (its symmetric P is one patch's load, see the claims table). Its geometry and "
                   "body size are not published, and in 2D the load at a given indentation "
                   "depends on the whole body, so only the trend (close-to-conformal stiffer) is comparable.", ""]
+    lines += [""] + trust_markdown(results)
     lines += ["", claims_markdown(results), ""]
     studies = [("convergence", "Error against run time"), ("stability", "Numerical stability sweep"),
+               ("validity", "Validity of the half-plane theories"),
                ("bench", "Performance benchmark"), ("analytic", "Analytic convective table")]
     lines += ["## Studies", ""]
     for folder, title in studies:

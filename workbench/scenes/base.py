@@ -80,14 +80,17 @@ class Outcome(NamedTuple):
 
 
 class CaseComparison(NamedTuple):
-    """Case-level analytic values, errors, a one-line headline, extra Markdown tables, and extra top-level
-    fields of ``metrics.json`` (e.g. the per-step table of a concave case)."""
+    """Case-level analytic values, errors, a one-line headline, extra Markdown tables, extra top-level
+    fields of ``metrics.json`` (e.g. the per-step table of a concave case), and ``checked``: tolerance key ->
+    the error key its check reads, where the theory that applies is not the classical one (e.g. ``p_max`` ->
+    ``p_max_vs_exact_circle`` for a circle indenter); a key not listed checks the error of its own name."""
 
     analytic: dict
     errors: dict
     headline: str
     tables: dict
     top: dict = {}
+    checked: dict = {}
 
 
 class SceneMesh(NamedTuple):

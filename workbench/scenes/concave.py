@@ -207,7 +207,8 @@ def _run_metrics(run: Run, result, mesh: ConcaveMesh, steps: list[dict]) -> dict
     E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
     return {
         "label": run.label, "scene": "concave", "design": mesh.design.name, "nu": run.material.nu,
-        "method": sol.method, "kinematics": sol.kinematics, "traction": sol.traction, "degree": disc.degree,
+        "method": sol.method, "kinematics": sol.kinematics, "traction": sol.traction,
+        "material_model": run.material.model, "degree": disc.degree,
         "h_contact": disc.h_contact, "h_contact_mm": mesh.h_contact, "ndofs": result.ndofs,
         "wall_time_s": result.wall_time_s, "newton_iterations": list(result.newton_iterations),
         "load_steps": result.load_steps, "d": result.d, "P": result.P, "P_pressure": result.P_pressure,

@@ -25,9 +25,9 @@ def solver_options(run: Run, load: LoadPath, **overrides) -> ContactOptions:
     geometry's ``far_field`` (None, the default, for ``"clamped"``).
     """
     sol, disc = run.solver, run.discretisation
-    opts = dict(E=run.material.E, nu=run.material.nu, degree=disc.degree, method=sol.method,
-                kinematics=sol.kinematics, traction=sol.traction, kappa0=sol.kappa0, gamma0=sol.gamma0,
-                theta=sol.theta, control=load.control, target=load.target, n_steps=load.n_steps,
+    opts = dict(E=run.material.E, nu=run.material.nu, material_model=run.material.model, degree=disc.degree,
+                method=sol.method, kinematics=sol.kinematics, traction=sol.traction, kappa0=sol.kappa0,
+                gamma0=sol.gamma0, theta=sol.theta, control=load.control, target=load.target, n_steps=load.n_steps,
                 symmetric_half=load.symmetric_half, formulation=effective_formulation(run),
                 supports=far_field_supports(far_field=run.geometry.far_field, symmetric_half=load.symmetric_half),
                 linear_solver=sol.linear_solver)

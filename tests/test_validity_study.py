@@ -1,0 +1,143 @@
+"""The validity study's pure parts (no FEM): config validation, bands, the value with its uncertainty, assembling
+synthetic runs into points, the report, the summary section and the claims row. The study itself is
+``make validity``."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict
+
+import pytest
+
+from workbench.studies import validity as v
+from workbench.studies.config import ValidityConfig, to_json
+
+
+@pytest.mark.parametrize("kw", [dict(nu=(0.5,)), dict(nu=()), dict(models=(("halfplane", "finite"),)),
+                                dict(h_ratios=(8.0, 4.0, 16.0)), dict(h_ratios=(4.0, 8.0)), dict(workers=0),
+                                dict(finite_material="linear"), dict(cylinder_a_over_R=(0.95,)),
+                                dict(wedge_theta=(2.0,)), dict(thresholds=(0.05, 0.01)), dict(width_factor_far=100.0),
+                                dict(n_steps=1.5)])
+def test_config_rejects_bad_values_in_one_line(kw):
+    with pytest.raises(ValueError) as exc:
+        ValidityConfig(**kw)
+    msg = str(exc.value)
+    assert "\n" not in msg and "allowed" in msg and next(iter(kw)) in msg
+
+
+def test_cli_bad_option_is_one_line_exit_2(capsys, tmp_path):
+    from workbench.cli import main
+
+    assert main(["validity", "--workers", "0", "--out", str(tmp_path / "v")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "workers" in err[0]
+    assert not (tmp_path / "v").exists()
+    with pytest.raises(SystemExit) as exc:
+        main(["validity", "--nonsense"])
+    assert exc.value.code == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+def test_tasks_cover_every_model_level_and_skip_finite_where_it_locks():
+    cfg = ValidityConfig(cylinder_a_over_R=(0.1,), wedge_theta=(math.pi / 5,), nu=(0.0, 0.499))
+    todo, skipped = v.tasks(cfg)
+    assert len(todo) == 2 * (5 + 4) * 4  # nu = 0: five models; nu = 0.499: four (no finite); four levels each
+    assert {s["model"] for s in skipped} == {"obstacle/finite"} and len(skipped) == 2
+    assert all("mixed formulation" in s["reason"] for s in skipped)
+    far = [t for t in todo if t.level == "far"]
+    assert all(t.h_ratio == cfg.h_ratios[1] and t.width_factor == cfg.width_factor_far for t in far)
+    assert {t.mesh_name for t in todo} == {f"validity_{s}_h{h:g}_W{w:g}" for s in ("cylinder", "wedge")
+                                          for h, w in ((4, 160), (8, 160), (16, 160), (8, 640))}
+    assert sum(t.stresses for t in todo) == 4  # wedge, nu = claim_nu, two tractions x (h2, far)
+
+
+@pytest.mark.parametrize("d, u, band", [(1e-4, 1e-5, "<0.1%"), (5e-3, 1e-4, "<1%"), (0.03, 1e-3, "<5%"),
+                                        (0.08, 1e-3, ">5%"), (5e-3, 4e-3, "unresolved"), (0.05, 1e-3, "unresolved"),
+                                        (2e-4, 5e-4, "<0.1%")])
+def test_classify(d, u, band):
+    got, reason = v.classify(d, u, (1e-3, 1e-2, 5e-2), 3.0)
+    assert got == band
+    assert (reason is None) == (band != "unresolved")
+
+
+def test_value_extrapolates_and_corrects_the_truncation():
+    # f = 1 + 0.01 h^2 (h = 1/ratio) on W, and the far block 3e-4 higher on the middle level
+    ratios = (4.0, 8.0, 16.0)
+    levels = {f"h{i}": {"moment": 1.0 + 0.01 / r**2} for i, r in enumerate(ratios)}
+    levels["far"] = {"moment": levels["h1"]["moment"] + 3e-4}
+    out = v._value(levels, "moment", ratios)
+    assert out["observed_order"] == pytest.approx(2.0, rel=1e-8)
+    assert out["value"] == pytest.approx(1.0 + 4e-4, rel=1e-12)
+    assert out["truncation"] == pytest.approx(1e-4 / out["value"], rel=1e-12)
+    assert v._value({"h0": {"moment": 1.0}}, "moment", ratios)["value"] is None
+
+
+def _synthetic_records(cfg: ValidityConfig) -> list[dict]:
+    """Runs whose values follow f = c (1 + 0.001 h^2), c per model; finite fails on the wedge."""
+    todo, _ = v.tasks(cfg)
+    scale = {"halfplane/small": 1.0, "halfplane/convective": 1.02, "obstacle/small": 0.99,
+             "obstacle/convective": 1.01, "obstacle/finite": 1.015}
+    out = []
+    for t in todo:
+        rec = {"task": asdict(t), "model": t.model, "converged": True, "error": None, "P": 1.0}
+        if t.kinematics == "finite" and t.scene == "wedge":
+            rec |= {"converged": False, "error": "diverged: SNES reason -5 (DIVERGED_MAX_IT)"}
+        else:
+            f = scale[t.model] * (1.0 + 1e-3 / t.h_ratio**2) + (1e-5 if t.level == "far" else 0.0)
+            rec |= {"moment": f, "half_width": f, "p_max": 1.0 / f if t.scene == "cylinder" else None}
+        out.append(rec)
+    return out
+
+
+def test_assemble_report_summary_and_claims_row(tmp_path):
+    cfg = ValidityConfig(cylinder_a_over_R=(0.1,), wedge_theta=(math.pi / 10,), nu=(0.0,), out=tmp_path)
+    records = _synthetic_records(cfg)
+    points, dropped = v.assemble(cfg, records, [])
+    assert len(points) == 2
+    cyl = next(p for p in points if p["scene"] == "cylinder")
+    wed = next(p for p in points if p["scene"] == "wedge")
+    assert cyl["complete_model"] == "obstacle/finite" and wed["complete_model"] == "obstacle/convective"
+    s = cyl["split"]
+    parts = sum(s[k]["value"] for k in ("profile", "convective", "traction", "finite_strain"))
+    assert parts == pytest.approx(s["total"]["value"], abs=1e-12)
+    assert s["convective"]["value"] == pytest.approx(0.02, rel=1e-6)
+    assert cyl["bands"]["hertz"]["moment"]["band"] == "<5%"
+    failed = [d for d in dropped if d["what"] == "run failed"]
+    assert len(failed) == 4 and all("DIVERGED" in d["reason"] for d in failed)
+    assert any(d["what"] == "value dropped" and d["model"] == "obstacle/finite" for d in dropped)
+    data = {"config": to_json(cfg), "summary": {"runs": len(records), "failed": 4, "points": 2, "dropped": 1,
+                                                "wall_time_s": 1.0, "workers": 2, "cpu_count": 2,
+                                                "cpu_s_workers": 1.0},
+            "points": points, "dropped": dropped, "claim": {"rows": [], "verdict": None}, "runs": records}
+    md = __import__("workbench.studies.validity_report", fromlist=["x"]).report_markdown(
+        json.loads(json.dumps(data, default=float)))
+    assert "DIVERGED_MAX_IT" in md and "map_cylinder.png" in md and "No verdict" in md
+    folder = tmp_path / "validity"
+    folder.mkdir()
+    (folder / "validity.json").write_text(json.dumps(data, default=float))
+    from workbench.reports.paper_claims import _stress_claim
+    from workbench.reports.summary import trust_markdown
+
+    section = "\n".join(trust_markdown(tmp_path))
+    assert "validity/map_cylinder.png" in section and "| Hertz | 1 |" in section
+    assert "run `make validity`" in "\n".join(trust_markdown(tmp_path / "nothing"))
+    assert _stress_claim(tmp_path).verdict == "run `make validity`"
+    data["claim"]["verdict"] = {"state": "does not hold", "worst_traction_effect": 0.3, "worst_floor": 0.002,
+                                "worst_obstacle_vs_theory": 0.3, "text": "x"}
+    (folder / "validity.json").write_text(json.dumps(data, default=float))
+    c = _stress_claim(tmp_path)
+    assert c.verdict.startswith("not confirmed") and "30.00 %" in c.ours
+
+
+def test_config_default_folders_and_frozen():
+    import dataclasses
+    from pathlib import Path
+
+    from workbench.paths import default_paths
+
+    cfg = ValidityConfig()
+    assert cfg.out_dir == default_paths().study("validity")
+    assert cfg.cache_dir == default_paths().mesh_cache
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        cfg.out = Path("x")  # type: ignore[misc]

@@ -1,0 +1,100 @@
+"""Validity maps from ``validity.json`` (plotting only): ``python -m workbench.studies.validity_plot --dir DIR``.
+
+One PNG per scene (``map_cylinder.png``, ``map_wedge.png``): a panel per theory, cells over (a/R or theta) x
+beta, coloured by the band of the theory's difference from the most complete FEM model (within 0.1 %, 1 %,
+5 %, beyond 5 %, or unresolved: the FEM uncertainty is not well below the difference), the difference printed
+in each cell.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+__all__ = ["BAND_COLOURS", "PANELS", "draw_maps", "main"]
+
+BAND_COLOURS = {"<0.1%": "#1a7f37", "<1%": "#7ccf7f", "<5%": "#f2d45c", ">5%": "#d9534f", "unresolved": "#c8c8c8"}
+# (theory, quantity, title) per scene
+PANELS = {
+    "cylinder": (("hertz", "moment", "Hertz (parabola, beta = 0)"),
+                 ("exact_circle", "moment", "exact circle, beta = 0"),
+                 ("ch_circle", "moment", "Ciavarella-Hills converged (circle)"),
+                 ("ch_first_order", "half_width", "C-H first order (half-width)")),
+    "wedge": (("wedge", "moment", "classical wedge"),
+              ("ch_wedge", "moment", "Ciavarella-Hills converged"),
+              ("ch_first_order", "half_width", "C-H first order (half-width)")),
+}
+
+
+def _label(scene: str, v: float) -> str:
+    if scene == "cylinder":
+        return f"{v:g}"
+    k = math.pi / v
+    return f"pi/{k:.0f}" if abs(k - round(k)) < 1e-6 else f"{v:.3g}"
+
+
+def draw_maps(data: dict, folder: Path) -> list[Path]:
+    """Draw the maps of ``data`` (the study JSON) into ``folder``; returns the files written."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Patch
+
+    written = []
+    for scene, panels in PANELS.items():
+        pts = [p for p in data["points"] if p["scene"] == scene]
+        if not pts:
+            continue
+        xs = sorted({p["param"] for p in pts})
+        betas = sorted({p["beta"] for p in pts})
+        ncols = 2 if len(panels) == 4 else len(panels)
+        nrows = math.ceil(len(panels) / ncols)
+        fig, axes = plt.subplots(nrows, ncols, figsize=(4.6 * ncols, 3.2 * nrows + 0.8), squeeze=False)
+        for ax, (theory, q, title) in zip(axes.ravel(), panels, strict=True):
+            for p in pts:
+                i, j = xs.index(p["param"]), betas.index(p["beta"])
+                band = p.get("bands", {}).get(theory, {}).get(q)
+                colour = BAND_COLOURS[band["band"]] if band else "white"
+                ax.add_patch(plt.Rectangle((i, j), 1, 1, facecolor=colour, edgecolor="white", linewidth=2))
+                text = "no run" if band is None else f"{100 * band['difference']:.2g}%"
+                dark = band is not None and band["band"] in ("<0.1%", ">5%")
+                ax.text(i + 0.5, j + 0.5, text, ha="center", va="center", fontsize=8,
+                        color="white" if dark else "black")
+            ax.set_xlim(0, len(xs))
+            ax.set_ylim(0, len(betas))
+            ax.set_xticks([i + 0.5 for i in range(len(xs))], [_label(scene, v) for v in xs], fontsize=8)
+            ax.set_yticks([j + 0.5 for j in range(len(betas))], [f"{b:.2g}" for b in betas], fontsize=8)
+            ax.set_xlabel("a/R" if scene == "cylinder" else "theta")
+            ax.set_ylabel("beta")
+            ax.set_title(title, fontsize=9)
+        handles = [Patch(facecolor=c, label=("within " + b[1:]) if b.startswith("<") else
+                         ("beyond " + b[1:]) if b.startswith(">") else b) for b, c in BAND_COLOURS.items()]
+        fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8, frameon=False)
+        fig.suptitle(f"{scene}: theory against the most complete FEM model (difference, cell colour = band)",
+                     fontsize=10)
+        fig.tight_layout(rect=(0, 0.06, 1, 0.95))
+        path = Path(folder) / f"map_{scene}.png"
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        written.append(path)
+    return written
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="validity_plot", description=__doc__.splitlines()[0])
+    ap.add_argument("--dir", type=Path, required=True, help="folder holding validity.json")
+    args = ap.parse_args(argv)
+    data = json.loads((args.dir / "validity.json").read_text())
+    plots = draw_maps(data, args.dir)
+    from workbench.reports.study_pages import publish_study
+
+    publish_study(args.dir, plots)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

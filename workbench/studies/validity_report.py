@@ -1,0 +1,158 @@
+"""``report.md`` of the validity study, from ``validity.json`` alone (no dolfinx); the HTML twin and the maps are
+added by :mod:`workbench.studies.validity_plot` (:func:`workbench.reports.study_pages.publish_study`)."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+from workbench.atomic import write_text
+
+__all__ = ["MODEL_MEANING", "report_markdown", "write_report"]
+
+MODEL_MEANING = {
+    "halfplane/small": "vertical gap and traction at the undeformed surface: exactly the classical half-plane "
+                       "hypotheses (on a finite block, with the exact indenter profile)",
+    "halfplane/convective": "vertical traction, gap read at the particle's displaced tangential position: the "
+                            "Ciavarella-Hills model",
+    "obstacle/small": "gap and traction along the indenter's normal, evaluated at the undeformed surface",
+    "obstacle/convective": "gap and traction along the indenter's normal at the displaced position (linear "
+                           "elasticity): frictionless contact of the real geometry, small strain",
+    "obstacle/finite": "finite-strain hyperelasticity (total Lagrangian), contact at the deformed position along the "
+                       "current normal: the most complete model",
+}
+THEORY_NAMES = {"hertz": "Hertz", "exact_circle": "exact circle", "ch_circle": "C-H circle",
+                "ch_parabola": "C-H parabola", "ch_first_order": "C-H 1st order", "wedge": "classical wedge",
+                "ch_wedge": "C-H wedge"}
+
+
+def _param(p: dict) -> str:
+    if p["scene"] == "cylinder":
+        return f"a/R = {p['param']:g}"
+    k = math.pi / p["param"]
+    return f"theta = pi/{k:.0f}" if abs(k - round(k)) < 1e-6 else f"theta = {p['param']:.4g}"
+
+
+def _pct(v, digits=3) -> str:
+    return "-" if v is None else f"{100 * v:+.{digits}g} %"
+
+
+def _band_table(points: list[dict], scene: str) -> list[str]:
+    pts = [p for p in points if p["scene"] == scene]
+    if not pts:
+        return []
+    names = list(pts[0]["theories"])
+    lines = ["| point | beta | most complete model | " + " | ".join(THEORY_NAMES.get(n, n) for n in names) + " |",
+             "|---|---|---|" + "---|" * len(names)]
+    for p in pts:
+        cells = []
+        for n in names:
+            q = "half_width" if n == "ch_first_order" else "moment"
+            b = p["bands"].get(n, {}).get(q)
+            cells.append("-" if b is None else
+                         f"{b['band']} ({100 * b['difference']:.3g} +- {100 * b['uncertainty']:.2g} %)")
+        lines.append(f"| {_param(p)} | {p['beta']:.3g} | {p['complete_model'] or 'none'} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def _split_table(points: list[dict]) -> list[str]:
+    lines = ["| point | beta | complete model | total gap | profile (FEM; theory) | convective term | "
+             "traction direction | finite strain |", "|---|---|---|---|---|---|---|---|"]
+    for p in points:
+        s = p.get("split")
+        if not s:
+            lines.append(f"| {_param(p)} | {p['beta']:.3g} | - | not split: a model is missing (see the dropped "
+                         "list) | | | | |")
+            continue
+
+        def cell(k, s=s):
+            r = s[k]
+            if r["value"] is None:
+                return "not run"
+            used = abs(r["value"]) > 3.0 * r["uncertainty"]
+            return f"{_pct(r['value'])} +- {100 * r['uncertainty']:.1g} %" + ("" if used else " (below U)")
+
+        prof = cell("profile") + f"; {_pct(s['profile']['theory'])}"
+        lines.append(f"| {_param(p)} | {p['beta']:.3g} | {s['complete_model']} | {cell('total')} | {prof} | "
+                     f"{cell('convective')} | {cell('traction')} | {cell('finite_strain')} |")
+    return lines
+
+
+def report_markdown(data: dict) -> str:
+    """The report of the study JSON ``data``."""
+    s, cfg, points = data["summary"], data["config"], data["points"]
+    md = ["# Validity of the half-plane theories", "",
+          f"{s['runs']} FEM runs ({s['failed']} failed), {s['points']} points, wall time {s['wall_time_s']:.0f} s "
+          f"on {s['workers']} processes ({s.get('cpu_count')} cores seen; CPU time of the workers "
+          f"{s.get('cpu_s_workers', float('nan')):.0f} s: on a shared machine the wall time includes waiting). "
+          "Every value is a ratio to the classical "
+          "theory (Hertz or the classical wedge) at the run's measured load.", "",
+          "## What each model means", ""]
+    md += [f"- `{k}`: {v}" for k, v in MODEL_MEANING.items() if tuple(k.split("/")) in {tuple(m) for m in
+                                                                                       cfg["models"]}]
+    md += ["", "## How the numbers are made", "",
+           f"Quantity: the moment half-width 2 sqrt(M2/M0) of the contact pressure (p_max for the circle too; the "
+           f"zero-crossing half-width for the first-order closed forms, which give no pressure). Levels a/h_c = "
+           f"{', '.join(f'{h:g}' for h in cfg['h_ratios'])} on a block W = {cfg['width_factor']:g} a give the "
+           "Richardson value and its GCI; one run on the middle level with W = "
+           f"{cfg['width_factor_far']:g} a corrects the truncation ((4/3) of the change, order 1 in a/W assumed) "
+           "with a third of the change as its uncertainty. U = GCI + truncation. A theory's band is used only "
+           f"where U is below the difference / {cfg['resolve_factor']:g}, or where difference + U is below "
+           f"{100 * cfg['thresholds'][0]:g} % (then the verdict holds whatever the difference); otherwise it is "
+           "`unresolved` and listed with its reason below. The most complete model is the last of "
+           "obstacle/finite, obstacle/convective, ... that has a value at the point (finite strain has no mixed "
+           "formulation: not run at nu >= 0.45).", "",
+           "## Maps", "", "![map_cylinder](map_cylinder.png)", "", "![map_wedge](map_wedge.png)", "",
+           "## Bands, point by point (difference from the most complete model +- its uncertainty)", "",
+           "### Cylinder (exact circle)", ""]
+    md += _band_table(points, "cylinder")
+    md += ["", "### Wedge", ""]
+    md += _band_table(points, "wedge")
+    md += ["", "## Where the gap to classical theory comes from", "",
+           "Moment half-width, relative to the classical value. total = complete model - 1 = profile + convective + "
+           "traction (+ finite strain), exactly: profile = FEM(halfplane, small) - 1 (the exact circle against "
+           "Hertz's parabola; its half-plane theory value beside it; 0 for the wedge), convective = "
+           "FEM(halfplane, convective) - FEM(halfplane, small), traction = FEM(obstacle, convective) - "
+           "FEM(halfplane, convective), finite strain = FEM(obstacle, finite) - FEM(obstacle, convective). A part "
+           "within 3 U of zero is marked (below U).", ""]
+    md += _split_table(points)
+    claim = data.get("claim") or {}
+    md += ["", "## The paper's claim: theta < pi/5, internal stresses within 0.5 %", "",
+           f"Quantity: {claim.get('quantity', '-')}, probes x/b in {list(claim.get('probes_x_over_b', []))}, "
+           f"z/b in {list(claim.get('probes_z_over_b', []))}.", ""]
+    v = claim.get("verdict")
+    md += [f"**Verdict: {v['text']}.**" if v else "**No verdict: the runs are missing (see the dropped list).**", ""]
+    md += ["| theta | level | obstacle FEM vs theory | same, deepest row z = 2b | vertical-traction FEM vs theory "
+           "(floor) | obstacle vs vertical FEM |", "|---|---|---|---|---|---|"]
+    for r in claim.get("rows", []):
+        for level in ("h2", "far"):
+            c = r.get(level, {})
+            if "obstacle_vs_theory" in c:
+                md.append(f"| pi/{1 / r['theta_over_pi']:.0f} | {level} | {100 * c['obstacle_vs_theory']:.2f} % | "
+                          f"{100 * c['obstacle_vs_theory_deepest_row']:.2f} % | "
+                          f"{100 * c['halfplane_vs_theory']:.2f} % | "
+                          f"{100 * c['obstacle_vs_halfplane_fem']:.2f} % |")
+            else:
+                md.append(f"| pi/{1 / r['theta_over_pi']:.0f} | {level} | {c.get('reason', '-')} | | | |")
+    md += ["", "## Dropped or failed, and why", ""]
+    dropped = data.get("dropped", [])
+    if not dropped:
+        md.append("Nothing was dropped.")
+    else:
+        md += ["| what | scene | parameter | nu | model / theory | quantity or level | reason |",
+               "|---|---|---|---|---|---|---|"]
+        for d in dropped:
+            md.append(f"| {d['what']} | {d['scene']} | {d['param']:.4g} | {d['nu']:g} | "
+                      f"{d.get('model') or d.get('theory', '-')} | {d.get('quantity') or d.get('level', '-')} | "
+                      f"{d['reason']} |")
+    return "\n".join(md) + "\n"
+
+
+def write_report(folder: Path) -> Path:
+    """Write ``folder/report.md`` from ``folder/validity.json``."""
+    folder = Path(folder)
+    data = json.loads((folder / "validity.json").read_text())
+    path = folder / "report.md"
+    write_text(path, report_markdown(data))
+    return path
