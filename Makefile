@@ -9,6 +9,8 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.stamp-$(shell cat requirements.txt 2>/dev/null | cksum | cut -d' ' -f1)
 NP     ?= 1
+# cases that `make run` solves at once (each case is one process with one thread): the 2 cores of the machine
+JOBS   ?= 2
 # NP is a whole number >= 1 (MPI processes): anything else stops here with one line (make exits 2)
 _np_rest := $(NP)
 $(foreach d,0 1 2 3 4 5 6 7 8 9,$(eval _np_rest := $$(subst $(d),,$$(_np_rest))))
@@ -97,7 +99,7 @@ results/%/metrics.json: cases/%.toml $(SOURCES) | setup
 	$(MPIRUN) $(WB) run $*; $(call explain_exit,$*)
 
 run: setup
-	@$(MAKE) --no-print-directory -k $(METRICS); status=$$?; \
+	@$(MAKE) --no-print-directory -k -j$(JOBS) $(METRICS); status=$$?; \
 	 $(WB) convective-table && $(WB) report; exit $$status
 
 ci: setup
