@@ -15,6 +15,7 @@ left out silently.
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 
 from matplotlib.ticker import NullFormatter
@@ -63,8 +64,9 @@ def plot_budget(budget: dict, path: Path, *, title: str) -> Path | None:
     panels = budget_panels(budget)
     if not panels:
         return None
-    nrows = math.ceil(len(panels) / _NCOLS)
-    fig, axes = plt.subplots(nrows, _NCOLS, figsize=(3.2 * _NCOLS, 2.4 * nrows), squeeze=False)
+    ncols = min(len(panels), _NCOLS)  # no empty columns when there are few panels
+    nrows = math.ceil(len(panels) / ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(3.6 * ncols, 2.8 * nrows), squeeze=False)
     for ax in axes.flat[len(panels):]:
         ax.axis("off")
     for ax, pn in zip(axes.flat, panels, strict=False):
@@ -72,7 +74,10 @@ def plot_budget(budget: dict, path: Path, *, title: str) -> Path | None:
         ax.set_xscale("log")
         ax.tick_params(labelsize=6)
         if not pn["ok"]:
-            ax.text(0.5, 0.5, f"band undefined\n{pn['status']}", ha="center", va="center", fontsize=7,
+            ax.set_xticks([])
+            ax.set_yticks([])
+            status = "\n".join(textwrap.wrap(str(pn["status"]), 38)[:8])
+            ax.text(0.5, 0.5, f"band undefined\n{status}", ha="center", va="center", fontsize=6,
                     transform=ax.transAxes)
             continue
         band = pn["band"]
@@ -92,10 +97,11 @@ def plot_budget(budget: dict, path: Path, *, title: str) -> Path | None:
         ax.set_ylim(-lim, lim)
         ax.set_xlabel("h_c (fraction of the half-width)", fontsize=6)
         ax.set_ylabel("f / extrapolated - 1", fontsize=6)
-        ax.text(0.98, 0.05, pn["status"], transform=ax.transAxes, ha="right", fontsize=6)
+        ax.text(0.98, 0.05, textwrap.shorten(str(pn["status"]), 40), transform=ax.transAxes, ha="right",
+                fontsize=6)
     axes.flat[0].legend(fontsize=6, loc="upper right")
     fig.suptitle(f"{title}: error budget (band = GCI + truncation)", fontsize=9)
-    fig.tight_layout(rect=(0, 0, 1, 1 - 0.3 / (2.4 * nrows)))  # room for the title
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / (2.8 * nrows)))  # room for the title
     path = Path(path)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110)
