@@ -142,6 +142,7 @@ class LoadStepper:
         self.snapshots: list[Snapshot] = []
         self.on_step: list[Callable] = [] if on_step is None else [on_step]
         self.factored = False
+        self.start_zone = None  # the prescribed runs of the hertz_zone start (hertz_zone_start)
         self.t_start = time.perf_counter()
         self.wall_time_s = 0.0
         ob = problem.obstacle
@@ -245,16 +246,21 @@ class LoadStepper:
         return d2 + (P_goal - P2) * (d2 - d1) / (P2 - P1)
 
     # -- solves ---------------------------------------------------------------------------------------------
-    def attempt(self, d_new, x_pred, kind, zone=None, predict_active_set=True, done_its=0) -> tuple[int, int]:
+    def attempt(self, d_new, x_pred, kind, zone=None, predict_active_set=True, done_its=0,
+                solved_zone=None) -> tuple[int, int]:
         """One solve at d_new from x_pred; on convergence append the state and the record and call on_step.
-        ``done_its``: Newton iterations already spent on this solve (counted in the record)."""
+        ``done_its``: Newton iterations already spent on this solve (counted in the record). ``solved_zone``: the
+        prescribed runs x_pred already solves (at d_new); with ``active_set_update`` other than ``"newton"`` the
+        active-set updates start from it (:meth:`solve_edge_fit`), else it is not used."""
         t0 = time.perf_counter()
         pb = self.problem
         if zone is None and predict_active_set and self.opts.active_set_predictor:
             zone = self.predicted_zone(d_new, x_pred)
         use_zone = (zone is not None and self.opts.active_set_predictor and predict_active_set
                     and len(zone) <= MAX_ZONES)
-        if use_zone and self.opts.active_set_update != "newton":
+        if solved_zone is not None and self.opts.active_set_update != "newton":
+            reason, its, extra = self.solve_edge_fit(d_new, x_pred, solved_zone, solved=True)
+        elif use_zone and self.opts.active_set_update != "newton":
             reason, its, extra = self.solve_edge_fit(d_new, x_pred, zone)
         else:
             reason, its, extra = pb.solve_once(d_new, x_pred, rest=self.states[-1].x,
@@ -273,7 +279,8 @@ class LoadStepper:
             fn(rec)
         return reason, its
 
-    def solve_edge_fit(self, d_new: float, x_pred: np.ndarray, zone: tuple) -> tuple[int, int, dict]:
+    def solve_edge_fit(self, d_new: float, x_pred: np.ndarray, zone: tuple,
+                       solved: bool = False) -> tuple[int, int, dict]:
         """``active_set_update`` other than ``"newton"``: iterations on prescribed active sets until the set of
         contact points of the iterate's own sign change equals the prescribed one (or the next prescribed set
         repeats, or :data:`EDGE_FIT_MAX` iterations); then the method's solve with the true law decides the answer.
@@ -286,8 +293,8 @@ class LoadStepper:
         iterations per solve 1.83 / 2.57 / 3.40 / 2.14 / 3.00 / 4.00 (hertz_cylinder, wedge, wedge_convective,
         parabola_convective, concave_symmetric, close_to_conformal) against 2.33 / 3.43 / 3.67 / 2.43 / 3.33 /
         5.00 with ``"newton"``; ``"edge_secant"`` was worse on the wedge (the sign-change edge is not a smooth
-        function of the prescribed edge: it moves by whole quadrature points). Returns as
-        :meth:`ContactProblem.solve_once`."""
+        function of the prescribed edge: it moves by whole quadrature points). ``solved``: x_pred already solves
+        the prescribed ``zone`` at d_new (no iteration on it). Returns as :meth:`ContactProblem.solve_once`."""
         pb = self.problem
         pb.d.value = d_new
         pb.set_state(x_pred, self.states[-1].x)
@@ -295,8 +302,10 @@ class LoadStepper:
             pb.forms.update(pb.u)
         pre, hist = 0, None
         while zone is not None and pre < EDGE_FIT_MAX:
-            pb.predictor_iteration(zone)
-            pre += 1
+            if not solved:
+                pb.predictor_iteration(zone)
+                pre += 1
+            solved = False
             smp = pb.sample(rule=pb.method_rule) if pb.method_rule is not None else pb.sample(pb.qdeg)
             sign = sign_runs(smp.s, smp.q)
             if not sign or same_active_points(smp.s, sign, zone):
@@ -409,7 +418,8 @@ class LoadStepper:
                 start = self.hertz_zone_start(P_goal)
                 if start is not None:
                     d_next, x_next = start
-                    reason, _ = self.attempt(d_next, x_next, "step", predict_active_set=False, done_its=1)
+                    reason, _ = self.attempt(d_next, x_next, "step", predict_active_set=False, done_its=1,
+                                             solved_zone=self.start_zone)
                     if reason > 0:
                         continue
                 self.problem.set_state(self.states[-1].x)
@@ -432,6 +442,7 @@ class LoadStepper:
         ``d = d0 + (P_goal - P(u0)) / (dP/dd)``, ``u = u0 + (d - d0) t``. None when the tangent fails."""
         pb, opts = self.problem, self.opts
         zone = (self.hertz.zone(P_goal, half=opts.symmetric_half),)
+        self.start_zone = zone
         d0 = P_goal / (0.3 * pb.E_star)
         pb.d.value = d0
         pb.set_state(self.states[-1].x)

@@ -71,9 +71,9 @@ def mesh10(tmp_path_factory):
     return dgmsh.read_from_msh(str(mf.msh), MPI.COMM_WORLD, 0, gdim=2)
 
 
-def _solve(mesh, update):
+def _solve(mesh, update, predictor="extrapolate"):
     return solve_contact(mesh, CircleObstacle(center=(0.0, R), radius=R), E=E, nu=NU, control="force", target=P_TARGET,
-                         n_steps=2, symmetric_half=True, traction="halfplane", predictor="extrapolate",
+                         n_steps=2, symmetric_half=True, traction="halfplane", predictor=predictor,
                          active_set="geometry", active_set_update=update)
 
 
@@ -86,6 +86,14 @@ def test_edge_fit_same_answer(mesh10):
     # the iteration counts are a measurement (bench section 6), not asserted: on this coarse mesh (8 facets
     # across the half zone) edge_fit took [2, 3, 3, 1, 1, 1] against [2, 3, 2, 1, 1, 1]
     assert len(fit.newton_iterations) == len(ref.newton_iterations)
+
+
+def test_edge_fit_from_the_hertz_zone_start_same_answer(mesh10):
+    """predictor="hertz_zone": the updates start from the solved Hertz-zone state (no extra iteration on it)."""
+    ref, fit = _solve(mesh10, "newton", "hertz_zone"), _solve(mesh10, "edge_fit", "hertz_zone")
+    assert abs(fit.P - ref.P) <= 1e-10 * ref.P
+    assert abs(fit.patches[0].half_width - ref.patches[0].half_width) <= 1e-8 * ref.patches[0].half_width
+    assert fit.newton_iterations[0] <= ref.newton_iterations[0], (fit.newton_iterations, ref.newton_iterations)
 
 
 def test_bad_active_set_update_refused(mesh10):
