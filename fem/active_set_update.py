@@ -21,14 +21,20 @@ import numpy as np
 
 from fem.postprocess import contact_edges
 
-__all__ = ["extrapolated_runs", "safeguarded_runs", "same_active_points", "secant_runs", "sign_runs",
-           "SECANT_REACH", "FIT_POINTS", "SKIP_POINTS", "MAX_MOVE"]
+__all__ = ["extrapolated_runs", "safeguarded_runs", "merged_runs", "accelerated_runs", "same_active_points",
+           "secant_runs", "sign_runs", "MERGE_POINTS", "SECANT_POINTS", "SECANT_REACH", "FIT_POINTS", "SKIP_POINTS",
+           "MAX_MOVE"]
 
 FIT_POINTS = 4
 SKIP_POINTS = 1
 MAX_MOVE = 0.5
 # secant_runs: a secant step moves an edge at most this many times the last sign-change step (e -> m)
 SECANT_REACH = 3.0
+# merged_runs: runs closer than this many sample spacings are one run (the sign of tiny gaps fragments a run)
+MERGE_POINTS = 4
+# accelerated_runs: an edge that moved by more than this many sample spacings in each of the last two updates
+# (the same way, less the second time) takes the secant step; closer, the quadrature grain makes it noise
+SECANT_POINTS = 3
 
 
 def _fit_edge(s: np.ndarray, q: np.ndarray, fallback: float, half: float) -> float:
@@ -131,4 +137,41 @@ def safeguarded_runs(zone: tuple, sign: tuple, fit: tuple) -> tuple:
         if not (ma < b and a < mb):
             return fit
         out.append((fa if np.isinf(fa) else _toward(a, ma, fa), _toward(b, mb, fb)))
+    return tuple(out)
+
+
+def merged_runs(runs: tuple, gap: float) -> tuple:
+    """Runs with the ones closer than ``gap`` (mm) merged into their envelope."""
+    out: list = []
+    for lo, hi in runs:
+        if out and lo - out[-1][1] < gap:
+            out[-1] = (out[-1][0], max(out[-1][1], hi))
+        else:
+            out.append((lo, hi))
+    return tuple(out)
+
+
+def accelerated_runs(prev: tuple, prev_sign: tuple, cur: tuple, cur_sign: tuple, fit: tuple, h: float) -> tuple:
+    """The runs ``fit`` with each edge replaced by the secant step (:func:`_secant_edge`) where the sign-change
+    edge moved by more than :data:`SECANT_POINTS` sample spacings ``h`` (mm) in both of the last two updates, the
+    same way and less the second time (a linearly converging edge, e.g. a too-large set that halves its excess
+    per iteration); unchanged when the runs do not correspond one to one."""
+    if not (len(prev) == len(prev_sign) == len(cur) == len(cur_sign) == len(fit)):
+        return fit
+    lim = SECANT_POINTS * h
+
+    def edge(e0, m0, e1, m1, f):
+        d0, d1 = m0 - e0, m1 - e1
+        if not all(np.isfinite(v) for v in (e0, m0, e1, m1)) or abs(d1) <= lim or abs(d0) <= lim:
+            return f
+        if d0 * d1 <= 0.0 or abs(d1) >= abs(d0):
+            return f
+        return _secant_edge(e0, m0, e1, m1)
+
+    out = []
+    for (a0, b0), (ma0, mb0), (a1, b1), (ma1, mb1), (fa, fb) in zip(prev, prev_sign, cur, cur_sign, fit,
+                                                                        strict=True):
+        if not (ma1 < b1 and a1 < mb1):
+            return fit
+        out.append((fa if np.isinf(fa) else edge(a0, ma0, a1, ma1, fa), edge(b0, mb0, b1, mb1, fb)))
     return tuple(out)

@@ -15,7 +15,15 @@ from dolfinx.io import gmsh as dgmsh
 from mpi4py import MPI
 
 from analytic.hertz import hertz_load_from_half_width
-from fem.active_set_update import _secant_edge, extrapolated_runs, safeguarded_runs, same_active_points, sign_runs
+from fem.active_set_update import (
+    _secant_edge,
+    accelerated_runs,
+    extrapolated_runs,
+    merged_runs,
+    safeguarded_runs,
+    same_active_points,
+    sign_runs,
+)
 from fem.elasticity import plane_strain_modulus
 from fem.obstacles import CircleObstacle
 from fem.solver import solve_contact
@@ -62,6 +70,17 @@ def test_same_active_points_and_sign_runs():
 def test_secant_edge_finds_the_root_of_a_linear_edge_map():
     m = lambda e: 0.3 + 0.4 * e  # noqa: E731  fixed point e = 0.5
     assert _secant_edge(0.1, m(0.1), 0.2, m(0.2)) == pytest.approx(0.5, abs=1e-12)
+
+
+def test_fragments_merge_and_a_linearly_converging_edge_takes_the_secant_step():
+    assert merged_runs(((-np.inf, 0.15), (0.1501, 0.152), (0.16, 0.6)), 0.001) == ((-np.inf, 0.152), (0.16, 0.6))
+    # a too-large set halving its excess each update (true edge 0.15, spacing 1e-3): the secant lands on it
+    prev, prev_sign, cur, cur_sign = ((-np.inf, 0.19),), ((-np.inf, 0.17),), ((-np.inf, 0.17),), ((-np.inf, 0.16),)
+    (lo, hi), = accelerated_runs(prev, prev_sign, cur, cur_sign, ((-np.inf, 0.159),), 1e-3)
+    assert np.isinf(lo) and hi == pytest.approx(0.15, abs=1e-12)
+    # within a few spacings the fit is kept (quadrature grain)
+    assert accelerated_runs(((0.0, 0.152),), ((0.0, 0.151),), ((0.0, 0.151),), ((0.0, 0.1505),), ((0.0, 0.1504),),
+                            1e-3) == ((0.0, 0.1504),)
 
 
 @pytest.fixture(scope="module")
