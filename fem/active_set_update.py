@@ -22,13 +22,13 @@ import numpy as np
 from fem.postprocess import contact_edges
 
 __all__ = ["extrapolated_runs", "safeguarded_runs", "merged_runs", "accelerated_runs", "same_active_points",
-           "secant_runs", "sign_runs", "MERGE_POINTS", "SECANT_POINTS", "SECANT_REACH", "FIT_POINTS", "SKIP_POINTS",
+           "sign_runs", "MERGE_POINTS", "SECANT_POINTS", "SECANT_REACH", "FIT_POINTS", "SKIP_POINTS",
            "MAX_MOVE"]
 
 FIT_POINTS = 4
 SKIP_POINTS = 1
 MAX_MOVE = 0.5
-# secant_runs: a secant step moves an edge at most this many times the last sign-change step (e -> m)
+# accelerated_runs: a secant step moves an edge at most this many times the last sign-change step (e -> m)
 SECANT_REACH = 3.0
 # merged_runs: runs closer than this many sample spacings are one run (the sign of tiny gaps fragments a run)
 MERGE_POINTS = 4
@@ -102,20 +102,6 @@ def _secant_edge(e0: float, m0: float, e1: float, m1: float) -> float:
     if step * f1 <= 0.0 or abs(step) > SECANT_REACH * abs(f1):  # against the sign change, or too far
         return m1 if step * f1 <= 0.0 else e1 + SECANT_REACH * f1
     return float(e)
-
-
-def secant_runs(prev: tuple, prev_sign: tuple, cur: tuple, cur_sign: tuple) -> tuple | None:
-    """Next prescribed runs by a secant on each edge (:func:`_secant_edge`) over the last two prescribed runs and
-    the sign-change runs of their iterates; None when the runs do not correspond one to one."""
-    if not (len(prev) == len(prev_sign) == len(cur) == len(cur_sign)):
-        return None
-    out = []
-    for (a0, b0), (ma0, mb0), (a1, b1), (ma1, mb1) in zip(prev, prev_sign, cur, cur_sign, strict=True):
-        if not (ma1 < b1 and a1 < mb1):  # the iterate's run does not overlap the prescribed one
-            return None
-        lo = -np.inf if np.isinf(a1) or np.isinf(ma1) else _secant_edge(a0, ma0, a1, ma1)
-        out.append((lo, _secant_edge(b0, mb0, b1, mb1)))
-    return tuple(out)
 
 
 def _toward(e: float, m: float, f: float) -> float:

@@ -26,7 +26,7 @@ ACTIVE_SETS = ("extrapolate", "geometry")
 # How the prescribed active set of a solve is updated before the true law (fem/stepping.py, fem/active_set_update.py):
 # "newton": one prescribed iteration, then semismooth Newton; "edge_fit": prescribed iterations with the edges
 # extrapolated from the pressure until the set repeats, then semismooth Newton.
-ACTIVE_SET_UPDATES = ("newton", "edge_fit", "edge_secant")
+ACTIVE_SET_UPDATES = ("newton", "edge_fit")
 # Bulk material models (:mod:`fem.hyperelastic`): "linear" is small-strain Hooke (kinematics small or convective);
 # the hyperelastic ones are the finite-strain models and go with kinematics="finite" only (and it needs one).
 MATERIAL_MODELS = ("linear", "saint_venant_kirchhoff", "neo_hookean")

@@ -48,7 +48,6 @@ from fem.active_set_update import (
     merged_runs,
     safeguarded_runs,
     same_active_points,
-    secant_runs,
     sign_runs,
 )
 from fem.errors import ContactSolveError, snes_reason_name
@@ -299,13 +298,13 @@ class LoadStepper:
         the sign change (:func:`fem.active_set_update.safeguarded_runs`); fragments of a run (the sign of tiny gaps)
         are merged (:func:`fem.active_set_update.merged_runs`), and an edge converging linearly over several
         quadrature points takes the secant step (:func:`fem.active_set_update.accelerated_runs`; at 88k dofs
-        without a predictor a too-large set halved its excess per iteration). ``"edge_secant"``: a secant on each edge
-        over the last two (prescribed edge, sign-change edge) pairs (:func:`fem.active_set_update.secant_runs`).
+        without a predictor a too-large set halved its excess per iteration). A secant on every edge (tried) was
+        worse on the coarse scenes (concave_symmetric 3.33 -> 4.17 per solve).
         Measured (make run's six scenes, ``predictor="extrapolate"``, ``active_set="geometry"``): mean Newton
         iterations per solve 1.83 / 2.57 / 3.20 / 2.14 / 3.00 / 3.67 (hertz_cylinder, wedge, wedge_convective,
         parabola_convective, concave_symmetric, close_to_conformal) against 2.33 / 3.43 / 3.67 / 2.43 / 3.33 /
-        5.00 with ``"newton"``; ``"edge_secant"`` was worse on the wedge (the sign-change edge is not a smooth
-        function of the prescribed edge: it moves by whole quadrature points). ``solved``: x_pred already solves
+        5.00 with ``"newton"`` (near convergence the sign-change edge is not a smooth function of the prescribed
+        edge: it moves by whole quadrature points). ``solved``: x_pred already solves
         the prescribed ``zone`` at d_new (no iteration on it). Returns as :meth:`ContactProblem.solve_once`."""
         pb = self.problem
         pb.d.value = d_new
@@ -322,20 +321,15 @@ class LoadStepper:
             sign = sign_runs(smp.s, smp.q)
             if not sign or same_active_points(smp.s, sign, zone):
                 break  # the iterate's own active set is the prescribed one: the true law accepts it
-            secant = self.opts.active_set_update == "edge_secant"
-            new = secant_runs(hist[0], hist[1], zone, sign) if (secant and hist is not None) else None
-            if new is None and not secant:
-                h = float(np.median(np.diff(smp.s))) if smp.s.size > 1 else 0.0
-                fit = extrapolated_runs(smp.s, smp.q)
-                if len(sign) > 1:  # fragments of one run (the sign of tiny gaps): their envelope
-                    sign, fit = merged_runs(sign, MERGE_POINTS * h), merged_runs(fit, MERGE_POINTS * h)
-                    if len(sign) != len(fit):
-                        fit = sign
-                new = safeguarded_runs(zone, sign, fit)
-                if hist is not None:
-                    new = accelerated_runs(hist[0], hist[1], zone, sign, new, h)
-            elif new is None:
-                new = extrapolated_runs(smp.s, smp.q) if hist is None else sign
+            h = float(np.median(np.diff(smp.s))) if smp.s.size > 1 else 0.0
+            fit = extrapolated_runs(smp.s, smp.q)
+            if len(sign) > 1:  # fragments of one run (the sign of tiny gaps): their envelope
+                sign, fit = merged_runs(sign, MERGE_POINTS * h), merged_runs(fit, MERGE_POINTS * h)
+                if len(sign) != len(fit):
+                    fit = sign
+            new = safeguarded_runs(zone, sign, fit)
+            if hist is not None:
+                new = accelerated_runs(hist[0], hist[1], zone, sign, new, h)
             if len(new) > MAX_ZONES or same_active_points(smp.s, new, zone):
                 break
             hist, zone = (zone, sign), new

@@ -256,7 +256,7 @@ def _solver_variants() -> dict:
 
 BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free")
 ACTIVE_SETS = ("extrapolate", "geometry")  # fem.options.ACTIVE_SETS (a study config imports no fem)
-ACTIVE_SET_UPDATES = ("newton", "edge_fit", "edge_secant")  # fem.options.ACTIVE_SET_UPDATES
+ACTIVE_SET_UPDATES = ("newton", "edge_fit")  # fem.options.ACTIVE_SET_UPDATES
 LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg")  # fem.linear_solver.LINEAR_SOLVERS
 SCALE_PREDICTORS = ("auto", "hertz_zone")  # the force-control predictors of the cost-growth rows
 SCALE_FAMILIES = ("graded", "uniform")
