@@ -15,14 +15,18 @@ import numpy as np
 from fem.linear_solver import LINEAR_SOLVERS
 
 __all__ = ["ContactOptions", "SUPPORT_KINDS", "FORMULATIONS", "CONTROLS", "PREDICTORS", "ACTIVE_SETS",
-           "MIN_FACETS_ACROSS", "LINEAR_SOLVERS", "MATERIAL_MODELS", "HYPERELASTIC_MODELS", "FINITE_METHODS",
-           "NU_DISPLACEMENT_MAX", "check_options"]
+           "ACTIVE_SET_UPDATES", "MIN_FACETS_ACROSS", "LINEAR_SOLVERS", "MATERIAL_MODELS", "HYPERELASTIC_MODELS",
+           "FINITE_METHODS", "NU_DISPLACEMENT_MAX", "check_options"]
 
 SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free", "halfplane")  # halfplane: fem/far_field.py
 FORMULATIONS = ("displacement", "mixed")
 CONTROLS = ("displacement", "force")
 PREDICTORS = ("auto", "hertz", "extrapolate", "hertz_zone")
 ACTIVE_SETS = ("extrapolate", "geometry")
+# How the prescribed active set of a solve is updated before the true law (fem/stepping.py, fem/active_set_update.py):
+# "newton": one prescribed iteration, then semismooth Newton; "edge_fit": prescribed iterations with the edges
+# extrapolated from the pressure until the set repeats, then semismooth Newton.
+ACTIVE_SET_UPDATES = ("newton", "edge_fit")
 # Bulk material models (:mod:`fem.hyperelastic`): "linear" is small-strain Hooke (kinematics small or convective);
 # the hyperelastic ones are the finite-strain models and go with kinematics="finite" only (and it needs one).
 MATERIAL_MODELS = ("linear", "saint_venant_kirchhoff", "neo_hookean")
@@ -76,6 +80,7 @@ class ContactOptions:
     sample_degree: int | None = None
     active_set_predictor: bool = True
     active_set: str = "extrapolate"
+    active_set_update: str = "newton"
     first_step_fraction: float = 0.1
     record_at: Sequence[float] | None = None
     formulation: str = "displacement"
@@ -135,6 +140,8 @@ def check_options(opts: ContactOptions, *, mesh_data, obstacle) -> None:
         raise ValueError(f"predictor must be one of {PREDICTORS}, got {opts.predictor!r}")
     if opts.active_set not in ACTIVE_SETS:
         raise ValueError(f"active_set must be 'extrapolate' or 'geometry', got {opts.active_set!r}")
+    if opts.active_set_update not in ACTIVE_SET_UPDATES:
+        raise ValueError(f"active_set_update must be one of {ACTIVE_SET_UPDATES}, got {opts.active_set_update!r}")
     if not 0.0 < opts.first_step_fraction <= 1.0:
         raise ValueError(f"first_step_fraction must be in (0, 1], got {opts.first_step_fraction}")
     if opts.linear_solver not in LINEAR_SOLVERS:

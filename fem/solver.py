@@ -105,7 +105,7 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
                   max_it: int = 40, case: str = "contact", petsc_options: dict | None = None,
                   predictor: str = "auto", sample_degree: int | None = None,
                   active_set_predictor: bool = True, active_set: str = "extrapolate",
-                  first_step_fraction: float = 0.1,
+                  active_set_update: str = "newton", first_step_fraction: float = 0.1,
                   record_at: Sequence[float] | None = None, formulation: str = "displacement",
                   min_facets_across: int = MIN_FACETS_ACROSS, uzawa_rtol: float = 1e-10, uzawa_max_it: int = 100,
                   linear_solver: str = "lu", split_jacobian: bool = True, material_model: str = "linear",
@@ -152,6 +152,11 @@ def solve_contact(mesh_data, obstacle, *, E: float | None = None, nu: float | No
             :data:`fem.problem.MAX_ZONES` runs) and the first contact of a step from an open state: the runs of the
             rigid overlap at the new d, shrunk about their centres (:data:`fem.stepping.GEOMETRIC_SHRINK`). It
             needs no analytic predictor; the converged answer is the same, the Newton path differs.
+        active_set_update: after the prescribed active set, ``"newton"`` (default): one iteration on it, then
+            semismooth Newton; ``"edge_fit"``: iterations on prescribed sets whose edges are extrapolated from the
+            pressure of the last iterate (``q |q|`` linear near the edge, :mod:`fem.active_set_update`) until the
+            set of contact points repeats (at most :data:`fem.stepping.EDGE_FIT_MAX`), then semismooth Newton,
+            which decides the answer.
         first_step_fraction: without the Hertz predictor, an extra first step at this fraction of the first
             load level (few quadrature points are in the initial overlap, so the unpredicted first solve is
             short); 1 disables it.

@@ -41,7 +41,9 @@ Sections:
 
 6. Predictor-free Newton (issue 16): every run of ``predictor_free_cases`` at its default level with
    ``predictor="extrapolate"`` (no analytic predictor) and the solver option ``active_set`` =
-   ``predictor_free_active_set``, and with today's ``active_set="extrapolate"`` as the reference: Newton
+   ``predictor_free_active_set`` (and ``active_set_update`` = ``predictor_free_active_set_update``, with
+   ``"newton"`` as a second reference row when it differs), and with today's ``active_set="extrapolate"`` as
+   the reference: Newton
    iterations per solve (the prescribed-active-set iteration included; force corrections and steps without
    contact, 0 iterations, are solves too), the mean per scene, and the loads against the case default.
 
@@ -870,8 +872,12 @@ def _newton_rows(cfg: BenchConfig, *, comm, progress, **overrides) -> dict:
 
 def predictor_free(cfg: BenchConfig, *, comm, progress) -> dict:
     """Section 6: Newton iterations per solve without an analytic predictor (module docstring)."""
+    update = cfg.predictor_free_active_set_update
     ours = _newton_rows(cfg, comm=comm, progress=progress, predictor="extrapolate",
-                        active_set=cfg.predictor_free_active_set)
+                        active_set=cfg.predictor_free_active_set, active_set_update=update)
+    plain = (None if update == "newton" else
+             _newton_rows(cfg, comm=comm, progress=progress, predictor="extrapolate",
+                          active_set=cfg.predictor_free_active_set, active_set_update="newton"))
     ref = _newton_rows(cfg, comm=comm, progress=progress, predictor="extrapolate", active_set="extrapolate")
     default = _newton_rows(cfg, comm=comm, progress=progress)
     target = cfg.predictor_free_target
@@ -879,8 +885,12 @@ def predictor_free(cfg: BenchConfig, *, comm, progress) -> dict:
         row["met"] = row["newton_per_step"] <= target
         row["max_rel_diff_P_vs_default"] = max(
             rel_diff(r["P"], default[name]["runs"][label]["P"]) for label, r in row["runs"].items())
-    return {"active_set": cfg.predictor_free_active_set, "target": target, "scenes": ours,
-            "reference_active_set_extrapolate": ref, "case_default": default,
+    total = {k: sum(sum(sum(r["newton_iterations"]) for r in s["runs"].values()) for s in rows.values())
+             for k, rows in (("ours", ours), ("active_set_update_newton", plain), ("reference", ref),
+                             ("case_default", default)) if rows is not None}
+    return {"active_set": cfg.predictor_free_active_set, "active_set_update": update, "target": target,
+            "scenes": ours, "reference_active_set_extrapolate": ref, "case_default": default,
+            "active_set_update_newton": plain, "total_newton_iterations": total,
             "all_met": all(r["met"] for r in ours.values())}
 
 
@@ -949,6 +959,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--sections", nargs="+", default=list(BENCH_SECTIONS), help="sections (default: %(default)s)")
     p.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/bench)")
     p.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
+    p.add_argument("--active-set-update", default=_DEFAULT.predictor_free_active_set_update,
+                   help="active_set_update of the predictor-free section (default: %(default)s)")
     p.add_argument("--worker", choices=("scale", "cold"), help=argparse.SUPPRESS)
     p.add_argument("--worker-config", default=None, help=argparse.SUPPRESS)
     p.add_argument("--h-contact", type=float, default=None, help=argparse.SUPPRESS)
@@ -961,7 +973,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     try:
         cfg = BenchConfig(repeats=args.repeats, sections=tuple(args.sections), out=args.out,
-                          mesh_cache=args.mesh_cache)
+                          mesh_cache=args.mesh_cache, predictor_free_active_set_update=args.active_set_update)
         if args.quick:
             cfg = cfg.quick()
         data = run_bench(cfg, progress=lambda s: print(f"[bench] {s}", flush=True))

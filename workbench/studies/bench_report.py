@@ -295,20 +295,24 @@ def _md_predictor_free(pf: dict, targets: list) -> list[str]:
         "## 6. Predictor-free Newton",
         "",
         f"Every run of each scene at its default level with `predictor=\"extrapolate\"` (no analytic predictor) "
-        f"and `active_set=\"{pf['active_set']}\"`; reference: today's `active_set=\"extrapolate\"` (single "
-        "patches only) and the case default (the Hertz predictor where it applies). Newton iterations per solve, "
+        f"and `active_set=\"{pf['active_set']}\"`, `active_set_update=\"{pf.get('active_set_update', 'newton')}\"`"
+        f" (total Newton iterations {pf.get('total_newton_iterations')}); reference: today's "
+        "`active_set=\"extrapolate\"` (single patches only) and the case default (the Hertz predictor where it "
+        "applies). Newton iterations per solve, "
         "the prescribed-active-set iteration included; force corrections and open steps (0 iterations) count "
         "as solves. P: largest relative difference of a run's load from the case default.",
         "",
-        f"| scene | {pf['active_set']}: per solve | its | reference: per solve | case default: per solve | "
-        "P vs default |",
-        "|---|---|---|---|---|---|",
+        f"| scene | {pf['active_set']}: per solve | its | {pf['active_set']} + newton update: per solve | "
+        "reference: per solve | case default: per solve | P vs default |",
+        "|---|---|---|---|---|---|---|",
     ]
     ref, dflt = pf.get("reference_active_set_extrapolate", {}), pf.get("case_default", {})
+    plain = pf.get("active_set_update_newton") or {}
     for name, row in pf["scenes"].items():
         its = "; ".join(f"{k}: {r['newton_iterations']}" for k, r in row["runs"].items())
         L.append(f"| {name} | {_f(row['newton_per_step'])} | {its} | "
-                 f"{_f(ref.get(name, {}).get('newton_per_step'))} | {_f(dflt.get(name, {}).get('newton_per_step'))} "
+                 f"{_f(plain.get(name, {}).get('newton_per_step'))} | {_f(ref.get(name, {}).get('newton_per_step'))} "
+                 f"| {_f(dflt.get(name, {}).get('newton_per_step'))} "
                  f"| {_f(row.get('max_rel_diff_P_vs_default'), '.1e')} |")
         targets.append((f"predictor-free Newton <= {t:g} per solve: {name}", _f(row["newton_per_step"]),
                         row["met"]))

@@ -256,6 +256,7 @@ def _solver_variants() -> dict:
 
 BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free")
 ACTIVE_SETS = ("extrapolate", "geometry")  # fem.options.ACTIVE_SETS (a study config imports no fem)
+ACTIVE_SET_UPDATES = ("newton", "edge_fit")  # fem.options.ACTIVE_SET_UPDATES
 LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg")  # fem.linear_solver.LINEAR_SOLVERS
 SCALE_PREDICTORS = ("auto", "hertz_zone")  # the force-control predictors of the cost-growth rows
 SCALE_FAMILIES = ("graded", "uniform")
@@ -300,6 +301,10 @@ class BenchConfig:
         predictor_free_active_set: The solver's ``active_set`` option of that section (``"geometry"``: the
             first contact from the rigid overlap, several patches; ``"extrapolate"``: single patches only).
             Today's option (``"extrapolate"``) is run too, as the reference row.
+        predictor_free_active_set_update: The solver's ``active_set_update`` option of that section
+            (``"edge_fit"``: prescribed-active-set iterations with the edges extrapolated from the pressure,
+            :mod:`fem.active_set_update`; ``"newton"``: one prescribed iteration, then semismooth Newton). When it
+            is not ``"newton"``, the same ``active_set`` with ``"newton"`` is run too, as a second reference row.
         predictor_free_target: The issue's target: mean Newton iterations per solve <= this on every scene.
         repeats: Warm repetitions per timing (best kept), >= 1.
         sections: Sections run.
@@ -335,6 +340,7 @@ class BenchConfig:
     predictor_free_cases: tuple[str, ...] = ("hertz_cylinder", "wedge", "wedge_convective", "parabola_convective",
                                              "concave_symmetric", "close_to_conformal")
     predictor_free_active_set: str = "geometry"
+    predictor_free_active_set_update: str = "edge_fit"
     predictor_free_target: float = 4.0
     repeats: int = 3
     sections: tuple[str, ...] = BENCH_SECTIONS
@@ -363,6 +369,9 @@ class BenchConfig:
         if self.predictor_free_active_set not in ACTIVE_SETS:
             raise ValueError(f"predictor_free_active_set must be one of {list(ACTIVE_SETS)}, "
                              f"got {self.predictor_free_active_set!r}")
+        if self.predictor_free_active_set_update not in ACTIVE_SET_UPDATES:
+            raise ValueError(f"predictor_free_active_set_update must be one of {list(ACTIVE_SET_UPDATES)}, "
+                             f"got {self.predictor_free_active_set_update!r}")
         if self.scale_linear_solver not in LINEAR_SOLVERS:
             raise ValueError(f"scale_linear_solver must be one of {list(LINEAR_SOLVERS)}, "
                              f"got {self.scale_linear_solver!r}")
