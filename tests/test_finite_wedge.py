@@ -24,7 +24,7 @@ def test_finite_substeps_grow_the_increment_at_most_geometrically():
     g = stepping.FINITE_STEP_GROWTH
     subs = stepping.LoadStepper.finite_substeps(_states(0.0, 0.01), 0.5)
     incs = np.diff([0.01, *subs, 0.5])
-    assert subs and all(b <= g * a * (1 + 1e-12) for a, b in zip([0.01, *incs[:-1]], incs))
+    assert subs and all(b <= g * a * (1 + 1e-12) for a, b in zip([0.01, *incs[:-1]], incs, strict=True))
     assert subs == pytest.approx([0.01 + 0.01 * sum(g**k for k in range(1, n + 1)) for n in range(1, len(subs) + 1)])
     # a step within the cap, or without history: no sub-steps
     assert stepping.LoadStepper.finite_substeps(_states(0.0, 0.01), 0.02) == []

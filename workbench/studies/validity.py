@@ -61,17 +61,16 @@ FINITE_CUTBACKS = 4
 FINITE_MAX_IT = 30
 # St Venant-Kirchhoff loses ellipticity in compression: in plane-strain uniaxial compression (lateral stretch 1)
 # its nominal stress lambda_1 (lambda + 2 mu) (lambda_1^2 - 1) / 2 peaks at the stretch 1/sqrt(3) = 0.577 and
-# falls beyond it. Measured (a/h = 8, W/a = 160, the FINITE_* settings): SVK converges at theta = pi/40 and pi/20
-# (smallest principal stretch 0.84-0.89 and 0.77), and diverges from pi/10 on (nu = 0.3: at 15 % of the load, the
-# last iterate's smallest stretch 0.38; pi/5, nu = 0: at 14 %, stretch 0.10 and inverted cells). The neo-Hookean
-# solutions there reach 0.53-0.62 (pi/10), 0.21-0.24 (pi/5), 0.05-0.08 (pi/4). So SVK wedges above
-# SVK_WEDGE_THETA_MAX are skipped with that reason.
-SVK_STRETCH_LIMIT = 1.0 / math.sqrt(3.0)
+# falls beyond it. Measured (a/h = 8, W/a = 160, the FINITE_* settings): SVK converges at theta = pi/40 and
+# pi/20 (smallest principal stretch 0.84-0.89 and 0.77), and diverges from pi/10 on (nu = 0.3: at the load level
+# 3/24, the last iterate's smallest stretch 0.38; nu = 0: 4/24, 0.39; pi/5, nu = 0: 1/24, 0.10 and inverted
+# cells). The neo-Hookean solutions there reach 0.53-0.62 (pi/10), 0.21-0.24 (pi/5), 0.05-0.08 (pi/4). So SVK
+# wedges above SVK_WEDGE_THETA_MAX are skipped with that reason.
 SVK_WEDGE_THETA_MAX = math.pi / 20
 SVK_WEDGE_SKIP = ("St Venant-Kirchhoff loses ellipticity below the stretch 1/sqrt(3) = 0.577 (plane-strain "
                   "uniaxial compression); wedges steeper than pi/20 reach smaller apex stretches (neo-Hookean, "
                   "a/h = 8: 0.53-0.62 at pi/10, 0.21-0.24 at pi/5, 0.05-0.08 at pi/4) and SVK diverged there "
-                  "(pi/10, nu = 0.3: at 15 % of the load, smallest stretch 0.38)")
+                  "(pi/10, nu = 0.3: at the load level 3/24, smallest stretch 0.38)")
 CLAIM_X = (0.0, 0.25, 0.5, 0.75, 1.0, 1.5)  # stress probes of the paper's claim, x / b (half model, x >= 0)
 CLAIM_Z = (0.25, 0.5, 0.75, 1.0, 1.5, 2.0)  # and depths z / b
 
