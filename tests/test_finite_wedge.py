@@ -56,3 +56,21 @@ def test_neo_hookean_wedge_at_nu_03_converges(tmp_path):
     rec = v.solve_task(task, str(tmp_path))
     assert rec["converged"], rec["error"]
     assert math.isfinite(rec["moment"]) and 0.8 < rec["half_width"] < 1.3
+
+
+def test_report_states_the_finite_settings():
+    from workbench.studies.config import to_json
+    from workbench.studies.validity_report import report_markdown
+
+    cfg = ValidityConfig(cylinder_a_over_R=(0.1,), wedge_theta=(math.pi / 10,), nu=(0.0,))
+    data = {"config": to_json(cfg), "summary": {"runs": 0, "failed": 0, "points": 0, "dropped": 0,
+                                                "wall_time_s": 1.0, "workers": 2, "cpu_count": 2,
+                                                "cpu_s_workers": 1.0},
+            "points": [], "dropped": [], "claim": {"rows": [], "verdict": None}, "runs": [],
+            "finite_settings": v.finite_settings()}
+    import json
+
+    md = report_markdown(json.loads(json.dumps(data, default=float)))
+    assert f"{v.FINITE_STEPS} load steps" in md and f"theta = {v.FINITE_THETA:g}" in md and "1/sqrt(3)" in md
+    del data["finite_settings"]  # an older validity.json: no such sentence, no error
+    assert "load steps" not in report_markdown(json.loads(json.dumps(data, default=float)))

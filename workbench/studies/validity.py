@@ -43,7 +43,8 @@ from workbench.atomic import write_json
 from workbench.error_budget import grid_study
 from workbench.studies.config import ValidityConfig, to_json
 
-__all__ = ["Task", "assemble", "claim_points", "main", "point_theories", "run_study", "solve_task", "tasks"]
+__all__ = ["Task", "assemble", "claim_points", "finite_settings", "main", "point_theories", "run_study", "solve_task",
+           "tasks"]
 
 # Finite-strain runs only (measured on the wedge, neo-Hookean, a/h = 4, 8, 16, W/a = 160 and 640, theta = pi/40 ..
 # pi/4, nu = 0 and 0.3: 38 of 40 runs converge with these, none of the nu = 0.3 ones did before):
@@ -245,6 +246,13 @@ def _solve_task(task: Task, mesh_cache: str) -> dict:
         rec["stresses"] = {"x": pts[:, 0].tolist(), "z": (-pts[:, 1]).tolist(), "sxx": st.sxx.tolist(),
                            "szz": st.syy.tolist(), "sxz": st.sxy.tolist()}  # FEM sxy = McEwen's s_xz (measured)
     return rec
+
+
+def finite_settings() -> dict:
+    """The solver settings of the finite-strain runs (the FINITE_* constants) and the SVK wedge limit, for the
+    JSON and the report."""
+    return {"load_steps": FINITE_STEPS, "nitsche_theta": FINITE_THETA, "max_cutbacks": FINITE_CUTBACKS,
+            "max_it": FINITE_MAX_IT, "svk_wedge_theta_max": SVK_WEDGE_THETA_MAX}
 
 
 def _pool(cfg: ValidityConfig):
@@ -550,7 +558,8 @@ def main(argv: list[str] | None = None) -> int:
                "wall_time_s": wall, "workers": cfg.workers, "cpu_count": os.cpu_count(), **timing}
     out = cfg.out_dir
     write_json(out / "validity.json", {"config": to_json(cfg), "summary": summary, "points": points,
-                                       "dropped": dropped, "claim": claim, "runs": records})
+                                       "dropped": dropped, "claim": claim, "runs": records,
+                                       "finite_settings": finite_settings()})
     from workbench.studies.validity_plot import main as plot_main
     from workbench.studies.validity_report import write_report
 
