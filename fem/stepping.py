@@ -65,6 +65,16 @@ MAX_FORCE_CORRECTIONS = 30
 GEOMETRIC_SHRINK = 0.5
 # active_set_update="edge_fit": at most this many prescribed-active-set iterations before the true law
 EDGE_FIT_MAX = 8
+# kinematics="finite" only (unless petsc_options names a line search): backtracking line search. The full
+# Newton step of a sharp wedge's first contact moves the apex nodes so far that cells invert (det F <= 0, the
+# neo-Hookean ln J is NaN: SNES reason -4 at the first step, d = 0.009 mm of a 1.34 mm wedge, theta = pi/10,
+# nu = 0.3, a/h = 16); "bt" shortens such steps (NaN/Inf residuals count as a failed decrease).
+FINITE_LINESEARCH = "bt"
+# kinematics="finite" only: a load step's displacement increment is at most this many times the last converged
+# one (the rest in sub-steps). Without it the force control's first level follows a short first step with a
+# 37-fold larger increment (theta = pi/4, nu = 0, a/h = 8: 0.014 mm then 0.52 mm), whose extrapolated start
+# already has inverted apex cells.
+FINITE_STEP_GROWTH = 2.0
 
 
 class Snapshot(NamedTuple):
@@ -165,6 +175,9 @@ class LoadStepper:
         # hertz_zone: the Hertz zone from the unloaded state and the tangent of that prescribed-set solve (no
         # stiffness solve); where the tangent does not apply, the Hertz predictor.
         self.zone_start = opts.predictor == "hertz_zone" and self.tangent_ok
+        self.finite = opts.kinematics == "finite"
+        if self.finite and "snes_linesearch_type" not in (opts.petsc_options or {}):
+            pb.snes.getLineSearch().setType(FINITE_LINESEARCH)
         use_hertz = opts.predictor in ("hertz", "hertz_zone") or (opts.predictor == "auto" and hertz_ok)
         self.hertz = (HertzPredictor(u=pb.u, obstacle=ob, lame=pb.lame, E_star=pb.E_star, bcs=pb.bcs, ds_c=pb.ds_c,
                                      facets=pb.contact_facets, prefix=pb.prefix + "hertz_",
@@ -276,6 +289,12 @@ class LoadStepper:
         its += done_its
         self.factored = self.factored or its > 0
         if reason <= 0:
+            if self.finite:
+                # A failed finite-strain iterate may hold inverted cells (det F <= 0: ln J is NaN); MUMPS then
+                # fails its analysis and PETSc skips every later numeric factorisation of the same pattern
+                # (measured: each cut-back ended with DIVERGED_LINEAR_SOLVE after 0 iterations). Reset the PC so
+                # the next solve factorises afresh.
+                pb.snes.getKSP().getPC().reset()
             return reason, its
         P, Pp = pb.measure()
         zone_now = pb.contact_zones() if self.opts.active_set_predictor else None
@@ -337,7 +356,35 @@ class LoadStepper:
         return reason, its + pre, extra
 
     def reach(self, d_target, step, kind, x_pred=None, zone=None) -> None:
-        """Reach d_target from the last converged state, halving the increment on divergence."""
+        """Reach d_target from the last converged state, halving the increment on divergence.
+
+        Finite strain: first through intermediate displacements, each increment at most
+        :data:`FINITE_STEP_GROWTH` times the last converged one (:meth:`finite_substeps`)."""
+        if self.finite:
+            for d_sub in self.finite_substeps(d_target):
+                self.reach_once(d_sub, step, "substep")
+                x_pred = zone = None
+        self.reach_once(d_target, step, kind, x_pred, zone)
+
+    def finite_substeps(self, d_target: float) -> list[float]:
+        """Intermediate displacements before ``d_target`` (finite strain): increments growing at most
+        :data:`FINITE_STEP_GROWTH`-fold from the last converged increment (none without two states)."""
+        if len(self.states) < 2:
+            return []
+        d1, d2 = self.states[-2].d, self.states[-1].d
+        inc, out, d = abs(d2 - d1), [], d2
+        if inc == 0.0:
+            return []
+        sign = 1.0 if d_target >= d2 else -1.0
+        while True:
+            inc *= FINITE_STEP_GROWTH
+            if abs(d_target - d) <= inc:
+                return out
+            d += sign * inc
+            out.append(d)
+
+    def reach_once(self, d_target, step, kind, x_pred=None, zone=None) -> None:
+        """:meth:`reach` without the finite-strain sub-steps."""
         cut = 0
         while True:
             d_prev = self.states[-1].d

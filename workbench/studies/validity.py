@@ -43,8 +43,35 @@ from workbench.atomic import write_json
 from workbench.error_budget import grid_study
 from workbench.studies.config import ValidityConfig, to_json
 
-__all__ = ["Task", "assemble", "claim_points", "main", "point_theories", "run_study", "solve_task", "tasks"]
+__all__ = ["Task", "assemble", "claim_points", "finite_settings", "main", "point_theories", "run_study", "solve_task",
+           "tasks"]
 
+# Finite-strain runs only (measured on the wedge, neo-Hookean, a/h = 4, 8, 16, W/a = 160 and 640, theta = pi/40 ..
+# pi/4, nu = 0 and 0.3: 38 of 40 runs converge with these, none of the nu = 0.3 ones did before):
+# * FINITE_STEPS load steps (3 steps: the first level follows the short first step with a 10-40 times larger
+#   increment; fem.stepping also caps the finite increments' growth and uses a backtracking line search);
+# * FINITE_THETA: the incomplete Nitsche variant (theta = 0). With the symmetric one (theta = 1) the semismooth
+#   Newton iterates of the steep wedges cycle between two active sets (theta = pi/4, nu = 0.3, a/h = 8: the
+#   residual stalls at 0.60 N/mm, det F alternating 0.8085 / 0.8188 at the apex, 30 iterations): 6 of 6 test points
+#   failed with theta = 1, 0 of 6 with theta = 0. Both variants are consistent (the same limit as h -> 0; the
+#   levels' extrapolation removes their O(h) difference);
+# * FINITE_CUTBACKS step halvings per step and FINITE_MAX_IT Newton iterations per solve.
+FINITE_STEPS = 24
+FINITE_THETA = 0
+FINITE_CUTBACKS = 4
+FINITE_MAX_IT = 30
+# St Venant-Kirchhoff loses ellipticity in compression: in plane-strain uniaxial compression (lateral stretch 1)
+# its nominal stress lambda_1 (lambda + 2 mu) (lambda_1^2 - 1) / 2 peaks at the stretch 1/sqrt(3) = 0.577 and
+# falls beyond it. Measured (a/h = 8, W/a = 160, the FINITE_* settings): SVK converges at theta = pi/40 and
+# pi/20 (smallest principal stretch 0.84-0.89 and 0.77), and diverges from pi/10 on (nu = 0.3: at the load level
+# 3/24, the last iterate's smallest stretch 0.38; nu = 0: 4/24, 0.39; pi/5, nu = 0: 1/24, 0.10 and inverted
+# cells). The neo-Hookean solutions there reach 0.53-0.62 (pi/10), 0.21-0.24 (pi/5), 0.05-0.08 (pi/4). So SVK
+# wedges above SVK_WEDGE_THETA_MAX are skipped with that reason.
+SVK_WEDGE_THETA_MAX = math.pi / 20
+SVK_WEDGE_SKIP = ("St Venant-Kirchhoff loses ellipticity below the stretch 1/sqrt(3) = 0.577 (plane-strain "
+                  "uniaxial compression); wedges steeper than pi/20 reach smaller apex stretches (neo-Hookean, "
+                  "a/h = 8: 0.53-0.62 at pi/10, 0.21-0.24 at pi/5, 0.05-0.08 at pi/4) and SVK diverged there "
+                  "(pi/10, nu = 0.3: at the load level 3/24, smallest stretch 0.38)")
 CLAIM_X = (0.0, 0.25, 0.5, 0.75, 1.0, 1.5)  # stress probes of the paper's claim, x / b (half model, x >= 0)
 CLAIM_Z = (0.25, 0.5, 0.75, 1.0, 1.5, 2.0)  # and depths z / b
 
@@ -105,11 +132,17 @@ def tasks(cfg: ValidityConfig) -> tuple[list[Task], list[dict]]:
                                     "reason": f"finite strain has no mixed formulation; nu = {nu:g} >= "
                                               f"{cfg.mixed_from_nu:g} locks the displacement formulation"})
                     continue
+                if (kin == "finite" and scene == "wedge" and cfg.finite_material == "saint_venant_kirchhoff"
+                        and param > SVK_WEDGE_THETA_MAX * (1.0 + 1e-9)):
+                    skipped.append({"scene": scene, "param": param, "nu": nu, "model": f"{traction}/{kin}",
+                                    "reason": SVK_WEDGE_SKIP})
+                    continue
                 for level, h, W in levels:
                     growth = 1.0 + (cfg.growth - 1.0) * cfg.h_ratios[0] / h
                     stresses = scene == "wedge" and nu == cfg.claim_nu and kin == "small" and level in ("h2", "far")
                     out.append(Task(scene, float(param), float(nu), traction, kin, level, float(h), float(W),
-                                    growth, cfg.E, cfg.n_steps, cfg.mixed_from_nu,
+                                    growth, cfg.E, FINITE_STEPS if kin == "finite" else cfg.n_steps,
+                                    cfg.mixed_from_nu,
                                     cfg.finite_material if kin == "finite" else "linear", stresses))
     return out, skipped
 
@@ -128,7 +161,7 @@ def _run(task: Task):
                loading=Loading(control="force", half_width=1.0, steps=task.n_steps),
                discretisation=Discretisation(degree=2, h_contact=1.0 / task.h_ratio, growth=task.growth),
                solver=Solver(method="nitsche", kinematics=task.kinematics, traction=task.traction,
-                             formulation=form))
+                             formulation=form, theta=FINITE_THETA if task.kinematics == "finite" else 1))
 
 
 def build_mesh(task: Task, mesh_cache: str) -> dict:
@@ -181,8 +214,8 @@ def _solve_task(task: Task, mesh_cache: str) -> dict:
         _MESHES[task.mesh_name] = (read_mesh(files.msh, comm), files.stats.get("cells"))
     mesh_data, cells = _MESHES[task.mesh_name]
     load = LoadPath("force", th0.P, task.n_steps, symmetric_half=True)
-    # finite strain: fewer cut-backs (a run that cannot converge fails in seconds, with its SNES reason)
-    extra = ({"material_model": task.material_model, "max_cutbacks": 2, "max_it": 30}
+    # finite strain: FINITE_* (above); a run that cannot converge fails in seconds, with its SNES reason
+    extra = ({"material_model": task.material_model, "max_cutbacks": FINITE_CUTBACKS, "max_it": FINITE_MAX_IT}
              if task.kinematics == "finite" else {})
     t0 = time.perf_counter()
     try:
@@ -213,6 +246,13 @@ def _solve_task(task: Task, mesh_cache: str) -> dict:
         rec["stresses"] = {"x": pts[:, 0].tolist(), "z": (-pts[:, 1]).tolist(), "sxx": st.sxx.tolist(),
                            "szz": st.syy.tolist(), "sxz": st.sxy.tolist()}  # FEM sxy = McEwen's s_xz (measured)
     return rec
+
+
+def finite_settings() -> dict:
+    """The solver settings of the finite-strain runs (the FINITE_* constants) and the SVK wedge limit, for the
+    JSON and the report."""
+    return {"load_steps": FINITE_STEPS, "nitsche_theta": FINITE_THETA, "max_cutbacks": FINITE_CUTBACKS,
+            "max_it": FINITE_MAX_IT, "svk_wedge_theta_max": SVK_WEDGE_THETA_MAX}
 
 
 def _pool(cfg: ValidityConfig):
@@ -518,7 +558,8 @@ def main(argv: list[str] | None = None) -> int:
                "wall_time_s": wall, "workers": cfg.workers, "cpu_count": os.cpu_count(), **timing}
     out = cfg.out_dir
     write_json(out / "validity.json", {"config": to_json(cfg), "summary": summary, "points": points,
-                                       "dropped": dropped, "claim": claim, "runs": records})
+                                       "dropped": dropped, "claim": claim, "runs": records,
+                                       "finite_settings": finite_settings()})
     from workbench.studies.validity_plot import main as plot_main
     from workbench.studies.validity_report import write_report
 

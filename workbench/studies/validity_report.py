@@ -102,8 +102,15 @@ def report_markdown(data: dict) -> str:
            f"{100 * cfg['thresholds'][0]:g} % (then the verdict holds whatever the difference); otherwise it is "
            "`unresolved` and listed with its reason below. The most complete model is the last of "
            "obstacle/finite, obstacle/convective, ... that has a value at the point (finite strain has no mixed "
-           "formulation: not run at nu >= 0.45).", "",
-           "## Maps", "", "![map_cylinder](map_cylinder.png)", "", "![map_wedge](map_wedge.png)", "",
+           "formulation: not run at nu >= 0.45).", ""]
+    fs = data.get("finite_settings")
+    if fs:
+        md += [f"Finite-strain runs: {fs['load_steps']} load steps (each increment at most twice the last), a "
+               f"backtracking line search, up to {fs['max_cutbacks']} step halvings, Nitsche theta = "
+               f"{fs['nitsche_theta']:g} (the symmetric variant's active set cycled on the steep wedges); St "
+               f"Venant-Kirchhoff wedges steeper than theta = {fs['svk_wedge_theta_max']:.4g} rad are skipped (it "
+               "loses ellipticity below the stretch 1/sqrt(3); docs/models.md).", ""]
+    md += ["## Maps", "", "![map_cylinder](map_cylinder.png)", "", "![map_wedge](map_wedge.png)", "",
            "## Bands, point by point (difference from the most complete model +- its uncertainty)", "",
            "### Cylinder (exact circle)", ""]
     md += _band_table(points, "cylinder")
