@@ -141,3 +141,26 @@ def test_config_default_folders_and_frozen():
     assert cfg.cache_dir == default_paths().mesh_cache
     with pytest.raises(dataclasses.FrozenInstanceError):
         cfg.out = Path("x")  # type: ignore[misc]
+
+
+def test_a_run_whose_jit_compile_timed_out_is_retried_and_then_named(monkeypatch):
+    task = v.tasks(ValidityConfig())[0][0]
+    calls = []
+
+    def timed_out_once(t, cache):
+        calls.append(t)
+        if len(calls) == 1:
+            raise TimeoutError("JIT compilation timed out, probably due to a failed previous compile.")
+        return {"task": asdict(t), "model": t.model, "converged": True, "error": None}
+
+    monkeypatch.setattr(v, "_solve_task", timed_out_once)
+    rec = v.solve_task(task, "unused")
+    assert rec["converged"] and rec["jit_retries"] == 1 and len(calls) == 2
+
+    def always_timed_out(t, cache):
+        raise TimeoutError("JIT compilation timed out")
+
+    monkeypatch.setattr(v, "_solve_task", always_timed_out)
+    rec = v.solve_task(task, "unused")
+    assert not rec["converged"] and "JIT compilation timed out" in rec["error"]
+    assert rec["jit_retries"] == v.JIT_RETRIES

@@ -176,16 +176,25 @@ def build_mesh(task: Task, mesh_cache: str) -> dict:
 
 
 _MESHES: dict = {}
+# The two pool workers may compile the same form at once; FFCx waits for the other's compile at most dolfinx's
+# JIT timeout (10 s), and a large form (mixed u-p, finite strain) can take longer: measured on a quiet machine,
+# 4 of 616 runs ended "JIT compilation timed out". By the retry the other compile has finished (cached).
+JIT_RETRIES = 2
 
 
 def solve_task(task: Task, mesh_cache: str) -> dict:
     """Run one task in this process (MPI.COMM_SELF); returns its record. Never raises: any failure becomes the
     record's named ``error`` (an exception object holding PETSc state could not even be sent back)."""
-    try:
-        return _solve_task(task, mesh_cache)
-    except Exception as exc:  # noqa: BLE001
-        return {"task": asdict(task), "model": task.model, "converged": False,
-                "error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}"}
+    retries = 0
+    while True:
+        try:
+            rec = _solve_task(task, mesh_cache)
+        except Exception as exc:  # noqa: BLE001
+            rec = {"task": asdict(task), "model": task.model, "converged": False,
+                   "error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}"}
+        if "JIT compilation timed out" not in str(rec.get("error")) or retries == JIT_RETRIES:
+            return rec | ({"jit_retries": retries} if retries else {})
+        retries += 1
 
 
 def _solve_task(task: Task, mesh_cache: str) -> dict:
