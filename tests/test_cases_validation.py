@@ -11,26 +11,14 @@ import sys
 from pathlib import Path
 
 import pytest
+from probe_cases import PROBE_BLOCK
 
 from cases import case_names, load_case
 from workbench.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 
-GOOD = """
-[case]
-name = "probe"
-[material]
-E = 210000.0
-nu = 0.3
-[geometry]
-scene = "block"
-indenter = "circle"
-radius = 10.0
-[loading]
-control = "force"
-P = 100.0
-"""
+GOOD = PROBE_BLOCK
 
 
 def test_every_shipped_case_loads():

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from dolfinx.io import gmsh as dgmsh
 from mpi4py import MPI
+from probe_cases import PROBE_BLOCK
 
 import fem.far_field as far_field_module
 from analytic.flamant import flamant_displacement
@@ -104,21 +105,7 @@ def test_far_field_supports_vocabulary():
         far_field_supports(far_field="roller", symmetric_half=True)
 
 
-BLOCK = """
-[case]
-name = "probe"
-[material]
-E = 210000.0
-nu = 0.3
-[geometry]
-scene = "block"
-indenter = "circle"
-radius = 10.0
-far_field = "FAR"
-[loading]
-control = "force"
-P = 100.0
-"""
+BLOCK = PROBE_BLOCK.replace("radius = 10.0\n", 'radius = 10.0\nfar_field = "FAR"\n')
 CONCAVE = """
 [case]
 name = "probe"

@@ -5,24 +5,12 @@ anything runs: one line naming the field and the allowed values, exit code 2, no
 from __future__ import annotations
 
 import pytest
+from probe_cases import PROBE_BLOCK
 
 from fem.options import ContactOptions, check_model
 from workbench.cli import main
 
-GOOD = """
-[case]
-name = "probe"
-[material]
-E = 210000.0
-nu = 0.3
-[geometry]
-scene = "block"
-indenter = "circle"
-radius = 10.0
-[loading]
-control = "force"
-P = 100.0
-[solver]
+GOOD = PROBE_BLOCK + """[solver]
 method = "penalty"
 traction = "obstacle"
 """
