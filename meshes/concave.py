@@ -23,8 +23,11 @@ import hashlib
 
 import numpy as np
 
+from analytic.curves import BSpline
 from meshes.cache import DEFAULT_CACHE_DIR, MeshFiles
+from meshes.frozen import frozen_control_points
 from meshes.pipeline import build_cached
+from meshes.portable import GmshInputs
 from meshes.sizing import apply_background, growth_field, validate_common
 
 __all__ = ["build_concave_mesh", "refine_intervals", "SIZE_SAFETY"]
@@ -106,7 +109,7 @@ def build_concave_mesh(*, design, h_contact: float, h_far: float | None = None, 
     h_far = max(h_far, h_contact)
     validate_common(h_contact=h_contact, h_far=h_far, growth=growth)
     curve = des.concave
-    cp = np.asarray(curve.control_points, dtype=float)
+    runtime_cp = np.asarray(curve.control_points, dtype=float)
     ends = curve.point([curve.t_min, curve.t_max])
     if not (abs(ends[0, 0] - x_min) < 1e-9 and abs(ends[1, 0] - x_max) < 1e-9):
         raise ValueError(f"design.concave must run from x_min={x_min} to x_max={x_max}, got {ends[:, 0]}")
@@ -120,9 +123,28 @@ def build_concave_mesh(*, design, h_contact: float, h_far: float | None = None, 
             raise ValueError(f"refine_at intervals must satisfy {curve.t_min} <= lo < hi <= {curve.t_max}, "
                              f"got {(a, b)}")
     name = des.name if name is None else name
+    # every float handed to gmsh, rounded to the portable grids (then perturbed when asked), in one funnel
+    gi = GmshInputs(scale=max(x_max - x_min, float(runtime_cp[:, 1].max()) - y_bottom))
+    frozen = frozen_control_points(des.name, runtime_cp)
+    source = "rounded" if frozen is None else "frozen"
+    if frozen is None:
+        cp = np.array([[gi.length(x), gi.length(y)] for x, y in runtime_cp])
+    else:
+        cp = np.array([[gi.exact(x), gi.exact(y)] for x, y in frozen])
+    box = [gi.length(x_min), gi.length(x_max), gi.length(y_bottom)]
+    h_c, h_far_g, growth_g = gi.size(h_contact), gi.size(h_far), gi.size(growth)
+    h0 = gi.size(SIZE_SAFETY * h_c)
+    sampling = gi.size(h_c / 4.0)
+    length = gi.size(float(curve.length()))
+    intervals = [(gi.param(a), gi.param(b)) for a, b in intervals]
+    if any(not a < b for a, b in intervals):
+        raise ValueError(f"refine_at intervals must be longer than 2**-24 in t, got {intervals}")
+    cuts = sorted({t for iv in intervals for t in iv if curve.t_min < t < curve.t_max})
+    gmsh_curve = BSpline(cp, degree=curve.degree)  # the curve gmsh builds: cut points lie on it
+    cut_xy = [(gi.length(x, perturb=False), gi.length(y, perturb=False)) for x, y in gmsh_curve.point(cuts)]
     params = dict(design=des.name, control_points_sha=hashlib.sha256(cp.tobytes()).hexdigest()[:16],
-                  body_box=[x_min, x_max, y_bottom], h_contact=float(h_contact), h_far=h_far,
-                  growth=float(growth), refine_at=intervals)
+                  body_box=box, h_contact=h_c, h_far=h_far_g, growth=growth_g, refine_at=intervals,
+                  geometry_source=source)
 
     def make(gmsh):
         occ = gmsh.model.occ
@@ -131,17 +153,16 @@ def build_concave_mesh(*, design, h_contact: float, h_far: float | None = None, 
         mults = [deg + 1] + [1] * (len(knots) - 2) + [deg + 1]
         pts = [occ.addPoint(x, y, 0.0) for x, y in cp]
         spline = occ.addBSpline(pts, degree=deg, knots=knots, multiplicities=mults)
-        p_bl = occ.addPoint(x_min, y_bottom, 0.0)
-        p_br = occ.addPoint(x_max, y_bottom, 0.0)
+        p_bl = occ.addPoint(box[0], box[2], 0.0)
+        p_br = occ.addPoint(box[1], box[2], 0.0)
         bottom = occ.addLine(p_bl, p_br)
         right = occ.addLine(p_br, pts[-1])
         left = occ.addLine(pts[0], p_bl)
         loop = occ.addCurveLoop([bottom, right, spline, left])
         surf = occ.addPlaneSurface([loop])
         # split the spline at the interval ends (mesh nodes there; sub-curves carry the refinement)
-        cuts = sorted({t for iv in intervals for t in iv if curve.t_min < t < curve.t_max})
-        if cuts:
-            cut_pts = [occ.addPoint(x, y, 0.0) for x, y in curve.point(cuts)]
+        if cut_xy:
+            cut_pts = [occ.addPoint(x, y, 0.0) for x, y in cut_xy]
             occ.fragment([(2, surf)], [(0, p) for p in cut_pts])
         occ.synchronize()
         # remove free points (control points) left in the model
@@ -160,15 +181,9 @@ def build_concave_mesh(*, design, h_contact: float, h_far: float | None = None, 
             t_mid = float(proj.t[0])
             if any(a <= t_mid <= b for a, b in intervals):
                 inside.append(c)
-        length = float(curve.length())
-        fields = []
-        if inside:
-            fields.append(growth_field(gmsh, h0=SIZE_SAFETY * h_contact, h_max=h_far, growth=growth,
-                                       curves=inside, curve_length=length, sampling_size=h_contact / 4.0))
-        else:  # no refinement asked: uniform h_contact on the whole spline
-            fields.append(growth_field(gmsh, h0=SIZE_SAFETY * h_contact, h_max=h_far, growth=growth,
-                                       curves=top, curve_length=length, sampling_size=h_contact / 4.0))
-        apply_background(gmsh, fields, h_max=h_far)
+        fields = [growth_field(gmsh, h0=h0, h_max=h_far_g, growth=growth_g, curves=inside or top,
+                               curve_length=length, sampling_size=sampling)]  # no interval: the whole spline
+        apply_background(gmsh, fields, h_max=h_far_g)
         groups = {
             "contact": (1, gmsh.model.addPhysicalGroup(1, top, name="contact")),
             "clamped": (1, gmsh.model.addPhysicalGroup(1, clamped, name="clamped")),
@@ -190,5 +205,6 @@ def build_concave_mesh(*, design, h_contact: float, h_far: float | None = None, 
         dev = np.abs(curve.project(points[nodes, :2]).distance)
         return {"contact_node_deviation_max": float(dev.max())}
 
-    return build_cached(kind="concave", params=params, name=name, out_dir=out_dir, make=make,
-                        write_xdmf=write_xdmf, stats_dir=stats_dir, comm=comm, extra_stats=deviation)
+    return build_cached(kind="concave", params=params, name=name, out_dir=out_dir, make=make, inputs=gi,
+                        body_size=gi.scale, geometry_source=source, write_xdmf=write_xdmf,
+                        stats_dir=stats_dir, comm=comm, extra_stats=deviation)

@@ -8,25 +8,32 @@ from collections.abc import Callable
 
 from meshes._session import gmsh_model
 from meshes.cache import MeshFiles, atomic_write_json, cache_key, cache_paths
+from meshes.fingerprint import mesh_fingerprint
 from meshes.output import extract_model, msh_to_xdmf, write_msh
+from meshes.portable import GmshInputs
 from meshes.quality import mesh_quality, write_mesh_stats
 
 __all__ = ["build_cached", "BUILDER_VERSION"]
 
-BUILDER_VERSION = 2  # bump to invalidate every cached mesh when a builder changes
+BUILDER_VERSION = 3  # bump to invalidate every cached mesh when a builder changes
 
 
-def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable, write_xdmf: bool = True,
-                 stats_dir=None, comm=None, extra_stats: Callable | None = None) -> MeshFiles:
+def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable, inputs: GmshInputs,
+                 body_size: float, geometry_source: str, write_xdmf: bool = True, stats_dir=None, comm=None,
+                 extra_stats: Callable | None = None) -> MeshFiles:
     """Build (or reuse) one mesh.
 
     Args:
         kind: builder name (part of the hash).
-        params: every parameter that changes the mesh (hashed).
+        params: every parameter that changes the mesh (hashed, with the digest of ``inputs``).
         name: file stem.
         out_dir: cache directory.
         make: ``make(gmsh) -> (contact_curve_tags, contact_window, physical_groups)``; builds geometry, size
-            fields and the 2D mesh in the current gmsh model.
+            fields and the 2D mesh in the current gmsh model from the values already taken from ``inputs``.
+        inputs: :class:`meshes.portable.GmshInputs` holding every float handed to gmsh (rounded, perturbed);
+            its digest and perturbation amplitude are part of the cache key and of the fingerprint.
+        body_size: size of the body (mm), the scale of the fingerprint's coordinate grid.
+        geometry_source: recorded in the fingerprint (``frozen``, ``rounded``, ``parameters``).
         write_xdmf: also write XDMF via dolfinx.
         stats_dir: when given, also write ``<stats_dir>/mesh.json``.
         comm: optional MPI communicator: only rank 0 builds, the result is broadcast.
@@ -36,9 +43,11 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
         result = None
         if comm.rank == 0:
             result = build_cached(kind=kind, params=params, name=name, out_dir=out_dir, make=make,
+                                  inputs=inputs, body_size=body_size, geometry_source=geometry_source,
                                   write_xdmf=write_xdmf, stats_dir=stats_dir, comm=None,
                                   extra_stats=extra_stats)
         return comm.bcast(result, root=0)
+    params = {**params, "gmsh_input_sha256": inputs.digest(), "perturb": inputs.perturb}
     key = cache_key({"kind": kind, "version": BUILDER_VERSION, "write_xdmf": write_xdmf, **params})
     paths = cache_paths(out_dir, name, key)
     have = paths["msh"].exists() and paths["json"].exists()
@@ -52,12 +61,16 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
         with gmsh_model(name) as gmsh:
             contact_curves, window, groups = make(gmsh)
             points, tri, edges = extract_model(gmsh, contact_curves=contact_curves)
+            facets = {g: _facet_count(gmsh, tag) for g, (dim, tag) in groups.items() if dim == 1}
             write_msh(gmsh, paths["msh"])
         t_mesh = time.perf_counter() - t0
         stats = mesh_quality(points, tri, edges, window)
         if extra_stats is not None:
             stats.update(extra_stats(points, tri, edges))
-        stats.update(kind=kind, key=key, params=params, mesh_time_s=t_mesh,
+        fp = mesh_fingerprint(points=points, triangles=tri, facets=facets, body_size=body_size,
+                              gmsh_input_sha256=inputs.digest(), perturb=inputs.perturb,
+                              geometry_source=geometry_source, rounding_margin=inputs.margin)
+        stats.update(kind=kind, key=key, params=params, mesh_time_s=t_mesh, fingerprint=fp._asdict(),
                      physical_groups={k: list(v) for k, v in groups.items()})
         if write_xdmf:
             t1 = time.perf_counter()
@@ -69,3 +82,12 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
         write_mesh_stats(stats, stats_dir)
     return MeshFiles(msh=paths["msh"], xdmf=paths["xdmf"] if write_xdmf else None, stats=stats, key=key,
                      cached=cached)
+
+
+def _facet_count(gmsh, tag: int) -> int:
+    """Number of 1D elements on the entities of the dimension-1 physical group ``tag``."""
+    n = 0
+    for c in gmsh.model.getEntitiesForPhysicalGroup(1, tag):
+        _, etags, _ = gmsh.model.mesh.getElements(1, int(c))
+        n += sum(len(t) for t in etags)
+    return n

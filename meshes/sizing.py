@@ -52,7 +52,11 @@ def growth_field(gmsh, *, h0: float, h_max: float, growth: float, curves=(), poi
 
 
 def apply_background(gmsh, fields, *, h_max: float, algorithm: int = 6) -> None:
-    """Use Min(fields) as the only size source (no point/curvature/boundary sizes) with Frontal-Delaunay."""
+    """Use Min(fields) as the only size source (no point/curvature/boundary sizes) with Frontal-Delaunay.
+
+    The mesher's own choices are pinned (one thread, fixed algorithm and random seed), so the mesh is a function
+    of the gmsh input alone (which :mod:`meshes.portable` makes a function of the case).
+    """
     fm = gmsh.model.mesh.field.add("Min")
     gmsh.model.mesh.field.setNumbers(fm, "FieldsList", list(fields))
     gmsh.model.mesh.field.setAsBackgroundMesh(fm)
@@ -62,3 +66,8 @@ def apply_background(gmsh, fields, *, h_max: float, algorithm: int = 6) -> None:
     gmsh.option.setNumber("Mesh.MeshSizeMax", h_max)
     gmsh.option.setNumber("Mesh.Algorithm", algorithm)
     gmsh.option.setNumber("Mesh.ElementOrder", 1)
+    gmsh.option.setNumber("General.NumThreads", 1)
+    gmsh.option.setNumber("Mesh.MaxNumThreads1D", 1)
+    gmsh.option.setNumber("Mesh.MaxNumThreads2D", 1)
+    gmsh.option.setNumber("Mesh.RandomSeed", 1)
+    gmsh.option.setNumber("Mesh.RandomFactor", 1e-9)

@@ -1,0 +1,58 @@
+"""Mesh fingerprint: a small record that says whether two meshes are the same mesh.
+
+Written into ``mesh.json`` (``stats["fingerprint"]``) and into every run of ``metrics.json``
+(``runs[i]["mesh_fingerprint"]``), so that a later comparison of two results can name a mesh difference.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["MeshFingerprint", "mesh_fingerprint", "COORD_REL"]
+
+COORD_REL = 1e-9  # coordinates are hashed on a grid of COORD_REL times the body size
+
+
+class MeshFingerprint(NamedTuple):
+    """Identity of a mesh.
+
+    Attributes:
+        n_nodes: nodes of the gmsh model (all, including those of no triangle).
+        n_cells: triangles.
+        facets: number of 1D elements per physical group name (dimension-1 groups only).
+        coords_sha256: SHA-256 (16 hex digits) of the node coordinates rounded to COORD_REL x ``body_size``
+            (in gmsh's node order) and of the triangle connectivity.
+        gmsh_input_sha256: SHA-256 (16 hex digits) of every float handed to gmsh (:class:`meshes.portable.GmshInputs`).
+        perturb: relative perturbation amplitude of the gmsh inputs (``WORKBENCH_MESH_PERTURB``; 0: none).
+        geometry_source: ``frozen`` (concave control points from :mod:`meshes.frozen`), ``rounded`` (run-time
+            values on the portable grid) or ``parameters`` (block: computed from rounded parameters).
+        rounding_margin: the smallest distance of a rounded input to a rounding midpoint, in grid units
+            (0.5: far; near 0: a machine differing in the last bits might round it the other way).
+    """
+
+    n_nodes: int
+    n_cells: int
+    facets: dict
+    coords_sha256: str
+    gmsh_input_sha256: str
+    perturb: float
+    geometry_source: str
+    rounding_margin: float
+
+
+def mesh_fingerprint(*, points: np.ndarray, triangles: np.ndarray, facets: dict, body_size: float,
+                     gmsh_input_sha256: str, perturb: float, geometry_source: str,
+                     rounding_margin: float) -> MeshFingerprint:
+    """The fingerprint of a mesh from its nodes (n, 2 or 3), triangles (m, 3) and facet counts by group."""
+    q = COORD_REL * float(body_size)
+    ip = np.rint(np.asarray(points, dtype=float)[:, :2] / q).astype("<i8")
+    h = hashlib.sha256(ip.tobytes())
+    h.update(np.asarray(triangles, dtype="<i8").tobytes())
+    return MeshFingerprint(n_nodes=int(len(points)), n_cells=int(len(triangles)),
+                           facets={k: int(v) for k, v in sorted(facets.items())},
+                           coords_sha256=h.hexdigest()[:16], gmsh_input_sha256=gmsh_input_sha256,
+                           perturb=float(perturb), geometry_source=geometry_source,
+                           rounding_margin=float(rounding_margin))
