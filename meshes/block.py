@@ -20,6 +20,7 @@ import math
 
 from meshes.cache import DEFAULT_CACHE_DIR, MeshFiles
 from meshes.pipeline import build_cached
+from meshes.portable import GmshInputs
 from meshes.sizing import apply_background, growth_field, validate_common
 
 __all__ = ["build_block_mesh", "SIZE_SAFETY"]
@@ -71,20 +72,31 @@ def build_block_mesh(*, width: float, height: float, contact_half_width: float, 
     for arg, val in (("apex_factor", apex_factor), ("edge_factor", edge_factor)):
         if not 0.0 < val <= 1.0:
             raise ValueError(f"{arg} must be in (0, 1], got {val}")
-    params = dict(width=float(width), height=float(height), a=a, h_contact=float(h_contact), h_far=h_far,
-                  growth=float(growth), margin=float(margin), half_model=bool(half_model),
+    # every float handed to gmsh goes through one funnel: lengths on the portable grid, sizes to 24 bits
+    # (meshes.portable), then the optional perturbation; coordinates are computed from the rounded parameters
+    gi = GmshInputs(scale=max(float(width), float(height)))
+    width, height, a = gi.length(width), gi.length(height), gi.length(a)
+    h_c, h_far, growth = gi.size(h_contact), gi.size(h_far), gi.size(growth)
+    b = gi.length(a * (1.0 + margin))
+    params = dict(width=width, height=height, a=a, h_contact=h_c, h_far=h_far,
+                  growth=growth, margin=float(margin), half_model=bool(half_model),
                   apex_refinement=bool(apex_refinement), edge_refinement=bool(edge_refinement),
                   apex_factor=float(apex_factor), edge_factor=float(edge_factor))
+    half_w = width / 2.0
+    x_left = 0.0 if half_model else -half_w
+    top_x = [half_w, b, a, 0.0] if half_model else [half_w, b, a, 0.0, -a, -b, -half_w]
+    top_x = sorted(set(top_x), reverse=True)  # right to left (counter-clockwise loop)
+    top_g = [gi.length(x) for x in top_x]  # as handed to gmsh (perturbed when asked); top_x names them
+    corners = [(gi.length(x_left), gi.length(-height)), (gi.length(half_w), gi.length(-height))]
+    h0 = gi.size(SIZE_SAFETY * h_c)
+    sampling = gi.size(h_c / 4.0)
+    h_edge, h_apex = gi.size(edge_factor * h_c), gi.size(apex_factor * h_c)
 
     def make(gmsh):
         geo = gmsh.model.geo
-        half_w = width / 2.0
-        x_left = 0.0 if half_model else -half_w
-        top_x = [half_w, b, a, 0.0] if half_model else [half_w, b, a, 0.0, -a, -b, -half_w]
-        top_x = sorted(set(top_x), reverse=True)  # right to left (counter-clockwise loop)
-        p_bl = geo.addPoint(x_left, -height, 0.0)
-        p_br = geo.addPoint(half_w, -height, 0.0)
-        top_pts = [geo.addPoint(x, 0.0, 0.0) for x in top_x]
+        p_bl = geo.addPoint(*corners[0], 0.0)
+        p_br = geo.addPoint(*corners[1], 0.0)
+        top_pts = [geo.addPoint(x, 0.0, 0.0) for x in top_g]
         bottom = geo.addLine(p_bl, p_br)
         right = geo.addLine(p_br, top_pts[0])
         top = [geo.addLine(p, q) for p, q in zip(top_pts[:-1], top_pts[1:], strict=True)]
@@ -95,15 +107,15 @@ def build_block_mesh(*, width: float, height: float, contact_half_width: float, 
 
         central = [c for c, (x0, x1) in zip(top, zip(top_x[:-1], top_x[1:], strict=True), strict=True)
                    if max(abs(x0), abs(x1)) <= b * (1 + 1e-12)]
-        fields = [growth_field(gmsh, h0=SIZE_SAFETY * h_contact, h_max=h_far, growth=growth, curves=central,
-                               curve_length=b, sampling_size=h_contact / 4.0)]
+        fields = [growth_field(gmsh, h0=h0, h_max=h_far, growth=growth, curves=central,
+                               curve_length=b, sampling_size=sampling)]
         pt_at = dict(zip(top_x, top_pts, strict=True))
         if edge_refinement:
             edge_pts = [pt_at[x] for x in (a, -a) if x in pt_at]
-            fields.append(growth_field(gmsh, h0=edge_factor * h_contact, h_max=h_far, growth=growth,
+            fields.append(growth_field(gmsh, h0=h_edge, h_max=h_far, growth=growth,
                                        points=edge_pts))
         if apex_refinement:
-            fields.append(growth_field(gmsh, h0=apex_factor * h_contact, h_max=h_far, growth=growth,
+            fields.append(growth_field(gmsh, h0=h_apex, h_max=h_far, growth=growth,
                                        points=[pt_at[0.0]]))
         apply_background(gmsh, fields, h_max=h_far)
 
@@ -123,5 +135,6 @@ def build_block_mesh(*, width: float, height: float, contact_half_width: float, 
 
         return top, window, groups
 
-    return build_cached(kind="block", params=params, name=name, out_dir=out_dir, make=make,
-                        write_xdmf=write_xdmf, stats_dir=stats_dir, comm=comm)
+    return build_cached(kind="block", params=params, name=name, out_dir=out_dir, make=make, inputs=gi,
+                        body_size=gi.scale, geometry_source="parameters", write_xdmf=write_xdmf,
+                        stats_dir=stats_dir, comm=comm)

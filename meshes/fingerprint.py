@@ -29,8 +29,9 @@ class MeshFingerprint(NamedTuple):
         perturb: relative perturbation amplitude of the gmsh inputs (``WORKBENCH_MESH_PERTURB``; 0: none).
         geometry_source: ``frozen`` (concave control points from :mod:`meshes.frozen`), ``rounded`` (run-time
             values on the portable grid) or ``parameters`` (block: computed from rounded parameters).
-        rounding_margin: the smallest distance of a rounded input to a rounding midpoint, in grid units
-            (0.5: far; near 0: a machine differing in the last bits might round it the other way).
+
+    Identity fields only: the smallest distance of a rounded input to its rounding midpoint (a diagnostic that
+    itself varies in the last bits between machines) is ``stats["gmsh_input_rounding_margin"]``.
     """
 
     n_nodes: int
@@ -40,12 +41,10 @@ class MeshFingerprint(NamedTuple):
     gmsh_input_sha256: str
     perturb: float
     geometry_source: str
-    rounding_margin: float
 
 
 def mesh_fingerprint(*, points: np.ndarray, triangles: np.ndarray, facets: dict, body_size: float,
-                     gmsh_input_sha256: str, perturb: float, geometry_source: str,
-                     rounding_margin: float) -> MeshFingerprint:
+                     gmsh_input_sha256: str, perturb: float, geometry_source: str) -> MeshFingerprint:
     """The fingerprint of a mesh from its nodes (n, 2 or 3), triangles (m, 3) and facet counts by group."""
     q = COORD_REL * float(body_size)
     ip = np.rint(np.asarray(points, dtype=float)[:, :2] / q).astype("<i8")
@@ -54,5 +53,4 @@ def mesh_fingerprint(*, points: np.ndarray, triangles: np.ndarray, facets: dict,
     return MeshFingerprint(n_nodes=int(len(points)), n_cells=int(len(triangles)),
                            facets={k: int(v) for k, v in sorted(facets.items())},
                            coords_sha256=h.hexdigest()[:16], gmsh_input_sha256=gmsh_input_sha256,
-                           perturb=float(perturb), geometry_source=geometry_source,
-                           rounding_margin=float(rounding_margin))
+                           perturb=float(perturb), geometry_source=geometry_source)

@@ -69,8 +69,9 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
             stats.update(extra_stats(points, tri, edges))
         fp = mesh_fingerprint(points=points, triangles=tri, facets=facets, body_size=body_size,
                               gmsh_input_sha256=inputs.digest(), perturb=inputs.perturb,
-                              geometry_source=geometry_source, rounding_margin=inputs.margin)
+                              geometry_source=geometry_source)
         stats.update(kind=kind, key=key, params=params, mesh_time_s=t_mesh, fingerprint=fp._asdict(),
+                     gmsh_input_rounding_margin=inputs.margin,
                      physical_groups={k: list(v) for k, v in groups.items()})
         if write_xdmf:
             t1 = time.perf_counter()
