@@ -35,6 +35,13 @@ def main(argv=None) -> int:
     b.add_argument("--no-xdmf", action="store_true", help="skip the XDMF file")
     b.add_argument("--json", action="store_true", help="print the statistics as JSON")
     args = parser.parse_args(argv)
+    from meshes.portable import perturb_amplitude
+
+    try:
+        perturb_amplitude()
+    except ValueError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     if args.h_contact is not None and not (math.isfinite(args.h_contact) and args.h_contact > 0):
         print(f"error: --h-contact must be > 0 (mm), got {args.h_contact}", file=sys.stderr)
         return 2

@@ -140,6 +140,13 @@ def main(argv: list[str] | None = None) -> int:
 def _main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     from cases import CaseError, case_names, load_case
+    from meshes.portable import perturb_amplitude
+
+    try:  # the mesh perturbation hook (portability emulation): a bad value stops every command before any work
+        perturb_amplitude()
+    except ValueError as exc:
+        print(f"error: {_one_line(exc)}", file=sys.stderr)
+        return 2
 
     if argv and argv[0] in STUDIES:  # the study parses its own options (``workbench convergence --help``)
         try:

@@ -50,10 +50,13 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
     summed, ``P``/``P_pressure``/``patches`` are those of the first run, ``errors`` holds the worst value of
     each error over the runs plus case-level comparisons (e.g. ``b_over_b0``), and ``runs`` lists every run.
     An error that is NaN or missing in any run is NaN for the case (its check fails), and
-    ``errors_undefined`` names the runs where it was. ``checked_errors`` names the error each tolerance reads
+    ``errors_undefined`` names the runs where it was. Every run carries ``mesh_fingerprint``
+    (:class:`meshes.fingerprint.MeshFingerprint` as a dict). ``checked_errors`` names the error each tolerance reads
     (its own key, or the scene's choice of the theory that applies, :class:`workbench.scenes.base.CaseComparison`).
     """
     runs = [o.metrics for o in outcomes]
+    for r in runs:  # the mesh's identity next to its numbers: a later comparison can say "mesh differs"
+        r["mesh_fingerprint"] = (r.get("mesh") or {}).get("fingerprint")
     first = runs[0]
     errors: dict[str, float] = {}
     undefined: dict[str, list[str]] = {}  # error -> runs where it could not be computed (never dropped silently)
