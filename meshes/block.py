@@ -72,7 +72,7 @@ def build_block_mesh(*, width: float, height: float, contact_half_width: float, 
     for arg, val in (("apex_factor", apex_factor), ("edge_factor", edge_factor)):
         if not 0.0 < val <= 1.0:
             raise ValueError(f"{arg} must be in (0, 1], got {val}")
-    # every float handed to gmsh goes through one funnel: lengths on the portable grid, sizes to 24 bits
+    # every float handed to gmsh goes through one funnel: lengths on the portable grid, sizes to SIZE_BITS
     # (meshes.portable), then the optional perturbation; coordinates are computed from the rounded parameters
     gi = GmshInputs(scale=max(float(width), float(height)))
     width, height, a = gi.length(width), gi.length(height), gi.length(a)

@@ -11,15 +11,15 @@ Grids (binary, so the rounding itself is exact in floating point):
     ``length``: absolute grid ``2**(ceil(log2(scale)) - LENGTH_BITS)`` mm, ``scale`` the body size (a 30 mm
         body: 2**-35 = 2.9e-11 mm, 1e-12 of the body; a machine difference is ~1e-14 mm).
     ``param``: curve parameter t in [0, 1], grid ``2**-PARAM_BITS`` (6e-8, ~2e-6 mm of arc on a 30 mm curve).
-    ``size``: element sizes and sizing parameters (h, growth, a, W, H), ``SIZE_BITS`` significant bits
-        (relative 6e-8).
+    ``size``: element sizes and sizing parameters (h, h_far, growth), ``SIZE_BITS`` significant bits
+        (relative 1e-6: a size is a target, gmsh rounds the number of edges anyway).
 A machine that differs from ours by delta gives a different rounded value only when the value lies within
 delta of a rounding midpoint. Measured spread between OpenBLAS kernels / numpy SIMD levels: <= 2.6e-14 in t
-(the refinement interval ends), <= 1e-14 relative in the sizes, i.e. delta / grid <= 5e-7: the chance that one
-value straddles a midpoint is ~1e-6, and it is checked, not assumed: ``mesh.json`` records
-``gmsh_input_rounding_margin``, the smallest distance of any rounded input to its rounding midpoint in grid units
-(0.5: on a grid point; 0: on a midpoint), and the shipped CI meshes are tested to keep it > 1e-3, i.e. > 2000
-times the measured machine spread (measured: >= 0.035). The control points of the concave splines are not
+(the refinement interval ends), <= 3.8e-12 relative in h_contact (from the LCP's patch estimate), i.e.
+delta / grid <= 4e-6: the chance that one value straddles a midpoint is ~1e-5, and it is checked, not
+assumed: ``mesh.json`` records ``gmsh_input_rounding_margin``, the smallest distance of any rounded input to its
+rounding midpoint in grid units (0.5: on a grid point; 0: on a midpoint), and the shipped CI meshes are tested to
+keep it > 1e-3, i.e. > 250 times the measured machine spread. The control points of the concave splines are not
 rounded but snapped to a frozen table (:mod:`meshes.frozen`, capture radius 1e-9 mm), which has no midpoint to
 fall on.
 
@@ -42,7 +42,7 @@ PERTURB_ENV = "WORKBENCH_MESH_PERTURB"
 PERTURB_MAX = 1e-6
 LENGTH_BITS = 40
 PARAM_BITS = 24
-SIZE_BITS = 24
+SIZE_BITS = 20
 
 
 def perturb_amplitude(environ=None) -> float:
