@@ -20,11 +20,11 @@ class MeshFingerprint(NamedTuple):
     """Identity of a mesh.
 
     Attributes:
-        n_nodes: nodes of the gmsh model (all, including those of no triangle).
+        n_nodes: nodes of the triangles (gmsh's free geometry points, e.g. B-spline control points, left out).
         n_cells: triangles.
         facets: number of 1D elements per physical group name (dimension-1 groups only).
-        coords_sha256: SHA-256 (16 hex digits) of the node coordinates rounded to COORD_REL x ``body_size``
-            (in gmsh's node order) and of the triangle connectivity.
+        coords_sha256: SHA-256 (16 hex digits) of the coordinates of those nodes rounded to COORD_REL x
+            ``body_size`` (in gmsh's node order) and of the triangle connectivity.
         gmsh_input_sha256: SHA-256 (16 hex digits) of every float handed to gmsh (:class:`meshes.portable.GmshInputs`).
         perturb: relative perturbation amplitude of the gmsh inputs (``WORKBENCH_MESH_PERTURB``; 0: none).
         geometry_source: ``frozen`` (concave control points from :mod:`meshes.frozen`), ``rounded`` (run-time
@@ -47,10 +47,12 @@ def mesh_fingerprint(*, points: np.ndarray, triangles: np.ndarray, facets: dict,
                      gmsh_input_sha256: str, perturb: float, geometry_source: str) -> MeshFingerprint:
     """The fingerprint of a mesh from its nodes (n, 2 or 3), triangles (m, 3) and facet counts by group."""
     q = COORD_REL * float(body_size)
-    ip = np.rint(np.asarray(points, dtype=float)[:, :2] / q).astype("<i8")
+    tri = np.asarray(triangles, dtype=np.int64)
+    used, local = np.unique(tri, return_inverse=True)
+    ip = np.rint(np.asarray(points, dtype=float)[used, :2] / q).astype("<i8")
     h = hashlib.sha256(ip.tobytes())
-    h.update(np.asarray(triangles, dtype="<i8").tobytes())
-    return MeshFingerprint(n_nodes=int(len(points)), n_cells=int(len(triangles)),
+    h.update(local.reshape(tri.shape).astype("<i8").tobytes())
+    return MeshFingerprint(n_nodes=int(len(used)), n_cells=int(len(tri)),
                            facets={k: int(v) for k, v in sorted(facets.items())},
                            coords_sha256=h.hexdigest()[:16], gmsh_input_sha256=gmsh_input_sha256,
                            perturb=float(perturb), geometry_source=geometry_source)

@@ -44,7 +44,8 @@ def test_fingerprint_is_written_and_stable_from_run_to_run(tmp_path, monkeypatch
     assert set(fp) == set(MeshFingerprint._fields)
     assert fp == b.stats["fingerprint"]
     assert a.msh.read_bytes() == b.msh.read_bytes()
-    assert fp["n_cells"] == a.stats["n_cells"] > 0 and fp["facets"]["contact"] > 0 and fp["facets"]["clamped"] > 0
+    assert fp["n_nodes"] == a.stats["n_nodes"] and fp["n_cells"] == a.stats["n_cells"] > 0
+    assert fp["facets"]["contact"] == a.stats["n_contact_edges"] and fp["facets"]["clamped"] > 0
     assert fp["geometry_source"] == "frozen" and fp["perturb"] == 0.0
     written = json.loads((tmp_path / "case" / "mesh.json").read_text())
     assert written["fingerprint"] == fp
