@@ -1,7 +1,9 @@
 """gmsh mesh builders for the elastic body (rigid bodies are curves and are never meshed).
 
 Public API: :func:`meshes.block.build_block_mesh`, :func:`meshes.concave.build_concave_mesh`,
-:class:`meshes.cache.MeshFiles`, :func:`meshes.quality.mesh_quality`, :func:`meshes.quality.write_mesh_stats`.
+:class:`meshes.cache.MeshFiles`, :func:`meshes.quality.mesh_quality`, :func:`meshes.quality.write_mesh_stats`,
+:class:`meshes.fingerprint.MeshFingerprint` (``stats["fingerprint"]``); every float handed to gmsh goes through
+:class:`meshes.portable.GmshInputs` (rounded so the mesh is a function of the case; ``WORKBENCH_MESH_PERTURB``).
 Physical-group names (``contact``, ``clamped``, ``sides``, ``symmetry``, ``body``) are the contract.
 """
 

@@ -14,6 +14,10 @@ By default the intervals are the geometric overlap zones of the rigid curves at 
 ``margin``; two intervals closer than a quarter of their length merge, so the region between two close pairs
 is refined too (where the patches merge).
 
+Portability: the control points handed to gmsh are the frozen table of the design (:mod:`meshes.frozen`), the
+interval ends, sizes and cut points are rounded (:mod:`meshes.portable`), so the mesh does not depend on the
+last bits numpy/OpenBLAS give the design on a given machine (``stats["fingerprint"]`` names the mesh).
+
 Physical groups: ``contact`` (the whole spline), ``clamped`` (sides + bottom), ``body``.
 """
 
