@@ -128,7 +128,7 @@ def build_concave_mesh(*, design, h_contact: float, h_far: float | None = None, 
                              f"got {(a, b)}")
     name = des.name if name is None else name
     # every float handed to gmsh, rounded to the portable grids (then perturbed when asked), in one funnel
-    gi = GmshInputs(scale=max(x_max - x_min, float(runtime_cp[:, 1].max()) - y_bottom))
+    gi = GmshInputs(scale=x_max - x_min)  # the body width: a case constant (the grid must not depend on the machine)
     frozen = frozen_control_points(des.name, runtime_cp)
     source = "rounded" if frozen is None else "frozen"
     if frozen is None:
@@ -144,6 +144,8 @@ def build_concave_mesh(*, design, h_contact: float, h_far: float | None = None, 
     if any(not a < b for a, b in intervals):
         raise ValueError(f"refine_at intervals must be longer than 2**-24 in t, got {intervals}")
     cuts = sorted({t for iv in intervals for t in iv if curve.t_min < t < curve.t_max})
+    # the knots: np.linspace (one multiply and one add per entry, each correctly rounded): machine-independent
+    knots = [gi.fixed(k) for k in np.unique(curve.knots)]
     gmsh_curve = BSpline(cp, degree=curve.degree)  # the curve gmsh builds: cut points lie on it
     cut_xy = [(gi.length(x, perturb=False), gi.length(y, perturb=False)) for x, y in gmsh_curve.point(cuts)]
     params = dict(design=des.name, control_points_sha=hashlib.sha256(cp.tobytes()).hexdigest()[:16],
@@ -153,7 +155,6 @@ def build_concave_mesh(*, design, h_contact: float, h_far: float | None = None, 
     def make(gmsh):
         occ = gmsh.model.occ
         deg = curve.degree
-        knots = np.unique(curve.knots).tolist()
         mults = [deg + 1] + [1] * (len(knots) - 2) + [deg + 1]
         pts = [occ.addPoint(x, y, 0.0) for x, y in cp]
         spline = occ.addBSpline(pts, degree=deg, knots=knots, multiplicities=mults)

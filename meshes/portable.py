@@ -155,6 +155,10 @@ class GmshInputs:
         """A value already machine-independent (e.g. a frozen table entry): perturbed and recorded only."""
         return self._take(float(x), 0.5)
 
+    def fixed(self, x: float) -> float:
+        """A value that is machine-independent and must not move (e.g. B-spline knots): recorded only."""
+        return self._take(float(x), 0.5, perturb=False)
+
     def digest(self) -> str:
         text = ",".join(v.hex() for v in self.values)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
