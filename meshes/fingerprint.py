@@ -25,7 +25,8 @@ class MeshFingerprint(NamedTuple):
         facets: number of 1D elements per physical group name (dimension-1 groups only).
         coords_sha256: SHA-256 (16 hex digits) of the coordinates of those nodes rounded to COORD_REL x
             ``body_size`` (in gmsh's node order) and of the triangle connectivity.
-        gmsh_input_sha256: SHA-256 (16 hex digits) of every float handed to gmsh (:class:`meshes.portable.GmshInputs`).
+        gmsh_input_sha256: SHA-256 (16 hex digits) of the builder's options and of every float handed to gmsh
+            (:class:`meshes.portable.GmshInputs`).
         perturb: relative perturbation amplitude of the gmsh inputs (``WORKBENCH_MESH_PERTURB``; 0: none).
         geometry_source: ``frozen`` (concave control points from :mod:`meshes.frozen`), ``rounded`` (run-time
             values on the portable grid) or ``parameters`` (block: computed from rounded parameters).

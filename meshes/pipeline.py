@@ -47,7 +47,8 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
                                   write_xdmf=write_xdmf, stats_dir=stats_dir, comm=None,
                                   extra_stats=extra_stats)
         return comm.bcast(result, root=0)
-    params = {**params, "gmsh_input_sha256": inputs.digest(), "perturb": inputs.perturb}
+    params = {**params, "gmsh_input_floats_sha256": inputs.digest(), "perturb": inputs.perturb}
+    input_sha = cache_key({"kind": kind, **params})  # every float handed to gmsh and every option of the builder
     key = cache_key({"kind": kind, "version": BUILDER_VERSION, "write_xdmf": write_xdmf, **params})
     paths = cache_paths(out_dir, name, key)
     have = paths["msh"].exists() and paths["json"].exists()
@@ -68,7 +69,7 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
         if extra_stats is not None:
             stats.update(extra_stats(points, tri, edges))
         fp = mesh_fingerprint(points=points, triangles=tri, facets=facets, body_size=body_size,
-                              gmsh_input_sha256=inputs.digest(), perturb=inputs.perturb,
+                              gmsh_input_sha256=input_sha, perturb=inputs.perturb,
                               geometry_source=geometry_source)
         stats.update(kind=kind, key=key, params=params, mesh_time_s=t_mesh, fingerprint=fp._asdict(),
                      gmsh_input_rounding_margin=inputs.margin,
