@@ -154,3 +154,27 @@ def test_every_shipped_ci_mesh_keeps_a_rounding_margin(tmp_path, monkeypatch):
             assert f.stats["gmsh_input_rounding_margin"] > 1e-3, (name, label)
             if case.geometry.scene == "concave":
                 assert f.stats["fingerprint"]["geometry_source"] == "frozen", (name, label)
+
+
+def test_metrics_json_carries_the_mesh_fingerprint(tmp_path, monkeypatch):
+    """``workbench run`` writes the fingerprint into metrics.json's runs and mesh.json; a fresh ``workbench mesh``
+    into another folder (another cache) gives the same fingerprint."""
+    monkeypatch.delenv(PERTURB_ENV, raising=False)
+    run = subprocess.run([sys.executable, "-m", "workbench", "run", "hertz_cylinder", "--ci", "--out",
+                          str(tmp_path / "a")], capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    m = json.loads((tmp_path / "a" / "hertz_cylinder" / "metrics.json").read_text())
+    on_disk = json.loads((tmp_path / "a" / "hertz_cylinder" / "mesh.json").read_text())
+    for r in m["runs"]:
+        fp = r["mesh_fingerprint"]
+        assert set(fp) == set(MeshFingerprint._fields) and fp == on_disk[r["label"]]["fingerprint"]
+    from mpi4py import MPI
+
+    from cases import load_case
+    from workbench.pipeline.case_mesh import case_meshes
+
+    case = load_case("hertz_cylinder")
+    again = case_meshes(case, mesh_cache=tmp_path / "b", comm=MPI.COMM_SELF,
+                        h_contact=case.discretisation.ci_level or case.discretisation.h_contact)
+    assert {label: f.stats["fingerprint"] for label, f in again.items()} == \
+        {r["label"]: r["mesh_fingerprint"] for r in m["runs"]}
