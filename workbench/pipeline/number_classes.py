@@ -8,30 +8,47 @@ measured 11800 -> 11856 dofs for ``concave_symmetric``). The mesh is "the same" 
 case carries a ``mesh_fingerprint`` (node and cell counts, hash of rounded coordinates) and the fingerprints
 agree; without fingerprints, or when they differ, the case is compared at its foreign-mesh tolerances.
 
-======================  ==============================================  ==================  =================
+======================  ==============================================  ==================  ====================
 class                   what                                            same mesh           foreign mesh
-======================  ==============================================  ==================  =================
+======================  ==============================================  ==================  ====================
 ``verdict``             pass flags, band verdicts, ``*_in_band``,        exact               exact
-                        number of contact patches
+                        number of contact patches of a step
 ``roundoff``            identities that hold to round-off: every         abs <= 1e-10        abs <= 1e-10
-                        ``load_balance`` (P by virtual work against      (ceiling on the     (ceiling)
+                        ``load_balance`` (P by virtual work against      (a ceiling on the   (a ceiling)
                         the integral of the pressure)                    value, never rel)
 ``iterations``          Newton iterations of each solve                  +-max(2, 25 %)      +-max(2, 25 %)
 ``mesh``                ``ndofs``, the mesh fingerprint                  exact               "mesh differs",
-                                                                                             rel <= 5 %
+                                                                                             rel <= 0.16
 ``theory``              analytic values of the case inputs (Hertz,       rel <= 1e-9         rel <= 1e-9
                         exact circle, b/b0 of the paper ...)
-``physics``             FEM results: loads, peaks, half-widths,          rel <= 1e-7         rel, per kind:
-                        centres, displacements, b/b0 of the FEM,                             :data:`FOREIGN`
+``physics``             FEM results: loads, peaks, half-widths,          rel <= 1e-7         rel, per kind below
+                        centres, displacements, b/b0 of the FEM,
                         the error budget's fine/extrapolated values
-``error``               errors against theory, as fractions of the       abs <= 1e-7         abs, per kind:
-                        reference quantity (rms, p_max, half-width ...)                      :data:`FOREIGN`
-``mesh_sensitive``      numbers a different mesh moves by percents:      rel <= 1e-2         rel <= 0.5
-                        ``fit_rms``, ``patch_size``, the best
-                        superposition's rms (an optimiser's result),
-                        the budget's ``observed_order``, ``gci``,
-                        ``truncation``
-======================  ==============================================  ==================  =================
+``error``               errors against theory, as fractions of the       abs <= 1e-7         abs, per kind below
+                        reference quantity (rms, p_max, half-width ...)
+``mesh_sensitive``      numbers a different mesh moves by percents or    rel <= 1e-2         within a factor 10
+                        more: ``fit_rms``, ``patch_size``,
+                        ``rms_convective``, the best superposition's
+                        rms (an optimiser's result), the budget's
+                        ``observed_order``, ``gci``, ``truncation``
+======================  ==============================================  ==================  ====================
+
+Foreign-mesh tolerances per kind (:data:`FOREIGN` = :data:`SAFETY` x :data:`FOREIGN_MEASURED`, SAFETY = 3):
+
+==================  =========================================================  ===========  ==========
+kind                keys                                                       measured     tolerance
+==================  =========================================================  ===========  ==========
+``load``            P, P_pressure, patch loads (relative)                      1.41e-5      4.2e-5
+``step_load``       P of each intermediate load step (concave scenes)          2.28e-4      6.8e-4
+``peak``            p_max of a run or patch                                    4.27e-4      1.3e-3
+``step_peak``       p_max of each intermediate load step                       4.56e-3      1.4e-2
+``width``           half-widths, b/b0 of the FEM                               9.26e-4      2.8e-3
+``position``        patch centres                                              1.13e-4      3.4e-4
+``displacement``    d (a result under force control)                           2.14e-5      6.4e-5
+``error``           errors against theory (absolute)                           1.87e-3      5.6e-3
+``step_error``      superposition rms of each step (absolute)                  1.04e-3      3.1e-3
+``ndofs``           (the ``mesh`` class, relative)                             5.47e-2      0.16
+==================  =========================================================  ===========  ==========
 
 Times are never key numbers (``key_numbers`` leaves them out); a key naming a time is classed ``excluded``
 and not compared.
@@ -39,17 +56,20 @@ and not compared.
 Where the numbers come from (``docs/regression.md`` has the measurements):
 
 * same mesh (``physics``/``error`` 1e-7): the Newton and Uzawa tolerances are 1e-10 (``snes_rtol``,
-  ``force_rtol``); a changed MUMPS ordering or numpy's SIMD dispatch switched off moved no ``physics`` number
-  by more than :data:`MEASURED_SAME_MESH` relative on the CI cases; 1e-7 is over 100x that and still 50x
-  below the smallest foreign-mesh move.
-* foreign mesh (:data:`FOREIGN`): every CI case re-meshed at 0.999x and 1.001x its contact element size
-  (another valid mesh of the same case, standing in for another machine's gmsh) moved each kind by at most
-  the measured value in :data:`FOREIGN_MEASURED`; the tolerance is :data:`SAFETY` times that.
+  ``force_rtol``); MUMPS forced to another ordering (AMD, checked through ``INFOG(7)``) or OpenBLAS to
+  other kernels moved no ``physics`` number of the CI cases by more than :data:`MEASURED_SAME_MESH` relative.
+  1e-7 is far above that and still 100x below the smallest foreign-mesh move that matters.
+* foreign mesh: every CI case re-meshed at 0.999x and 1.001x its contact element size (another valid mesh of
+  the same case, standing in for another machine's gmsh; issue 22 measured concave_symmetric's P 6e-6 apart
+  between two machines, here 6.35e-6) and with numpy's SIMD dispatch off (which re-meshes
+  ``close_to_conformal`` on this machine: 37328 -> 37264 dofs).
 * ``mesh_sensitive``: ``fit_rms`` and ``patch_size`` moved 15 % and 3.4 % between two machines' meshes
-  (issue 22) and by up to :data:`FOREIGN_MEASURED` ["mesh_sensitive"] here: no test can pin them tightly on a
-  foreign mesh. They are kept and compared at 50 %, which still catches a wrong patch or a broken fit.
-* unknown keys get ``physics`` at the foreign tolerance (conservative: a new key is never compared
-  loosely by accident), and ``tests/test_number_classes.py`` asserts that every saved key matches a rule.
+  (issue 22); here ``fit_rms`` 17 %, ``patch_size`` 4.5 %, ``rms_convective`` by a factor 3.1. No test can pin
+  them on a foreign mesh; they are kept, compared within a factor 10 (which still catches a broken fit), and
+  their case tolerances still decide the verdicts. On the same mesh the best superposition's rms (an
+  optimiser's result) moved 1.6e-3 relative between two runs, hence 1e-2.
+* unknown keys get ``physics`` of kind ``unknown``, compared at the tightest foreign tolerance (``load``):
+  never loosely by accident. ``tests/test_number_classes.py`` asserts that every saved key matches a rule.
 """
 
 from __future__ import annotations
@@ -66,20 +86,21 @@ CLASSES = ("verdict", "roundoff", "iterations", "mesh", "theory", "physics", "er
 
 ROUNDOFF_CEILING = 1e-10          # the load_balance tolerance of the concave cases (measured <= 4e-12)
 ITERATIONS_ABS, ITERATIONS_REL = 2, 0.25
-MESH_REL = 0.05
 THEORY_REL = 1e-9
 SAME_MESH_REL = 1e-7              # physics (relative) and error (absolute) on the same mesh
 MESH_SENSITIVE_SAME = 1e-2
-MESH_SENSITIVE_FOREIGN = 0.5
 SAFETY = 3.0
-# largest relative move of a physics number under another MUMPS ordering / numpy baseline SIMD (CI cases)
-MEASURED_SAME_MESH = 1e-9
-# largest move per kind of quantity between 0.999x, 1x and 1.001x contact element size (CI cases):
-# physics kinds relative, error kinds absolute (fractions of the reference quantity)
-FOREIGN_MEASURED = {"load": 1e-4, "peak": 1e-3, "width": 1e-3, "position": 1e-4, "displacement": 1e-9,
-                    "error": 1e-3, "mesh_sensitive": 0.15}
-FOREIGN = {kind: SAFETY * v for kind, v in FOREIGN_MEASURED.items() if kind != "mesh_sensitive"}
-
+MEASURED_SAME_MESH = 5.1e-13      # largest relative move of a physics number on the same mesh (see below)
+# largest move per kind between the reference CI meshes and the meshes at 0.999x and 1.001x the contact element
+# size (and numpy's baseline SIMD, which re-meshed close_to_conformal): physics kinds relative, error kinds
+# absolute (fractions of the reference quantity); "step_*" are the intermediate load steps of the concave
+# scenes (the first touches over ~5 facets); mesh_sensitive is a factor (rms_convective 0.0149 -> 0.00475)
+FOREIGN_MEASURED = {"load": 1.41e-5, "step_load": 2.28e-4, "peak": 4.27e-4, "step_peak": 4.56e-3,
+                    "width": 9.26e-4, "position": 1.13e-4, "displacement": 2.14e-5, "error": 1.87e-3,
+                    "step_error": 1.04e-3, "ndofs": 0.0547, "mesh_sensitive_factor": 3.13}
+FOREIGN = {kind: SAFETY * v for kind, v in FOREIGN_MEASURED.items()}
+MESH_REL = FOREIGN["ndofs"]
+MESH_SENSITIVE_FOREIGN_FACTOR = 10.0   # >= SAFETY x 3.13
 
 class Move(NamedTuple):
     """How far one key number moved against its class tolerance.
@@ -119,7 +140,7 @@ _RULES: tuple[tuple[str, str, str], ...] = (
     (r"/newton_iterations/\d+$", "iterations", ""),
     (r"/ndofs$", "mesh", ""),
     (r"/mesh_fingerprint/", "mesh", ""),
-    (r"^errors/(fit_rms|patch_size)$", "mesh_sensitive", ""),
+    (r"^errors/(fit_rms|patch_size|rms_convective)$", "mesh_sensitive", ""),
     (r"/superposition_best_rms_over_p0$", "mesh_sensitive", ""),
     (r"^error_budget/.*/(observed_order|gci|truncation)$", "mesh_sensitive", ""),
     (r"^error_budget/.*/(theory|alt_value)$", "theory", ""),
@@ -130,7 +151,9 @@ _RULES: tuple[tuple[str, str, str], ...] = (
     (r"^analytic/b_over_b0_fem$", "physics", "width"),
     (r"^analytic/", "theory", ""),
     (r"(^|/)errors/", "error", "error"),
-    (r"/superposition_\w+_rms_over_p0$", "error", "error"),
+    (r"/superposition_independent_rms_over_p0$", "error", "step_error"),
+    (r"/steps/\d+/(P|P_pressure)$", "physics", "step_load"),
+    (r"/steps/\d+/p_max$", "physics", "step_peak"),
     (r"(^|/)(P|P_pressure)$", "physics", "load"),
     (r"/p_max$", "physics", "peak"),
     (r"/(patch_half_width|half_width)$", "physics", "width"),
@@ -157,11 +180,11 @@ def classify(key: str) -> tuple[str, str]:
 
 def _tolerance(cls: str, kind: str, same_mesh: bool) -> float:
     if cls == "physics":
-        return SAME_MESH_REL if same_mesh else FOREIGN.get(kind, min(FOREIGN.values()))
+        return SAME_MESH_REL if same_mesh else FOREIGN.get(kind, FOREIGN["load"])
     if cls == "error":
-        return SAME_MESH_REL if same_mesh else FOREIGN["error"]
+        return SAME_MESH_REL if same_mesh else FOREIGN.get(kind, FOREIGN["error"])
     return {"roundoff": ROUNDOFF_CEILING, "theory": THEORY_REL, "mesh": 0.0 if same_mesh else MESH_REL,
-            "mesh_sensitive": MESH_SENSITIVE_SAME if same_mesh else MESH_SENSITIVE_FOREIGN,
+            "mesh_sensitive": MESH_SENSITIVE_SAME if same_mesh else math.log(MESH_SENSITIVE_FOREIGN_FACTOR),
             "iterations": ITERATIONS_ABS, "verdict": 0.0}.get(cls, 0.0)
 
 
@@ -200,6 +223,9 @@ def _move(key: str, a, b, same: bool) -> Move:
         return Move(key, cls, a, b, moved, tol, moved <= tol, note)
     if cls == "error":
         moved = abs(b - a)
+        return Move(key, cls, a, b, moved, tol, moved <= tol, note)
+    if cls == "mesh_sensitive" and not same:  # a factor: |ln(new / old)| <= ln(10)
+        moved = abs(math.log(abs(b) / abs(a))) if a * b > 0 else (0.0 if a == b else math.inf)
         return Move(key, cls, a, b, moved, tol, moved <= tol, note)
     scale = max(abs(a), abs(b))
     moved = abs(b - a) / scale if scale > 0 else 0.0
