@@ -16,8 +16,7 @@ from pathlib import Path
 import pytest
 
 from workbench.pipeline.key_numbers import key_numbers, load_saved, saved_file
-from workbench.pipeline.number_classes import (FOREIGN, classify, compare_portable, explicit_class,
-                                               same_mesh_cases)
+from workbench.pipeline.number_classes import FOREIGN, classify, compare_portable, explicit_class, same_mesh_cases
 
 ROOT = Path(__file__).resolve().parents[1]
 SAVED = [ROOT / "tests" / "data" / "key_numbers_ci.json", ROOT / "tests" / "data" / "key_numbers_run.json"]

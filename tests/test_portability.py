@@ -44,3 +44,5 @@ def test_a_changed_verdict_or_a_number_beyond_its_class_fails(tmp_path):
     text = table([oc])
     assert "| y | c | same dofs | same |" in text and "✗" in text and "c/runs/base/p_max [physics]" in text
     assert set(PERTURBATIONS) >= {"mesh", "mumps_ordering", "numpy_baseline"}
+    crashed = compare_runs("z", ref, [CaseRun("c", 2)], ref, [CaseRun("c", 2)])  # same exit, but no run at all
+    assert not crashed.ok and "failed (exit 2" in crashed.verdict_changes[0]

@@ -98,6 +98,7 @@ def run_cases(out: Path, *, cases: list[str], level: str = "ci", perturbation: P
     """Run every case into ``out`` (``workbench run``; one subprocess each, with the perturbation's env)."""
     from cases import load_case
 
+    out = Path(out).resolve()
     out.mkdir(parents=True, exist_ok=True)
     runs = []
     for name in cases:
@@ -146,8 +147,13 @@ def compare_runs(name: str, ref_dir: Path, ref_runs: list[CaseRun], new_dir: Pat
     moves = compare_portable(key_numbers(new_dir), key_numbers(ref_dir), allow_new=False)
     changes = [f"{mv.key}: {mv.old!r} -> {mv.new!r}" for mv in moves if mv.cls == "verdict" and not mv.ok]
     ref_codes = {r.case: r.code for r in ref_runs}
+    for r in ref_runs:
+        if r.code not in (0, 1):
+            changes.append(f"{r.case}: the reference run failed (exit {r.code}, see {ref_dir / (r.case + '.log')})")
     for r in new_runs:
-        if r.code != ref_codes.get(r.case):
+        if r.code not in (0, 1):
+            changes.append(f"{r.case}: the run failed (exit {r.code}, see {new_dir / (r.case + '.log')})")
+        elif r.code != ref_codes.get(r.case):
             changes.append(f"{r.case}: exit {ref_codes.get(r.case)} -> {r.code}")
         if "NOT applied" in r.note:
             changes.append(f"{r.case}: {r.note}")
