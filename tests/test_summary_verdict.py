@@ -46,3 +46,22 @@ def test_all_pass_says_so(tmp_path):
         (tmp_path / n / "metrics.json").write_text(json.dumps(_metrics(n, passed=True)))
     head = summary_markdown(tmp_path).split("\n|")[0]
     assert f"**{len(case_names())} of {len(case_names())} cases PASS** (PASS)" in head and "FAIL" not in head
+
+
+def test_ci_report_opens_with_the_count_and_the_failing_case(tmp_path, monkeypatch, capsys):
+    import subprocess
+
+    from workbench.paths import OutputPaths
+    from workbench.pipeline import ci
+
+    names = case_names()
+    for i, n in enumerate(names):
+        (tmp_path / "ci" / n).mkdir(parents=True)
+        m = _metrics(n, passed=i != 0)
+        (tmp_path / "ci" / n / "metrics.json").write_text(json.dumps(m))
+    monkeypatch.setattr(ci.subprocess, "run", lambda cmd, **kw: subprocess.CompletedProcess(
+        cmd, 1 if cmd[4] == names[0] else 0, "", ""))
+    assert ci.run_ci(OutputPaths(tmp_path)) == 1
+    md = (tmp_path / "ci_report.md").read_text()
+    head = md[:md.index("\n|")]
+    assert f"**{len(names) - 1} of {len(names)} cases PASS** (FAIL)" in head and f"FAIL **{names[0]}**: p_max" in head
