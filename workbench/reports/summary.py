@@ -185,7 +185,7 @@ def summary_markdown(results: Path) -> str:
         for k in (*[k for k in _HEADLINE if errs.get(k) is not None], *[k for k in checks if k not in _HEADLINE]):
             ok = checks.get(k, errs.get(k) is not None and k in tol and errs[k] <= tol[k])
             mark = "" if k not in tol and k not in checks else (" ✓" if ok else " ✗")
-            cells.append(f"{k} {_fmt(errs.get(k))}{mark}")
+            cells.append(f"{k}{mark}" if errs.get(k) is None else f"{k} {_fmt(errs[k])}{mark}")
         runs = len(m.get("runs", [])) or 1
         method = f"{m.get('method')}, {m.get('kinematics')}" + (f", {runs} runs" if runs > 1 else "")
         lines.append(
