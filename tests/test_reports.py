@@ -13,7 +13,7 @@ from workbench.reports.summary import write_summary
 def test_summary_with_no_case_run_yet(tmp_path):
     write_summary(tmp_path)
     md = (tmp_path / "report.md").read_text()
-    assert "Cases run: 0 of" in md and "Not run yet" in md
+    assert "**0 of " in md and " cases PASS**" in md and "Not run yet" in md
     assert (tmp_path / "report.html").read_text().startswith("<!doctype html>")
 
 

@@ -35,8 +35,8 @@ def run_ci(paths: OutputPaths) -> int:
         sys.stderr.write(proc.stderr)
         rows.append((name, level, proc.returncode, dt))
     metrics = load_metrics(ci_root)
-    lines = ["# CI report: every case at its coarsest level", "",
-             "| case | h_c (x half-width) | exit | time (s) | checks | verdict |", "|---|---|---|---|---|---|"]
+    lines = ["| case | h_c (x half-width) | exit | time (s) | checks | verdict |", "|---|---|---|---|---|---|"]
+    failing = []
     for name, level, code, dt in rows:
         m = metrics.get(name)
         if m is None or code not in (0, 1):
@@ -47,8 +47,13 @@ def run_ci(paths: OutputPaths) -> int:
                                f"{'' if m['checks'][k] else ' ✗'}" for k in m["checks"]) or "-"
             verdict = "PASS" if (m["pass"] and code == 0) else f"FAIL ({', '.join(failed) or 'exit ' + str(code)})"
         ok &= verdict == "PASS"
+        if verdict != "PASS":
+            failing.append(f"- FAIL **{name}**: {verdict[len('FAIL ('):-1]}")
         lines.append(f"| {name} | {level} | {code} | {dt:.1f} | {checks} | {verdict} |")
-    lines += ["", f"Overall: **{'PASS' if ok else 'FAIL'}**", ""]
+    head = ["# CI report: every case at its coarsest level", "",
+            f"**{len(rows) - len(failing)} of {len(rows)} cases PASS** ({'PASS' if ok else 'FAIL'}).", "",
+            *failing, *([""] if failing else [])]
+    lines = head + lines + ["", f"Overall: **{'PASS' if ok else 'FAIL'}**", ""]
     write_text(results / "ci_report.md", "\n".join(lines))
     write_text(results / "ci_report.html", markdown_to_html("\n".join(lines), title="CI report"))
     print("\n".join(lines))

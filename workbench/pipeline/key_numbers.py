@@ -8,8 +8,24 @@ contract (``fine``, ``extrapolated``, ``observed_order``, ``gci``, ``truncation`
 ``theory_in_band``; ``alt_value`` and ``alt_in_band`` where the row has an alternative theory) and every band
 check's verdict. Times are left out.
 
+Each run's ``mesh_fingerprint`` (node and cell counts, hash of the rounded coordinates), when the run has one,
+is a key number too: it says whether two sets of numbers come from the same mesh.
+
+Two comparisons, for two questions:
+
+* **same machine, refactor check** (``compare``, ``make check-numbers``): every number at ``rtol`` = 1e-10
+  relative against a baseline saved on this machine (``make save-baseline`` -> ``results/baseline/``, not
+  under version control). Any change of a result shows; it says nothing about another machine.
+* **portable regression** (``portable``, ``tests/test_cases_end_to_end.py``): every number against the saved
+  set ``tests/data/key_numbers_{ci,run}.json`` at the tolerance of its class
+  (:mod:`workbench.pipeline.number_classes`: verdicts exact, round-off against an absolute ceiling,
+  iterations within a margin, physics relative to what the solver and the mesh can decide). The saved
+  files carry the class of every key next to its number (``{"classes": {...}, "numbers": {...}}``).
+
 ``python -m workbench.pipeline.key_numbers save RESULTS FILE`` writes them; ``... compare RESULTS FILE
-[--rtol 1e-10]`` prints every number that moved by more than ``rtol`` (relative) and exits 1 if any did.
+[--rtol 1e-10]`` prints every number that moved by more than ``rtol`` (relative) and exits 1 if any did;
+``... portable RESULTS FILE`` prints every number outside its class tolerance and exits 1 if any is.
+A missing FILE is refused with one line (exit 2).
 """
 
 from __future__ import annotations
@@ -20,9 +36,13 @@ import math
 import sys
 from pathlib import Path
 
-__all__ = ["key_numbers", "compare_numbers"]
+from workbench.atomic import write_text
+from workbench.pipeline.number_classes import classify, compare_portable
 
-_RUN_FIELDS = ("P", "P_pressure", "d", "p_max", "patch_half_width", "ndofs", "newton_iterations")
+__all__ = ["key_numbers", "compare_numbers", "saved_file", "load_saved"]
+
+_RUN_FIELDS = ("P", "P_pressure", "d", "p_max", "patch_half_width", "ndofs", "newton_iterations",
+               "mesh_fingerprint")
 _BUDGET_FIELDS = ("fine", "extrapolated", "observed_order", "gci", "truncation", "theory", "theory_in_band",
                   "alt_value", "alt_in_band")
 _STEP_FIELDS = ("d", "P", "P_pressure", "p_max", "n_patches", "superposition_independent_rms_over_p0",
@@ -87,10 +107,22 @@ def compare_numbers(new: dict, old: dict, *, rtol: float = 1e-10, allow_new: boo
     return bad
 
 
+def saved_file(numbers: dict) -> dict:
+    """The saved form of ``numbers``: each key's class next to its number (see the module docstring)."""
+    return {"about": "key numbers; classes and tolerances: workbench/pipeline/number_classes.py",
+            "classes": {k: classify(k)[0] for k in sorted(numbers)}, "numbers": dict(sorted(numbers.items()))}
+
+
+def load_saved(path: Path) -> dict:
+    """The numbers of a saved file (the ``saved_file`` form, or a plain ``{key: number}`` of older sets)."""
+    data = json.loads(Path(path).read_text())
+    return data["numbers"] if isinstance(data.get("numbers"), dict) else data
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m workbench.pipeline.key_numbers", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("action", choices=("save", "compare"))
+    p.add_argument("action", choices=("save", "compare", "portable"))
     p.add_argument("results", type=Path)
     p.add_argument("file", type=Path)
     p.add_argument("--rtol", type=float, default=1e-10)
@@ -101,10 +133,23 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: no */metrics.json under {args.results}", file=sys.stderr)
         return 2
     if args.action == "save":
-        args.file.write_text(json.dumps(numbers, indent=1, sort_keys=True) + "\n")
+        args.file.parent.mkdir(parents=True, exist_ok=True)
+        write_text(args.file, json.dumps(saved_file(numbers), indent=1) + "\n")
         print(f"wrote {len(numbers)} key numbers to {args.file}")
         return 0
-    saved = json.loads(args.file.read_text())
+    if not args.file.is_file():
+        print(f"error: no saved key numbers at {args.file}; `make save-baseline` saves them from this machine's "
+              "`make run` (results/baseline/key_numbers.json)", file=sys.stderr)
+        return 2
+    saved = load_saved(args.file)
+    if args.action == "portable":
+        moves = compare_portable(numbers, saved, allow_new=args.allow_new)
+        bad = [mv for mv in moves if not mv.ok]
+        for mv in bad:
+            print(f"{mv.key} [{mv.cls}]: {mv.old!r} -> {mv.new!r} (moved {mv.moved:.3g}, tolerance "
+                  f"{mv.tolerance:.3g}{', ' + mv.note if mv.note else ''})")
+        print(f"{len(moves)} key numbers, {len(bad)} outside their class tolerance")
+        return 1 if bad else 0
     bad = compare_numbers(numbers, saved, rtol=args.rtol, allow_new=args.allow_new)
     if args.allow_new and (added := sorted(set(numbers) - set(saved))):
         print(f"{len(added)} key numbers are new (not in {args.file.name}), e.g. {added[0]}")

@@ -1,7 +1,10 @@
 """Summary report: ``results/report.md`` and ``results/report.html``.
 
-One row per scene with its headline numbers and a link to the case report, the paper-claims table, and
-links to the studies (convergence, stability, benchmark) when they have been run. It reads only what the
+Verdict first (issue 22): the page opens with "N of M cases PASS" and one line per failing check (the check,
+its value against its tolerance, or the band check's own reason), before any table. Then one row per scene with
+its verdict, headline numbers and a link to the case report (narrow enough for a 1400 px window), the error
+budget (long; below the verdicts), the paper-claims table, and links to the studies (convergence, stability,
+benchmark) when they have been run. It reads only what the
 runs wrote (``results/<case>/metrics.json``), so it works when only some cases exist yet. Writing it also
 draws every case report again from its saved JSON, and writes an HTML twin of every study report.
 """
@@ -15,7 +18,8 @@ from cases import case_names
 from workbench.atomic import write_text
 from workbench.reports.markdown import fmt, markdown_to_html
 
-__all__ = ["STUDY_REPORTS", "load_metrics", "summary_markdown", "trust_markdown", "write_summary"]
+__all__ = ["STUDY_REPORTS", "load_metrics", "failing_checks", "verdict_markdown", "summary_markdown",
+           "trust_markdown", "write_summary"]
 
 STUDY_REPORTS = ("convergence/report.md", "stability/report.md", "bench/report.md", "analytic/convective.md",
                  "validity/report.md", "ci_report.md")
@@ -37,6 +41,40 @@ def load_metrics(results: Path) -> dict[str, dict]:
 
 def _fmt(v) -> str:
     return fmt(v, 3)
+
+
+def failing_checks(m: dict) -> list[str]:
+    """One line per failing check of a case's metrics: ``check: value > tolerance`` for a tolerance check, the
+    band check's own reason for a band check; the pass flag alone if nothing more specific failed."""
+    errs, tol = m.get("errors", {}), m.get("tolerances", {})
+    out = []
+    for k, ok in (m.get("checks") or {}).items():
+        if not ok:
+            v, t = errs.get(k), tol.get(k)
+            out.append(f"`{k}` {_fmt(v)} > tolerance {_fmt(t)}" if t is not None else f"`{k}` failed")
+    for k, c in (m.get("band_checks") or {}).items():
+        if not c.get("passed", True):
+            out.append(f"`{k}`: {c.get('reason') or 'outside its band'}")
+    if not out and not m.get("pass"):
+        out.append("the case did not pass (see its report)")
+    return out
+
+
+def verdict_markdown(metrics: dict[str, dict]) -> list[str]:
+    """The opening lines: "N of M cases PASS", then each failing case with its failing checks, one line each."""
+    names = case_names()
+    passed = [n for n in names if n in metrics and metrics[n].get("pass")]
+    failed = [n for n in names if n in metrics and not metrics[n].get("pass")]
+    missing = [n for n in names if n not in metrics]
+    verdict = "PASS" if not failed and not missing else "FAIL" if failed else "incomplete"
+    lines = [f"**{len(passed)} of {len(names)} cases PASS** ({verdict}).", ""]
+    for n in failed:
+        checks = failing_checks(metrics[n])
+        lines.append(f"- FAIL **{n}** ([report]({n}/report.md)): {checks[0]}")
+        lines += [f"  - {c}" for c in checks[1:]]
+    if missing:
+        lines.append(f"- Not run yet: {', '.join(missing)}.")
+    return lines + ([""] if failed or missing else [])
 
 
 def _budget_markdown(metrics: dict[str, dict]) -> list[str]:
@@ -131,43 +169,34 @@ def summary_markdown(results: Path) -> str:
     from workbench.reports.paper_claims import claims_markdown
 
     metrics = load_metrics(results)
-    lines = ["# Contact verification workbench: summary", ""]
-    missing = [n for n in case_names() if n not in metrics]
+    lines = ["# Contact verification workbench: summary", "", *verdict_markdown(metrics)]
     lines += [
-        f"Cases run: {len(metrics)} of {len(case_names())}."
-        + (f" Not run yet: {', '.join(missing)}." if missing else ""),
+        "## Cases",
         "",
         "Errors are relative, measured against the theory evaluated at the load the FEM actually carries "
         "(virtual-work reaction). Times are wall-clock seconds of the whole case (meshing, JIT if cold, solve).",
         "",
-        "| case | runs | method | kinematics | ndofs | time (s) | P (N/mm) | "
-        + " | ".join(_HEADLINE) + " | other checks | pass | report |",
-        "|" + "---|" * (10 + len(_HEADLINE)),
+        "| case | verdict | method | ndofs | time (s) | P (N/mm) | errors (✓/✗: within/outside the case tolerance) |",
+        "|---|---|---|---|---|---|---|",
     ]
     for name, m in metrics.items():
-        errs = m.get("errors", {})
-        tol = m.get("tolerances", {})
+        errs, tol, checks = m.get("errors", {}), m.get("tolerances", {}), m.get("checks", {})
         cells = []
-        for k in _HEADLINE:
-            if k in errs and errs[k] is not None:
-                mark = "" if k not in tol else (" ✓" if errs[k] <= tol[k] else " ✗")
-                cells.append(f"{_fmt(errs[k])}{mark}")
-            else:
-                cells.append("-")
-        others = [f"{k} {_fmt(errs.get(k))}{' ✓' if ok else ' ✗'}" for k, ok in m.get("checks", {}).items()
-                  if k not in _HEADLINE]
-        cells.append(", ".join(others) or "-")
+        for k in (*[k for k in _HEADLINE if errs.get(k) is not None], *[k for k in checks if k not in _HEADLINE]):
+            ok = checks.get(k, errs.get(k) is not None and k in tol and errs[k] <= tol[k])
+            mark = "" if k not in tol and k not in checks else (" ✓" if ok else " ✗")
+            cells.append(f"{k}{mark}" if errs.get(k) is None else f"{k} {_fmt(errs[k])}{mark}")
+        runs = len(m.get("runs", [])) or 1
+        method = f"{m.get('method')}, {m.get('kinematics')}" + (f", {runs} runs" if runs > 1 else "")
         lines.append(
-            f"| {name} | {len(m.get('runs', [])) or 1} | {m.get('method')} | {m.get('kinematics')} | "
+            f"| [{name}]({name}/report.md) | {'PASS' if m.get('pass') else 'FAIL'} | {method} | "
             f"{_fmt(m.get('ndofs'))} | {_fmt(m.get('wall_time_s'))} | {_fmt(m.get('P'))} | "
-            + " | ".join(cells)
-            + f" | {'PASS' if m.get('pass') else 'FAIL'} | [report]({name}/report.md) |"
+            + (", ".join(cells) or "-") + " |"
         )
     lines += ["", "✓/✗: within/outside the case tolerance (see each case report for the tolerances).", ""]
     for name, m in metrics.items():
         if m.get("headline"):
             lines.append(f"- **{name}**: {m['headline']}")
-    lines += _budget_markdown(metrics)
     if all(n in metrics and metrics[n].get("steps") for n in ("concave_symmetric", "close_to_conformal")):
         lines += ["## Load against indentation (close-to-conformal paper, Fig. 3)", "",
                   "![P against delta](p_delta.png)", "",
@@ -176,6 +205,7 @@ def summary_markdown(results: Path) -> str:
                   "Table 1 as printed (its symmetric P is one patch's load, see the claims table). Its geometry and "
                   "body size are not published, and in 2D the load at a given indentation "
                   "depends on the whole body, so only the trend (close-to-conformal stiffer) is comparable.", ""]
+    lines += _budget_markdown(metrics)
     lines += [""] + trust_markdown(results)
     lines += ["", claims_markdown(results), ""]
     studies = [("convergence", "Error against run time"), ("stability", "Numerical stability sweep"),

@@ -1,0 +1,263 @@
+"""The portable regression contract: every key number has a class, and each class its own tolerance.
+
+A key number (``workbench.pipeline.key_numbers``: ``"case/field"``) is compared with a saved one by what it
+is, not at one relative tolerance for all. The same numbers on another machine differ for two reasons: the
+solver's own round-off and stopping tolerance (a different MUMPS ordering, BLAS kernel or numpy SIMD path,
+on the same mesh), and a different mesh (gmsh does not promise the same mesh on another machine; issue 22
+measured 11800 -> 11856 dofs for ``concave_symmetric``). The mesh is "the same" only when every run of the
+case carries a ``mesh_fingerprint`` (node and cell counts, hash of rounded coordinates) and the fingerprints
+agree; without fingerprints, or when they differ, the case is compared at its foreign-mesh tolerances.
+
+======================  ==============================================  ==================  ====================
+class                   what                                            same mesh           foreign mesh
+======================  ==============================================  ==================  ====================
+``verdict``             pass flags, band verdicts, ``*_in_band``,        exact               exact
+                        number of contact patches of a step
+``roundoff``            identities that hold to round-off: every         abs <= 1e-10        abs <= 1e-10
+                        ``load_balance`` (P by virtual work against      (a ceiling on the   (a ceiling)
+                        the integral of the pressure)                    value, never rel)
+``iterations``          Newton iterations of each solve                  +-max(2, 25 %)      +-max(2, 25 %)
+``mesh``                ``ndofs``, the mesh fingerprint                  exact               "mesh differs",
+                                                                                             rel <= 0.16
+``theory``              analytic values of the case inputs (Hertz,       rel <= 1e-9         rel <= 1e-9
+                        exact circle, b/b0 of the paper ...)
+``physics``             FEM results: loads, peaks, half-widths,          rel <= 1e-7         rel, per kind below
+                        centres, displacements, b/b0 of the FEM,
+                        the error budget's fine/extrapolated values
+``error``               errors against theory, as fractions of the       abs <= 1e-7         abs, per kind below
+                        reference quantity (rms, p_max, half-width ...)
+``mesh_sensitive``      numbers a different mesh moves by percents or    rel <= 1e-2         within a factor 10
+                        more: ``fit_rms``, ``patch_size``,
+                        ``rms_convective``, the best superposition's
+                        rms (an optimiser's result), the budget's
+                        ``observed_order``, ``gci``, ``truncation``
+======================  ==============================================  ==================  ====================
+
+Foreign-mesh tolerances per kind (:data:`FOREIGN` = :data:`SAFETY` x :data:`FOREIGN_MEASURED`, SAFETY = 3):
+
+==================  =========================================================  ===========  ==========
+kind                keys                                                       measured     tolerance
+==================  =========================================================  ===========  ==========
+``load``            P, P_pressure, patch loads (relative)                      1.41e-5      4.2e-5
+``step_load``       P of each intermediate load step (concave scenes)          2.28e-4      6.8e-4
+``peak``            p_max of a run or patch                                    4.27e-4      1.3e-3
+``step_peak``       p_max of each intermediate load step                       4.56e-3      1.4e-2
+``width``           half-widths, b/b0 of the FEM                               9.26e-4      2.8e-3
+``position``        patch centres                                              1.13e-4      3.4e-4
+``displacement``    d (a result under force control)                           2.14e-5      6.4e-5
+``error``           errors against theory (absolute)                           1.87e-3      5.6e-3
+``step_error``      superposition rms of each step (absolute)                  1.04e-3      3.1e-3
+``ndofs``           (the ``mesh`` class, relative)                             5.47e-2      0.16
+==================  =========================================================  ===========  ==========
+
+Times are never key numbers (``key_numbers`` leaves them out); a key naming a time is classed ``excluded``
+and not compared.
+
+Where the numbers come from (``docs/regression.md`` has the measurements):
+
+* same mesh (``physics``/``error`` 1e-7): the Newton and Uzawa tolerances are 1e-10 (``snes_rtol``,
+  ``force_rtol``); MUMPS forced to another ordering (AMD, checked through ``INFOG(7)``) or OpenBLAS to
+  other kernels moved no ``physics`` number of the CI cases by more than :data:`MEASURED_SAME_MESH` relative.
+  1e-7 is far above that and still 100x below the smallest foreign-mesh move that matters.
+* foreign mesh: every CI case re-meshed at 0.999x and 1.001x its contact element size (another valid mesh of
+  the same case, standing in for another machine's gmsh; issue 22 measured concave_symmetric's P 6e-6 apart
+  between two machines, here 6.35e-6) and with numpy's SIMD dispatch off (which re-meshes
+  ``close_to_conformal`` on this machine: 37328 -> 37264 dofs).
+* ``mesh_sensitive``: ``fit_rms`` and ``patch_size`` moved 15 % and 3.4 % between two machines' meshes
+  (issue 22); here ``fit_rms`` 17 %, ``patch_size`` 4.5 %, ``rms_convective`` by a factor 3.1. No test can pin
+  them on a foreign mesh; they are kept, compared within a factor 10 (which still catches a broken fit), and
+  their case tolerances still decide the verdicts. On the same mesh the best superposition's rms (an
+  optimiser's result) moved 1.6e-3 relative between two runs, hence 1e-2.
+* unknown keys get ``physics`` of kind ``unknown``, compared at the tightest foreign tolerance (``load``):
+  never loosely by accident. ``tests/test_number_classes.py`` asserts that every saved key matches a rule.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import NamedTuple
+
+__all__ = ["CLASSES", "FOREIGN", "FOREIGN_MEASURED", "MEASURED_SAME_MESH", "SAFETY", "Move", "classify",
+           "explicit_class", "compare_portable", "same_mesh_cases", "worst_by_class"]
+
+CLASSES = ("verdict", "roundoff", "iterations", "mesh", "theory", "physics", "error", "mesh_sensitive",
+           "excluded")
+
+ROUNDOFF_CEILING = 1e-10          # the load_balance tolerance of the concave cases (measured <= 4e-12)
+ITERATIONS_ABS, ITERATIONS_REL = 2, 0.25
+THEORY_REL = 1e-9
+SAME_MESH_REL = 1e-7              # physics (relative) and error (absolute) on the same mesh
+MESH_SENSITIVE_SAME = 1e-2
+SAFETY = 3.0
+MEASURED_SAME_MESH = 5.1e-13      # largest relative move of a physics number on the same mesh (see below)
+# largest move per kind between the reference CI meshes and the meshes at 0.999x and 1.001x the contact element
+# size (and numpy's baseline SIMD, which re-meshed close_to_conformal): physics kinds relative, error kinds
+# absolute (fractions of the reference quantity); "step_*" are the intermediate load steps of the concave
+# scenes (the first touches over ~5 facets); mesh_sensitive is a factor (rms_convective 0.0149 -> 0.00475)
+FOREIGN_MEASURED = {"load": 1.41e-5, "step_load": 2.28e-4, "peak": 4.27e-4, "step_peak": 4.56e-3,
+                    "width": 9.26e-4, "position": 1.13e-4, "displacement": 2.14e-5, "error": 1.87e-3,
+                    "step_error": 1.04e-3, "ndofs": 0.0547, "mesh_sensitive_factor": 3.13}
+FOREIGN = {kind: SAFETY * v for kind, v in FOREIGN_MEASURED.items()}
+MESH_REL = FOREIGN["ndofs"]
+MESH_SENSITIVE_FOREIGN_FACTOR = 10.0   # >= SAFETY x 3.13
+
+class Move(NamedTuple):
+    """How far one key number moved against its class tolerance.
+
+    ``moved`` is in the class's own measure (relative for ``physics``/``theory``/``mesh``/``mesh_sensitive``,
+    absolute for ``error``/``roundoff``, iterations for ``iterations``, 0/1 for ``verdict``); ``ok`` says
+    whether it is within ``tolerance``; ``note`` says why (``"missing now"``, ``"mesh differs"`` ...).
+    """
+
+    key: str
+    cls: str
+    old: object
+    new: object
+    moved: float
+    tolerance: float
+    ok: bool
+    note: str = ""
+
+    @property
+    def ratio(self) -> float:
+        """``moved / tolerance`` (0 when nothing moved, inf for a zero tolerance that was exceeded)."""
+        if self.moved == 0 or (isinstance(self.moved, float) and math.isnan(self.moved) and self.ok):
+            return 0.0
+        if math.isnan(self.moved):
+            return math.inf
+        return self.moved / self.tolerance if self.tolerance > 0 else math.inf
+
+
+# (pattern on the field path after "case/", class, kind); first match wins
+_RULES: tuple[tuple[str, str, str], ...] = (
+    (r"(^|/)[^/]*time[^/]*$", "excluded", ""),
+    (r"^pass$", "verdict", ""),
+    (r"^band_checks/", "verdict", ""),
+    (r"/(theory|alt)_in_band$", "verdict", ""),
+    (r"/n_patches$", "verdict", ""),
+    (r"(^|/)errors/load_balance$", "roundoff", ""),
+    (r"/newton_iterations/\d+$", "iterations", ""),
+    (r"/ndofs$", "mesh", ""),
+    (r"/mesh_fingerprint/", "mesh", ""),
+    (r"^errors/(fit_rms|patch_size|rms_convective)$", "mesh_sensitive", ""),
+    (r"/superposition_best_rms_over_p0$", "mesh_sensitive", ""),
+    (r"^error_budget/.*/(observed_order|gci|truncation)$", "mesh_sensitive", ""),
+    (r"^error_budget/.*/(theory|alt_value)$", "theory", ""),
+    (r"^error_budget/.*(P|patch_P\[\d+\])/(fine|extrapolated)$", "physics", "load"),
+    (r"^error_budget/.*(p_max|vm_max|interior_stress_l2)/(fine|extrapolated)$", "physics", "peak"),
+    (r"^error_budget/.*load_symmetry/(fine|extrapolated)$", "physics", "load"),
+    (r"^error_budget/.*(width|b_over_b0).*/(fine|extrapolated)$", "physics", "width"),
+    (r"^analytic/b_over_b0_fem$", "physics", "width"),
+    (r"^analytic/", "theory", ""),
+    (r"(^|/)errors/", "error", "error"),
+    (r"/superposition_independent_rms_over_p0$", "error", "step_error"),
+    (r"/steps/\d+/(P|P_pressure)$", "physics", "step_load"),
+    (r"/steps/\d+/p_max$", "physics", "step_peak"),
+    (r"(^|/)(P|P_pressure)$", "physics", "load"),
+    (r"/p_max$", "physics", "peak"),
+    (r"/(patch_half_width|half_width)$", "physics", "width"),
+    (r"/center$", "physics", "position"),
+    (r"/d$", "physics", "displacement"),
+)
+_COMPILED = tuple((re.compile(p), c, k) for p, c, k in _RULES)
+
+
+def explicit_class(key: str) -> tuple[str, str] | None:
+    """``(class, kind)`` of the first rule matching ``key`` (``"case/field..."``), ``None`` if no rule does."""
+    field = key.split("/", 1)[1] if "/" in key else key
+    for pat, cls, kind in _COMPILED:
+        if pat.search(field):
+            return cls, kind
+    return None
+
+
+def classify(key: str) -> tuple[str, str]:
+    """``(class, kind)`` of ``key``; a key no rule knows is ``physics`` of kind ``unknown`` (compared at the
+    tightest foreign-mesh tolerance, never loosely by accident)."""
+    return explicit_class(key) or ("physics", "unknown")
+
+
+def _tolerance(cls: str, kind: str, same_mesh: bool) -> float:
+    if cls == "physics":
+        return SAME_MESH_REL if same_mesh else FOREIGN.get(kind, FOREIGN["load"])
+    if cls == "error":
+        return SAME_MESH_REL if same_mesh else FOREIGN.get(kind, FOREIGN["error"])
+    return {"roundoff": ROUNDOFF_CEILING, "theory": THEORY_REL, "mesh": 0.0 if same_mesh else MESH_REL,
+            "mesh_sensitive": MESH_SENSITIVE_SAME if same_mesh else math.log(MESH_SENSITIVE_FOREIGN_FACTOR),
+            "iterations": ITERATIONS_ABS, "verdict": 0.0}.get(cls, 0.0)
+
+
+def same_mesh_cases(new: dict, old: dict) -> set[str]:
+    """Cases whose meshes are proven equal: every run (every key ending in ``/ndofs``) has a
+    ``mesh_fingerprint`` in both sets, and they agree."""
+    out = set()
+    for case in {k.split("/", 1)[0] for k in old} | {k.split("/", 1)[0] for k in new}:
+        fa = {k: v for k, v in old.items() if k.startswith(f"{case}/") and "/mesh_fingerprint/" in k}
+        fb = {k: v for k, v in new.items() if k.startswith(f"{case}/") and "/mesh_fingerprint/" in k}
+        runs = {k[:-len("/ndofs")] for k in (*old, *new) if k.startswith(f"{case}/") and k.endswith("/ndofs")}
+        fp_runs = {k.split("/mesh_fingerprint/")[0] for k in fa}
+        if fa and fa == fb and fp_runs >= runs:
+            out.add(case)
+    return out
+
+
+def _move(key: str, a, b, same: bool) -> Move:
+    cls, kind = classify(key)
+    tol = _tolerance(cls, kind, same)
+    note = "" if same or cls not in ("physics", "error", "mesh", "mesh_sensitive") else "mesh differs"
+    if cls == "verdict" or isinstance(a, (bool, str)) or a is None or isinstance(b, (bool, str)) or b is None:
+        if cls == "mesh" and not same:  # a fingerprint hash differs with the mesh: reported, not a failure
+            return Move(key, cls, a, b, float(a != b), 1.0, True, note)
+        return Move(key, cls, a, b, float(a != b), tol, a == b, note)
+    a, b = float(a), float(b)
+    if math.isnan(a) or math.isnan(b):
+        both = math.isnan(a) and math.isnan(b)
+        return Move(key, cls, a, b, 0.0 if both else math.nan, tol, both, note)
+    if cls == "roundoff":
+        moved = abs(b - a)
+        return Move(key, cls, a, b, moved, tol, abs(b) <= tol and moved <= tol, note)
+    if cls == "iterations":
+        tol = max(ITERATIONS_ABS, ITERATIONS_REL * abs(a))
+        moved = abs(b - a)
+        return Move(key, cls, a, b, moved, tol, moved <= tol, note)
+    if cls == "error":
+        moved = abs(b - a)
+        return Move(key, cls, a, b, moved, tol, moved <= tol, note)
+    if cls == "mesh_sensitive" and not same:  # a factor: |ln(new / old)| <= ln(10)
+        moved = abs(math.log(abs(b) / abs(a))) if a * b > 0 else (0.0 if a == b else math.inf)
+        return Move(key, cls, a, b, moved, tol, moved <= tol, note)
+    scale = max(abs(a), abs(b))
+    moved = abs(b - a) / scale if scale > 0 else 0.0
+    return Move(key, cls, a, b, moved, tol, moved <= tol, note)
+
+
+def compare_portable(new: dict, old: dict, *, allow_new: bool = True) -> list[Move]:
+    """One :class:`Move` per key number of ``old`` (and of ``new`` unless ``allow_new``), in key order.
+
+    A key of ``old`` missing from ``new`` is a failed move (note ``"missing now"``); a key only in ``new``
+    is a failure (``"new"``) unless ``allow_new`` (numbers added since the saved set). ``excluded`` keys
+    are left out.
+    """
+    same = same_mesh_cases(new, old)
+    out = []
+    for key in sorted(set(old) | set(new)):
+        cls, _ = classify(key)
+        if cls == "excluded" or (key not in old and allow_new):
+            continue
+        if key not in old or key not in new:
+            out.append(Move(key, cls, old.get(key), new.get(key), math.nan, 0.0, False,
+                            "missing now" if key not in new else "new"))
+            continue
+        out.append(_move(key, old[key], new[key], key.split("/", 1)[0] in same))
+    return out
+
+
+def worst_by_class(moves: list[Move]) -> dict[tuple[str, str], Move]:
+    """The move with the largest ``moved / tolerance`` per ``(case, class)``."""
+    out: dict[tuple[str, str], Move] = {}
+    for mv in moves:
+        k = (mv.key.split("/", 1)[0], mv.cls)
+        if k not in out or mv.ratio > out[k].ratio or (not mv.ok and out[k].ok):
+            out[k] = mv
+    return out
