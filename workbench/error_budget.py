@@ -20,10 +20,11 @@ value (Roache's three-grid Fs = 1.25 on the whole range of the three values; Ste
   beyond the fine value is not claimed for a sequence that has already crossed the value it is tested against.
 
 Differences that do not shrink on refinement (``|e32/e21| <= ln r32 / ln r21``, no positive order fits) are
-``"diverging"``, with the ``max|f_i - f1|`` fallback. An observed order above ``formal_order`` keeps its Richardson
-value, but its GCI is at least ``FS_FORMAL |e21/f1| / (r21^q - 1)`` at the formal order q. An observed order far
-from the expected one (outside [expected/2, 2 expected]) is named ``"not asymptotic"``; a difference at
-round-off (``|e21|, |e32| <= 1e-14 |f1|``) is ``"converged"`` with GCI 0. All GCIs are relative.
+``"diverging"``, with the ``max|f_i - f1|`` fallback. An observed order more than 10 % above ``formal_order`` q
+keeps its Richardson value, but its GCI is at least ``FS_FORMAL |e21/f1| / (r21^q - 1)`` (Roy's factor-of-safety
+rule, applied only above q). An observed order far from the expected one (outside [expected/2, 2 expected]) is
+named ``"not asymptotic"``; differences within the noise (``|e21|, |e32| <= max(1e-14 |f1|, floor)``) are
+``"converged"`` with GCI 0. All GCIs are relative.
 """
 
 from __future__ import annotations
@@ -105,8 +106,8 @@ def grid_study(h: tuple[float, float, float], f: tuple[float, float, float], *,
         reference: A value the sequence is tested against (the theory): crossing it is ``"crossing"``.
         floor: Absolute noise of one value (iterative error + round-off, >= 0): a fine-pair difference within it
             is ``"stalled"``, and both differences within it ``"converged"``.
-        formal_order: The largest order the band may rely on. An observed order above it is kept for the
-            Richardson value, but the GCI is the wider of Roache's (Fs = 1.25, observed order) and
+        formal_order: The largest order the band may rely on. An observed order more than 10 % above it is kept
+            for the Richardson value, but the GCI is the wider of Roache's (Fs = 1.25, observed order) and
             ``FS_FORMAL |e21 / f1| / (r21^q - 1)`` at q = formal_order (Roy's factor-of-safety rule for an
             observed order off the formal one, applied only above it).
 
@@ -148,7 +149,7 @@ def grid_study(h: tuple[float, float, float], f: tuple[float, float, float], *,
     f_ext = (rp * f1 - f2) / (rp - 1.0)
     gci = FS * abs(e21 / scale) / (rp - 1.0)
     band_order = p
-    if formal_order is not None and p > formal_order:
+    if formal_order is not None and p > 1.1 * formal_order:  # Roy: more than 10 % off the formal order
         formal = FS_FORMAL * abs(e21 / scale) / (r21**formal_order - 1.0)
         if formal > gci:
             gci, band_order = formal, float(formal_order)
