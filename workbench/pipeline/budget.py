@@ -32,7 +32,20 @@ Each headline quantity is dimensionless (divided by the classical value at the r
   form known), 5.3e-6 for the wedge (log apex).
 
 ``extrapolated`` = Richardson value in h (at W_max; the fine value where no order is claimed) + the W
-correction. ``theory_in_band``: ``|theory - extrapolated| <= (gci + truncation) |fine|``.
+correction. The numerical uncertainty (issue 22), every term relative and recorded in the row:
+
+* ``gci``: the h study (:func:`workbench.error_budget.grid_study`, told the row's theory, so a sequence that
+  crosses it is ``"crossing"`` with the spread band; an observed order above 1.1 x ``FORMAL_ORDER`` = 2 keeps
+  its Richardson value, but the GCI is at least Roy's Fs = 3 at order 2, ``band_order`` says which);
+* ``truncation``: the W study (above);
+* ``iterative``: the finest level (h_fine, W_max) solved again with every solver tolerance / 100
+  (:func:`workbench.error_budget.tight_resolve`): ``|f_tight - f| / |f|``, floored at 1e-12 (the tight
+  tolerance); null with ``iterative_status`` when the tight solve failed;
+* ``roundoff``: ``ROUNDOFF_FLOOR`` = 1e-9;
+* ``theory_uncertainty`` where the theory has one (the convective moments' grid).
+
+``uncertainty`` is their sum; ``theory_in_band``: ``|theory - extrapolated| <= uncertainty |fine|`` (and
+``alt_in_band`` likewise).
 
 For a Hertz scene the finest-level, largest-block run is also probed on the symmetry axis
 (``subsurface.csv``), and every run's interior stress is compared with McEwen's field over |x|, z <= 4 a
@@ -387,10 +400,11 @@ def subsurface_csv(sub: dict) -> str:
 
 
 def budget_table(budget: dict) -> list[str]:
-    """The budget as Markdown table lines (values dimensionless, over the classical value at the load)."""
-    head = ("| quantity | fine | extrapolated | order | status | GCI | truncation | theory | in band "
-            "| alt. theory | alt. in band |")
-    lines = [head, "|---|---|---|---|---|---|---|---|---|---|---|"]
+    """The budget as Markdown table lines (values dimensionless, over the classical value at the load); the
+    band terms are relative: GCI, truncation, iterative, round-off and their sum (the band, times |fine|)."""
+    head = ("| quantity | fine | extrapolated | order | status | GCI | truncation | iterative | round-off "
+            "| uncertainty | theory | in band | alt. theory | alt. in band |")
+    lines = [head, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
 
     def f(v, fmt=".7f"):
         return "n/a" if v is None else format(v, fmt)
@@ -402,11 +416,16 @@ def budget_table(budget: dict) -> list[str]:
         if r.get("gci") is None:
             fine = f(r["fine"], ".3e") if isinstance(r["fine"], float) else r["fine"]
             lines.append(f"| {q} | {fine} | n/a | {f(r.get('observed_order'), '.2f')} | {r['status']} | n/a | n/a "
-                         f"| {f(r.get('theory'), 'g')} | n/a | - | - |")
+                         f"| n/a | n/a | n/a | {f(r.get('theory'), 'g')} | n/a | - | - |")
             continue
-        lines.append(f"| {q} | {f(r['fine'])} | {f(r['extrapolated'])} | {f(r['observed_order'], '.2f')} | "
+        order = f(r["observed_order"], ".2f")
+        if r.get("band_order") is not None and r.get("observed_order") is not None \
+                and r["band_order"] != r["observed_order"]:
+            order += f" (band at {r['band_order']:g})"
+        lines.append(f"| {q} | {f(r['fine'])} | {f(r['extrapolated'])} | {order} | "
                      f"{r['status']} | {f(r['gci'], '.2e')} | {f(r['truncation'], '.2e')} ({r['truncation_status']})"
-                     f" | {f(r['theory'])} | {ib} | {alt} | {alt_in} |")
+                     f" | {f(r.get('iterative'), '.1e')} | {f(r.get('roundoff'), '.0e')} "
+                     f"| {f(r.get('uncertainty'), '.2e')} | {f(r['theory'])} | {ib} | {alt} | {alt_in} |")
     return lines
 
 
