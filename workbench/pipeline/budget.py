@@ -35,8 +35,9 @@ Each headline quantity is dimensionless (divided by the classical value at the r
 correction. The numerical uncertainty (issue 22), every term relative and recorded in the row:
 
 * ``gci``: the h study (:func:`workbench.error_budget.grid_study`, told the row's theory, so a sequence that
-  crosses it is ``"crossing"`` with the spread band; an observed order above 1.1 x ``FORMAL_ORDER`` = 2 keeps
-  its Richardson value, but the GCI is at least Roy's Fs = 3 at order 2, ``band_order`` says which);
+  crosses it is ``"crossing"`` with the spread band; an observed order above 1.1 x the formal order q keeps
+  its Richardson value, but the GCI is at least Roy's Fs = 3 at order q, ``band_order`` says which; q =
+  ``FORMAL_ORDER`` = 2 for the moments and the peak, ``FORMAL_ORDER_EDGE`` = 1.5 for the zero crossings);
 * ``truncation``: the W study (above);
 * ``iterative``: the finest level (h_fine, W_max) solved again with every solver tolerance / 100
   (:func:`workbench.error_budget.tight_resolve`): ``|f_tight - f| / |f|``, floored at 1e-12 (the tight
@@ -65,7 +66,15 @@ import numpy as np
 
 from analytic.subsurface import hertz_subsurface_stress, von_mises_plane_strain
 from cases.schema import Case, Run
-from workbench.error_budget import FORMAL_ORDER, ROUNDOFF_FLOOR, grid_study, iterative_error, tight_resolve, uncertainty
+from workbench.error_budget import (
+    FORMAL_ORDER,
+    FORMAL_ORDER_EDGE,
+    ROUNDOFF_FLOOR,
+    grid_study,
+    iterative_error,
+    tight_resolve,
+    uncertainty,
+)
 from workbench.scenes import scene_for
 from workbench.scenes.block_theory import exact_circle
 from workbench.scenes.budget_theory import circle_moment_half_width, curve_moment_half_width, moment_half_width
@@ -106,14 +115,15 @@ def _measures(outcome) -> dict[str, float]:
 
 
 def _study(levels, widths, fine_by_h: list[float], fine_by_W: list[float], theory, alt, *,
-           tight: float | None = None, theory_uncertainty: float | None = None, tight_note: str = "") -> dict:
+           tight: float | None = None, theory_uncertainty: float | None = None, tight_note: str = "",
+           formal_order: float = FORMAL_ORDER) -> dict:
     """One budget row: the h study (tested against ``theory``), the W study, and the uncertainty terms
     (module docstring); ``tight``: the finest value solved again at the tight tolerances (None: not measured)."""
     f_fine = fine_by_h[0]
     iterative = iterative_error(f_fine, tight)
     floor = ((iterative or 0.0) + ROUNDOFF_FLOOR) * abs(f_fine)
     hs = grid_study(tuple(levels), tuple(fine_by_h), expected_order=None, reference=theory, floor=floor,
-                    formal_order=FORMAL_ORDER)
+                    formal_order=formal_order)
     ws = grid_study(tuple(1.0 / np.asarray(widths)), tuple(fine_by_W), expected_order=None)
     f_wmax = fine_by_W[int(np.argmax(widths))]
     scale = abs(hs.fine)
@@ -145,6 +155,12 @@ def _study(levels, widths, fine_by_h: list[float], fine_by_W: list[float], theor
         row["alt_value"] = value
         row["alt_in_band"] = bool(abs(value - extrapolated) <= band)
     return row
+
+
+def _formal(q: str) -> float:
+    """The formal order a measure's band may rely on: a zero crossing (``half_width``) FORMAL_ORDER_EDGE, the
+    smooth measures (moments, the peak) FORMAL_ORDER."""
+    return FORMAL_ORDER_EDGE if q == "half_width" else FORMAL_ORDER
 
 
 def _num(v):
@@ -226,7 +242,8 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
                    else curve_moment_half_width(sol.x, sol.p_first_order) / w_class)
             ft = tight(lambda k, q=q: meas[lc][k][q] / meas[ls][k][q])
             budget[key] = _study(levels, widths, fh, fw, theory, alt, tight=ft, tight_note=note,
-                                 theory_uncertainty=theory_err if q == "moment" else None)
+                                 theory_uncertainty=theory_err if q == "moment" else None,
+                                 formal_order=_formal(q))
     else:
         for run in case.runs():
             if run.solver.kinematics != "small":
@@ -242,7 +259,8 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
                     scale = 2.0 if q == "moment" else 1.0
                     fh, fw = series(lambda k, q=q, s=scale, m=meas[run.label]: s * m[k][q])
                     ft = tight(lambda k, q=q, s=scale, m=meas[run.label]: s * m[k][q])
-                    budget[name + suffix] = _study(levels, widths, fh, fw, theory[q], None, tight=ft, tight_note=note)
+                    budget[name + suffix] = _study(levels, widths, fh, fw, theory[q], None, tight=ft, tight_note=note,
+                                                   formal_order=_formal(q))
                 continue
             if run.geometry.indenter == "circle":
                 ex = exact_circle(th)
@@ -257,7 +275,7 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
                 fh, fw = series(lambda k, q=q, s=scale, m=meas[run.label]: s * m[k][q])
                 ft = tight(lambda k, q=q, s=scale, m=meas[run.label]: s * m[k][q])
                 budget[name + suffix] = _study(levels, widths, fh, fw, theory[q], alt.get(q), tight=ft,
-                                               tight_note=note)
+                                               tight_note=note, formal_order=_formal(q))
             interior = {k: _interior(outcomes[run.label][k]) for k in (*grid, "tight") if k in outcomes[run.label]}
             budget.update(_interior_rows(levels, widths, interior, suffix=suffix))
             if subsurface is None:
