@@ -140,3 +140,39 @@ def test_wide_contact_rows_from_the_measured_sequences():
     for r in (p, m):
         assert r["uncertainty"] == pytest.approx(r["gci"] + r["truncation"] + r["iterative"] + r["roundoff"])
         assert r["roundoff"] == ROUNDOFF_FLOOR and r["iterative"] == ITERATIVE_FLOOR
+
+
+def test_tight_resolve_divides_every_tolerance_and_falls_back():
+    """The tight re-solve passes the tolerances / 100 (SNES atol 1e-13 E L / 100), then / 10, then gives up with
+    the solver's reason (the row then says so in ``iterative_status``)."""
+    from types import SimpleNamespace
+
+    import numpy as np
+    from mpi4py import MPI
+
+    from fem.solver import ContactSolveError
+    from workbench.error_budget import tight_resolve
+
+    mesh = SimpleNamespace(comm=MPI.COMM_SELF, geometry=SimpleNamespace(x=np.array([[0.0, 0.0, 0], [20.0, 5.0, 0]])))
+    outcome = SimpleNamespace(result=SimpleNamespace(u=SimpleNamespace(function_space=SimpleNamespace(mesh=mesh))))
+    run = SimpleNamespace(label="base", material=SimpleNamespace(E=100.0))
+    calls = []
+
+    def solve(r, **kw):
+        calls.append(kw)
+        if len(calls) == 1:
+            raise ContactSolveError("load step 1 diverged")
+        return "tight outcome"
+
+    o, how = tight_resolve(solve, run, outcome, progress=lambda m: None)
+    assert o == "tight outcome" and how == 10.0
+    assert calls[0]["snes_rtol"] == pytest.approx(1e-12) and calls[0]["force_rtol"] == pytest.approx(1e-12)
+    assert calls[0]["uzawa_rtol"] == pytest.approx(1e-12)
+    assert calls[0]["petsc_options"]["snes_atol"] == pytest.approx(1e-13 * 100.0 * 20.0 / 100)
+    assert calls[1]["snes_rtol"] == pytest.approx(1e-11)
+
+    def never(r, **kw):
+        raise ContactSolveError("diverged: SNES reason -5")
+
+    o, how = tight_resolve(never, run, outcome, progress=lambda m: None)
+    assert o is None and how == "tight re-solve failed: diverged: SNES reason -5"

@@ -186,11 +186,16 @@ def tight_resolve(solve, run, outcome, *, progress=print):
     ``solve(run, **overrides)`` is the pipeline's solve; the tolerances are ``snes_rtol``, ``force_rtol`` and
     ``uzawa_rtol`` (defaults 1e-10) and the SNES absolute tolerance ``1e-13 E L`` (L = the mesh's extent).
     """
+    from mpi4py import MPI
+
     from fem.options import ContactOptions
     from fem.solver import ContactSolveError
 
-    x = outcome.result.u.function_space.mesh.geometry.x
-    L = float(np.max(np.ptp(x[:, :2], axis=0))) if x.size else 1.0
+    mesh = outcome.result.u.function_space.mesh
+    x = mesh.geometry.x
+    # every rank must set the same absolute tolerance (the SNES test is collective): the body's extent, as
+    # fem/problem.py measures it
+    L = mesh.comm.allreduce(float(np.max(np.ptp(x[:, :2], axis=0))) if x.size else 0.0, op=MPI.MAX) or 1.0
     E = run.material.E
     d = {f.name: f.default for f in dataclasses.fields(ContactOptions)}
     last = ""
