@@ -50,8 +50,12 @@ def test_band_checks_pass_and_fail_on_the_band():
     assert c["contain_theory:b_over_b0_moment"].passed
     assert c["exclude_alt:b_over_b0_moment"].passed            # the moment ratio tells first order apart
     assert c["contain_theory:b_over_b0"].passed
-    assert not c["exclude_alt:b_over_b0"].passed               # the zero-crossing ratio cannot
-    assert "alternative theory inside the band" in c["exclude_alt:b_over_b0"].reason
+    # the zero-crossing ratio cannot tell them apart, and the theory is inside too: unresolved, not a failure
+    # (issue 22), with the band it would need: |1.164566 - 1.16094| / 2 = 1.81e-3 against +-5.8e-3
+    assert c["exclude_alt:b_over_b0"].passed and c["exclude_alt:b_over_b0"].reason == ""
+    note = c["exclude_alt:b_over_b0"].unresolved["b_over_b0"]
+    assert "unresolved" in note and "1.81e-03" in note and "5.83e-03" in note
+    assert c["exclude_alt:b_over_b0_moment"].unresolved == {}
     assert not c["contain_theory:p_max"].passed
     assert "theory outside the band" in c["contain_theory:p_max"].reason
     assert c["contain_theory:load_symmetry"].passed
@@ -114,3 +118,23 @@ def test_exclude_theory_and_patch_index_selection():
     c = band_checks({"exclude_theory": ("first_contact_width",)}, budget)
     assert not c["exclude_theory:first_contact_width"].passed
     assert "theory inside the band" in c["exclude_theory:first_contact_width"].reason
+
+
+def test_exclusion_fails_only_when_the_alternative_is_inside_and_the_theory_is_not():
+    """Issue 22: alternative inside and theory outside the band is the one failing exclusion."""
+    budget = {"p_max": _row(1.0001544, 2.4e-6, 1.0001563, alt=1.0001560)}  # alt 1.6e-6 off, theory 1.9e-6
+    budget["p_max"]["theory_in_band"] = False   # as if the theory were outside
+    c = band_checks({"exclude_alt": ("p_max",)}, budget)["exclude_alt:p_max"]
+    assert not c.passed and "alternative theory inside the band" in c.reason and c.unresolved == {}
+    budget["p_max"]["theory_in_band"] = True
+    c = band_checks({"exclude_alt": ("p_max",)}, budget)["exclude_alt:p_max"]
+    assert c.passed and "unresolved" in c.unresolved["p_max"]
+
+
+def test_unresolved_names_the_grid_that_would_resolve_it():
+    """With an order the note predicts h_c: band 4e-4 at h_c = 0.0125, order 2, needed 1e-4 -> h_c = 0.00625."""
+    r = _row(1.0, 4e-4, 1.0001, alt=0.9999) | {"uncertainty": 4e-4, "band_order": 2.0,
+                                               "by_h": {"0.0125": 1.0, "0.025": 1.0, "0.05": 1.0}}
+    r["theory_in_band"] = r["alt_in_band"] = True
+    c = band_checks({"exclude_alt": ("q",)}, {"q": r})["exclude_alt:q"]
+    assert c.passed and "h_c ~ 0.00625 at order 2.00" in c.unresolved["q"], c.unresolved

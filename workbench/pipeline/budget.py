@@ -32,7 +32,21 @@ Each headline quantity is dimensionless (divided by the classical value at the r
   form known), 5.3e-6 for the wedge (log apex).
 
 ``extrapolated`` = Richardson value in h (at W_max; the fine value where no order is claimed) + the W
-correction. ``theory_in_band``: ``|theory - extrapolated| <= (gci + truncation) |fine|``.
+correction. The numerical uncertainty (issue 22), every term relative and recorded in the row:
+
+* ``gci``: the h study (:func:`workbench.error_budget.grid_study`, told the row's theory, so a sequence that
+  crosses it is ``"crossing"`` with the spread band; an observed order above 1.1 x the formal order q keeps
+  its Richardson value, but the GCI is at least Roy's Fs = 3 at order q, ``band_order`` says which; q =
+  ``FORMAL_ORDER`` = 2 for the moments and the peak, ``FORMAL_ORDER_EDGE`` = 1.5 for the zero crossings);
+* ``truncation``: the W study (above);
+* ``iterative``: the finest level (h_fine, W_max) solved again with every solver tolerance / 100
+  (:func:`workbench.error_budget.tight_resolve`): ``|f_tight - f| / |f|``, floored at 1e-12 (the tight
+  tolerance); null with ``iterative_status`` when the tight solve failed;
+* ``roundoff``: ``ROUNDOFF_FLOOR`` = 1e-9;
+* ``theory_uncertainty`` where the theory has one (the convective moments' grid).
+
+``uncertainty`` is their sum; ``theory_in_band``: ``|theory - extrapolated| <= uncertainty |fine|`` (and
+``alt_in_band`` likewise).
 
 For a Hertz scene the finest-level, largest-block run is also probed on the symmetry axis
 (``subsurface.csv``), and every run's interior stress is compared with McEwen's field over |x|, z <= 4 a
@@ -52,7 +66,15 @@ import numpy as np
 
 from analytic.subsurface import hertz_subsurface_stress, von_mises_plane_strain
 from cases.schema import Case, Run
-from workbench.error_budget import grid_study
+from workbench.error_budget import (
+    FORMAL_ORDER,
+    FORMAL_ORDER_EDGE,
+    ROUNDOFF_FLOOR,
+    grid_study,
+    iterative_error,
+    tight_resolve,
+    uncertainty,
+)
 from workbench.scenes import scene_for
 from workbench.scenes.block_theory import exact_circle
 from workbench.scenes.budget_theory import circle_moment_half_width, curve_moment_half_width, moment_half_width
@@ -92,8 +114,16 @@ def _measures(outcome) -> dict[str, float]:
     return out
 
 
-def _study(levels, widths, fine_by_h: list[float], fine_by_W: list[float], theory, alt) -> dict:
-    hs = grid_study(tuple(levels), tuple(fine_by_h), expected_order=None)
+def _study(levels, widths, fine_by_h: list[float], fine_by_W: list[float], theory, alt, *,
+           tight: float | None = None, theory_uncertainty: float | None = None, tight_note: str = "",
+           formal_order: float = FORMAL_ORDER) -> dict:
+    """One budget row: the h study (tested against ``theory``), the W study, and the uncertainty terms
+    (module docstring); ``tight``: the finest value solved again at the tight tolerances (None: not measured)."""
+    f_fine = fine_by_h[0]
+    iterative = iterative_error(f_fine, tight)
+    floor = ((iterative or 0.0) + ROUNDOFF_FLOOR) * abs(f_fine)
+    hs = grid_study(tuple(levels), tuple(fine_by_h), expected_order=None, reference=theory, floor=floor,
+                    formal_order=formal_order)
     ws = grid_study(tuple(1.0 / np.asarray(widths)), tuple(fine_by_W), expected_order=None)
     f_wmax = fine_by_W[int(np.argmax(widths))]
     scale = abs(hs.fine)
@@ -102,10 +132,12 @@ def _study(levels, widths, fine_by_h: list[float], fine_by_W: list[float], theor
     correction = ws.extrapolated - f_wmax if ws.status in ("asymptotic", "converged") else 0.0
     truncation = ws.gci * abs(ws.fine) / scale
     extrapolated = hs.extrapolated + correction
-    band = (hs.gci + truncation) * scale
+    total = uncertainty(hs.gci, truncation, iterative, ROUNDOFF_FLOOR, theory_uncertainty)
+    band = total * scale
     row = {
         "fine": hs.fine, "extrapolated": extrapolated, "observed_order": _num(hs.observed_order),
-        "gci": hs.gci, "truncation": truncation, "theory": _num(theory),
+        "gci": hs.gci, "truncation": truncation, "iterative": iterative, "roundoff": ROUNDOFF_FLOOR,
+        "uncertainty": total, "band_order": _num(hs.band_order), "theory": _num(theory),
         "theory_in_band": None if theory is None else bool(abs(theory - extrapolated) <= band),
         "status": hs.status, "truncation_status": ws.status, "truncation_correction": correction / scale,
         "truncation_order": _num(ws.observed_order), "far_field": BUDGET_FAR_FIELD,
@@ -113,12 +145,22 @@ def _study(levels, widths, fine_by_h: list[float], fine_by_W: list[float], theor
         "by_W": dict(zip([str(v) for v in widths], fine_by_W, strict=True)),
         "error_vs_theory": None if theory is None else abs(extrapolated - theory) / abs(theory),
     }
+    if theory_uncertainty is not None:
+        row["theory_uncertainty"] = theory_uncertainty
+    if iterative is None:
+        row["iterative_status"] = tight_note or "not measured"
     if alt is not None:
         name, value = alt
         row["alt_theory"] = name
         row["alt_value"] = value
         row["alt_in_band"] = bool(abs(value - extrapolated) <= band)
     return row
+
+
+def _formal(q: str) -> float:
+    """The formal order a measure's band may rely on: a zero crossing (``half_width``) FORMAL_ORDER_EDGE, the
+    smooth measures (moments, the peak) FORMAL_ORDER."""
+    return FORMAL_ORDER_EDGE if q == "half_width" else FORMAL_ORDER
 
 
 def _num(v):
@@ -149,17 +191,36 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
     grid = [(h, W_max) for h in levels] + [(h_fine, W) for W in widths[:-1]]
     meas: dict[str, dict] = {}
     outcomes: dict[str, dict] = {}
+    tight_notes: dict[str, str] = {}
     for run in case.runs():
         for h, W in grid:
             o = solve(_with(run, h=h, W=W, h_coarse=levels[-1]))
             progress(f"[budget {run.label}] h_c = {h:g} a, W = {W:g} a: {o.metrics['ndofs']} dofs")
             meas.setdefault(run.label, {})[(h, W)] = _measures(o)
             outcomes.setdefault(run.label, {})[(h, W)] = o
+        # the iterative error: the finest level once more at tolerances / TIGHTENING
+        fine_run = _with(run, h=h_fine, W=W_max, h_coarse=levels[-1])
+        o_t, how = tight_resolve(solve, fine_run, outcomes[run.label][(h_fine, W_max)], progress=progress)
+        if o_t is not None:
+            progress(f"[budget {run.label}] h_c = {h_fine:g} a, W = {W_max:g} a at tolerances / {how:g}")
+            meas[run.label]["tight"] = _measures(o_t)
+            outcomes[run.label]["tight"] = o_t
+        else:
+            tight_notes[run.label] = how
     budget: dict[str, dict] = {}
     by_kin = {r.solver.kinematics: r.label for r in case.runs()}
 
     def series(fn):
         return [fn((h, W_max)) for h in levels], [fn((h_fine, W)) for W in widths]
+
+    def tight(fn):
+        """``fn`` at the tight re-solve of the finest level (None where a run's tight solve failed)."""
+        try:
+            return fn("tight")
+        except KeyError:
+            return None
+
+    note = "; ".join(f"{k}: {v}" for k, v in tight_notes.items())
 
     subsurface = None
     if {"small", "convective"} <= set(by_kin):
@@ -179,9 +240,10 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
             theory = sol.b_over_b0_converged if q == "half_width" else w_conv / w_class
             alt = ("first order", sol.b_over_b0_first_order if q == "half_width"
                    else curve_moment_half_width(sol.x, sol.p_first_order) / w_class)
-            budget[key] = _study(levels, widths, fh, fw, theory, alt)
-            if q == "moment":
-                budget[key]["theory_uncertainty"] = theory_err
+            ft = tight(lambda k, q=q: meas[lc][k][q] / meas[ls][k][q])
+            budget[key] = _study(levels, widths, fh, fw, theory, alt, tight=ft, tight_note=note,
+                                 theory_uncertainty=theory_err if q == "moment" else None,
+                                 formal_order=_formal(q))
     else:
         for run in case.runs():
             if run.solver.kinematics != "small":
@@ -196,7 +258,9 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
                 for q, name in (("half_width", "half_width"), ("moment", "half_width_moment")):
                     scale = 2.0 if q == "moment" else 1.0
                     fh, fw = series(lambda k, q=q, s=scale, m=meas[run.label]: s * m[k][q])
-                    budget[name + suffix] = _study(levels, widths, fh, fw, theory[q], None)
+                    ft = tight(lambda k, q=q, s=scale, m=meas[run.label]: s * m[k][q])
+                    budget[name + suffix] = _study(levels, widths, fh, fw, theory[q], None, tight=ft, tight_note=note,
+                                                   formal_order=_formal(q))
                 continue
             if run.geometry.indenter == "circle":
                 ex = exact_circle(th)
@@ -209,8 +273,10 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
             for q, name in (("p_max", "p_max"), ("half_width", "half_width"), ("moment", "half_width_moment")):
                 scale = 2.0 if q == "moment" else 1.0  # Hertz: sqrt(M2/M0) = a/2
                 fh, fw = series(lambda k, q=q, s=scale, m=meas[run.label]: s * m[k][q])
-                budget[name + suffix] = _study(levels, widths, fh, fw, theory[q], alt.get(q))
-            interior = {k: _interior(outcomes[run.label][k]) for k in grid}
+                ft = tight(lambda k, q=q, s=scale, m=meas[run.label]: s * m[k][q])
+                budget[name + suffix] = _study(levels, widths, fh, fw, theory[q], alt.get(q), tight=ft,
+                                               tight_note=note, formal_order=_formal(q))
+            interior = {k: _interior(outcomes[run.label][k]) for k in (*grid, "tight") if k in outcomes[run.label]}
             budget.update(_interior_rows(levels, widths, interior, suffix=suffix))
             if subsurface is None:
                 subsurface = _subsurface(fine)
@@ -291,7 +357,9 @@ def _interior_rows(levels, widths, interior: dict, *, suffix: str) -> dict:
     vm_exact, _ = _vm_max_exact(interior[(h_fine, W_max)].nu)
     fh = [interior[(h, W_max)].vm_max_fem / _p0(interior, h, W_max) for h in levels]
     fw = [interior[(h_fine, W)].vm_max_fem / _p0(interior, h_fine, W) for W in widths]
-    rows[f"vm_max{suffix}"] = _study(levels, widths, fh, fw, vm_exact, None)
+    t = interior.get("tight")
+    rows[f"vm_max{suffix}"] = _study(levels, widths, fh, fw, vm_exact, None,
+                                     tight=None if t is None else t.vm_max_fem / t.p0)
     return rows
 
 
@@ -350,10 +418,11 @@ def subsurface_csv(sub: dict) -> str:
 
 
 def budget_table(budget: dict) -> list[str]:
-    """The budget as Markdown table lines (values dimensionless, over the classical value at the load)."""
-    head = ("| quantity | fine | extrapolated | order | status | GCI | truncation | theory | in band "
-            "| alt. theory | alt. in band |")
-    lines = [head, "|---|---|---|---|---|---|---|---|---|---|---|"]
+    """The budget as Markdown table lines (values dimensionless, over the classical value at the load); the
+    band terms are relative: GCI, truncation, iterative, round-off and their sum (the band, times |fine|)."""
+    head = ("| quantity | fine | extrapolated | order | status | GCI | truncation | iterative | round-off "
+            "| uncertainty | theory | in band | alt. theory | alt. in band |")
+    lines = [head, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
 
     def f(v, fmt=".7f"):
         return "n/a" if v is None else format(v, fmt)
@@ -365,11 +434,16 @@ def budget_table(budget: dict) -> list[str]:
         if r.get("gci") is None:
             fine = f(r["fine"], ".3e") if isinstance(r["fine"], float) else r["fine"]
             lines.append(f"| {q} | {fine} | n/a | {f(r.get('observed_order'), '.2f')} | {r['status']} | n/a | n/a "
-                         f"| {f(r.get('theory'), 'g')} | n/a | - | - |")
+                         f"| n/a | n/a | n/a | {f(r.get('theory'), 'g')} | n/a | - | - |")
             continue
-        lines.append(f"| {q} | {f(r['fine'])} | {f(r['extrapolated'])} | {f(r['observed_order'], '.2f')} | "
+        order = f(r["observed_order"], ".2f")
+        if r.get("band_order") is not None and r.get("observed_order") is not None \
+                and r["band_order"] != r["observed_order"]:
+            order += f" (band at {r['band_order']:g})"
+        lines.append(f"| {q} | {f(r['fine'])} | {f(r['extrapolated'])} | {order} | "
                      f"{r['status']} | {f(r['gci'], '.2e')} | {f(r['truncation'], '.2e')} ({r['truncation_status']})"
-                     f" | {f(r['theory'])} | {ib} | {alt} | {alt_in} |")
+                     f" | {f(r.get('iterative'), '.1e')} | {f(r.get('roundoff'), '.0e')} "
+                     f"| {f(r.get('uncertainty'), '.2e')} | {f(r['theory'])} | {ib} | {alt} | {alt_in} |")
     return lines
 
 

@@ -163,8 +163,8 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
                 outcomes.append(outcome)
             budget, subsurface = ({}, None) if ci or h_contact is not None else case_error_budget(
                 case, progress=progress,
-                solve=lambda r: run_one(r, name=case.name, mesh_cache=paths.mesh_cache, comm=comm,
-                                        progress=lambda _m: None))
+                solve=lambda r, **kw: run_one(r, name=case.name, mesh_cache=paths.mesh_cache, comm=comm,
+                                              progress=lambda _m: None, **kw))
             metrics = case_metrics(case, outcomes, h_contact=h_contact, wall_time_s=time.perf_counter() - t0)
             if budget:
                 metrics["error_budget"] = budget

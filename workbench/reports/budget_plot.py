@@ -6,10 +6,10 @@ Every panel shows the relative deviation from the extrapolated value ``x``,
 
     y = f / x - 1,
 
-against h_c (log axis), the band ``+-(gci + truncation) |fine| / |x|`` shaded, the theory as a solid line and
-the alternative theory as a dashed line (or, beyond the axis range, as an arrow with its value). A row whose
-band is undefined (oscillating with no GCI, a level that failed) is drawn as a panel that says so: nothing is
-left out silently.
+against h_c (log axis), the band ``+-uncertainty |fine| / |x|`` (older rows: gci + truncation) shaded, the
+theory as a solid line and the alternative theory as a dashed line (or, beyond the axis range, as an arrow
+with its value). A row whose band is undefined (oscillating with no GCI, a level that failed) is drawn as a
+panel that says so: nothing is left out silently.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ def budget_panels(budget: dict) -> list[dict]:
         if ok:
             panel |= {
                 "y": [float(v) / x - 1.0 for v in by_h.values()],
-                "band": (r["gci"] + (r.get("truncation") or 0.0)) * abs(r["fine"]) / abs(x),
+                "band": r.get("uncertainty", r["gci"] + (r.get("truncation") or 0.0)) * abs(r["fine"]) / abs(x),
                 "theory": None if r.get("theory") is None else r["theory"] / x - 1.0,
                 "alt": None if r.get("alt_value") is None else r["alt_value"] / x - 1.0,
                 "alt_name": r.get("alt_theory"),
@@ -100,7 +100,7 @@ def plot_budget(budget: dict, path: Path, *, title: str) -> Path | None:
         ax.text(0.98, 0.05, textwrap.shorten(str(pn["status"]), 40), transform=ax.transAxes, ha="right",
                 fontsize=6)
     axes.flat[0].legend(fontsize=6, loc="upper right")
-    fig.suptitle(f"{title}: error budget (band = GCI + truncation)", fontsize=9)
+    fig.suptitle(f"{title}: error budget (band = GCI + truncation + iterative + round-off)", fontsize=9)
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / (2.8 * nrows)))  # room for the title
     path = Path(path)
     with atomic_path(path) as tmp:

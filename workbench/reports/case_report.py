@@ -140,8 +140,16 @@ def case_report_markdown(metrics: dict, *, renders: list[tuple[str, str]] | None
     if metrics.get("error_budget"):
         lines += ["", "![error budget](budget.png)", "",
                   "*Every budget quantity against h_c: deviation from the extrapolated value, the band (GCI + "
-                  "truncation) shaded, the theory (solid) and the alternative theory (dashed).*"]
+                  "truncation + iterative + round-off) shaded, the theory (solid) and the alternative theory "
+                  "(dashed).*"]
     return "\n".join(lines) + "\n"
+
+
+def _verdict_text(ok: bool, unresolved: str | None) -> str:
+    """PASS / FAIL, or PASS with what an unresolved exclusion would need (issue 22)."""
+    if not ok:
+        return "FAIL"
+    return f"PASS ({unresolved})" if unresolved else "PASS"
 
 
 def _band_lines(metrics: dict) -> list[str]:
@@ -160,12 +168,12 @@ def _band_lines(metrics: dict) -> list[str]:
         for name, ok in c["rows"].items():
             r = budget.get(name, {})
             band = (None if r.get("gci") is None else
-                    (r["gci"] + (r.get("truncation") or 0.0)) * abs(r["fine"]))
+                    r.get("uncertainty", r["gci"] + (r.get("truncation") or 0.0)) * abs(r["fine"]))
             alt = "-" if r.get("alt_value") is None else f"{r.get('alt_theory')} {_fmt(r['alt_value'])}"
             yn = {True: "yes", False: "no", None: "n/a"}
             lines.append(f"| {key} | {name} | {_fmt(r.get('extrapolated'))} | {_fmt(band)} | {_fmt(r.get('theory'))} | "
                          f"{yn[r.get('theory_in_band')]} | {alt} | {yn[r.get('alt_in_band')]} | "
-                         f"{'PASS' if ok else 'FAIL'} |")
+                         f"{_verdict_text(ok, (c.get('unresolved') or {}).get(name))} |")
     return lines
 
 

@@ -93,19 +93,19 @@ def _budget_markdown(metrics: dict[str, dict]) -> list[str]:
                 rows.append(f"| {name} | {q} | undefined | {r.get('status', '')} | undefined | {r['theory']:.7f} | "
                             "- | n/a | - |")
                 continue
-            band = r["gci"] + (r.get("truncation") or 0.0)
+            band = r.get("uncertainty", r["gci"] + (r.get("truncation") or 0.0))
             alt = "-" if "alt_in_band" not in r else ("in band" if r["alt_in_band"] else "outside")
             err = r.get("error_vs_theory")
             rows.append(f"| {name} | {q} | {r['extrapolated']:.7f} | {r['status']} | {band:.2e} | {r['theory']:.7f} | "
                         f"{'-' if err is None else format(err, '.1e')} | {'yes' if r['theory_in_band'] else 'no'} | "
                         f"{alt} |")
         for k, c in (m.get("band_checks") or {}).items():
-            bands.append(f"| {name} | {k} | {len(c['rows'])} | {'PASS' if c['passed'] else 'FAIL'} | "
-                         f"{c['reason'] or '-'} |")
+            why = c["reason"] or "; ".join(c.get("unresolved", {}).values()) or "-"
+            bands.append(f"| {name} | {k} | {len(c['rows'])} | {'PASS' if c['passed'] else 'FAIL'} | {why} |")
     if not rows and not plots:
         return []
     out = ["", "## Error budget (three grids, block size extrapolated; block values over the classical value)",
-           "", "| case | quantity | extrapolated | status | band (GCI + truncation, rel.) | theory | error "
+           "", "| case | quantity | extrapolated | status | band (uncertainty, rel.) | theory | error "
            "| theory in band | other theory |", "|---|---|---|---|---|---|---|---|---|", *rows, ""]
     if bands:
         out += ["Band checks (tolerance = the band):", "", "| case | check | rows | verdict | why |",
