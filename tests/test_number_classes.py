@@ -73,6 +73,10 @@ def test_physics_tight_on_the_same_mesh_and_at_the_measured_spread_otherwise():
     other = {**fp, "h/runs/base/mesh_fingerprint/coordinates": "cd34"}
     moves = _by_key(compare_portable({**new, **other}, {**old, **fp}))
     assert moves["h/runs/base/p_max"].ok and moves["h/runs/base/mesh_fingerprint/coordinates"].ok
+    budget = {"h/error_budget/p_max/extrapolated": 1.0}  # its own meshes: never "same mesh" by the runs' prints
+    mv = _by_key(compare_portable({**new, **fp, "h/error_budget/p_max/extrapolated": 1 + 1e-4},
+                                  {**old, **fp, **budget}))["h/error_budget/p_max/extrapolated"]
+    assert mv.ok and mv.tolerance == FOREIGN["peak"]
     far = {"h/runs/base/p_max": 5770.0 * (1 + 1e-2), "h/runs/base/ndofs": 1764.0}
     assert not _by_key(compare_portable(far, old))["h/runs/base/p_max"].ok
 

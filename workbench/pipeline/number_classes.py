@@ -6,7 +6,9 @@ solver's own round-off and stopping tolerance (a different MUMPS ordering, BLAS 
 on the same mesh), and a different mesh (gmsh does not promise the same mesh on another machine; issue 22
 measured 11800 -> 11856 dofs for ``concave_symmetric``). The mesh is "the same" only when every run of the
 case carries a ``mesh_fingerprint`` (node and cell counts, hash of rounded coordinates) and the fingerprints
-agree; without fingerprints, or when they differ, the case is compared at its foreign-mesh tolerances.
+agree; without fingerprints, or when they differ, the case is compared at its foreign-mesh tolerances. The error
+budget's rows (``error_budget/...``) are always compared at the foreign-mesh tolerances: the budget solves on its
+own meshes, which the runs' fingerprints do not cover.
 
 ======================  ==============================================  ==================  ====================
 class                   what                                            same mesh           foreign mesh
@@ -24,6 +26,7 @@ class                   what                                            same mes
 ``physics``             FEM results: loads, peaks, half-widths,          rel <= 1e-7         rel, per kind below
                         centres, displacements, b/b0 of the FEM,
                         the error budget's fine/extrapolated values
+                        and its theory (evaluated at the FEM's load)
 ``error``               errors against theory, as fractions of the       abs <= 1e-7         abs, per kind below
                         reference quantity (rms, p_max, half-width ...)
 ``mesh_sensitive``      numbers a different mesh moves by percents or    rel <= 1e-2         within a factor 10
@@ -143,11 +146,12 @@ _RULES: tuple[tuple[str, str, str], ...] = (
     (r"^errors/(fit_rms|patch_size|rms_convective)$", "mesh_sensitive", ""),
     (r"/superposition_best_rms_over_p0$", "mesh_sensitive", ""),
     (r"^error_budget/.*/(observed_order|gci|truncation)$", "mesh_sensitive", ""),
-    (r"^error_budget/.*/(theory|alt_value)$", "theory", ""),
-    (r"^error_budget/.*(P|patch_P\[\d+\])/(fine|extrapolated)$", "physics", "load"),
-    (r"^error_budget/.*(p_max|vm_max|interior_stress_l2)/(fine|extrapolated)$", "physics", "peak"),
-    (r"^error_budget/.*load_symmetry/(fine|extrapolated)$", "physics", "load"),
-    (r"^error_budget/.*(width|b_over_b0).*/(fine|extrapolated)$", "physics", "width"),
+    # a budget row's theory is evaluated at the load the FEM carries (concave steps: the superposition of the
+    # FEM's patch loads), so it moves with the run: physics, not theory (measured 1.6e-8 under numpy's baseline)
+    (r"^error_budget/.*(P|patch_P\[\d+\])/(fine|extrapolated|theory|alt_value)$", "physics", "load"),
+    (r"^error_budget/.*(p_max|vm_max|interior_stress_l2)/(fine|extrapolated|theory|alt_value)$", "physics", "peak"),
+    (r"^error_budget/.*load_symmetry/(fine|extrapolated|theory|alt_value)$", "physics", "load"),
+    (r"^error_budget/.*(width|b_over_b0).*/(fine|extrapolated|theory|alt_value)$", "physics", "width"),
     (r"^analytic/b_over_b0_fem$", "physics", "width"),
     (r"^analytic/", "theory", ""),
     (r"(^|/)errors/", "error", "error"),
@@ -249,7 +253,11 @@ def compare_portable(new: dict, old: dict, *, allow_new: bool = True) -> list[Mo
             out.append(Move(key, cls, old.get(key), new.get(key), math.nan, 0.0, False,
                             "missing now" if key not in new else "new"))
             continue
-        out.append(_move(key, old[key], new[key], key.split("/", 1)[0] in same))
+        # the error budget solves on its own meshes (budget_levels), which no run fingerprint covers: a budget
+        # row is always compared at the foreign-mesh tolerance (numpy's baseline SIMD re-meshed
+        # close_to_conformal's coarsest budget level only, and its extrapolated p_max moved 1.3e-4)
+        case, field = key.split("/", 1) if "/" in key else (key, key)
+        out.append(_move(key, old[key], new[key], case in same and not field.startswith("error_budget/")))
     return out
 
 
