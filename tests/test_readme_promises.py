@@ -179,3 +179,18 @@ def test_makefile_refuses_python_below_312_in_one_line(tmp_path):
     assert lines == ["error: need Python >= 3.12 (set PYTHON=/path/to/python3.12; none found on PATH or under "
                      "pyenv)"], proc.stderr
     assert not (box / ".venv").exists()
+
+
+def test_make_run_jobs2_builds_the_summary(tmp_path):
+    """``make run JOBS=2`` on two tiny passing cases: both solved (two at once), then the convective table and
+    the summary report that lists both."""
+    box = _sandbox(tmp_path, [("probe_a", EASY), ("probe_b", EASY)])
+    proc = _make(box, "run", "JOBS=2")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    for name in ("probe_a", "probe_b"):
+        m = json.loads((box / "results" / name / "metrics.json").read_text())
+        assert m["pass"] is True
+    report = (box / "results" / "report.md").read_text()
+    assert "probe_a" in report and "probe_b" in report
+    assert (box / "results" / "report.html").stat().st_size > 0
+    assert (box / "results" / "analytic" / "convective.md").is_file()
