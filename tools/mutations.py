@@ -97,7 +97,8 @@ def run_one(m: Mutation, *, timeout: float) -> tuple[str, str, float]:
         path.write_text(text.replace(m.old, m.new))
         env = dict(os.environ, PYTHONPATH=str(tree), OMP_NUM_THREADS="1", WORKBENCH_RESULTS=str(Path(tmp) / "res"))
         # the expected catchers first, then every other test file (explicit paths: pytest keeps their order)
-        rest = [f"tests/{f.name}" for f in sorted((tree / "tests").glob("test_*.py")) if f"tests/{f.name}" not in m.first]
+        rest = [f"tests/{f.name}" for f in sorted((tree / "tests").glob("test_*.py"))
+                if f"tests/{f.name}" not in m.first]
         cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-rf", "-p", "no:cacheprovider", *m.first, *rest]
         try:
             proc = subprocess.run(cmd, cwd=tree, capture_output=True, text=True, env=env, timeout=timeout)
