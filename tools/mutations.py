@@ -83,7 +83,7 @@ def _copy_tree(dest: Path) -> None:
     (dest / ".venv").symlink_to((ROOT / ".venv").resolve())
 
 
-def run_one(m: Mutation, *, timeout: float) -> tuple[str, str, float]:
+def run_one(m: Mutation, *, timeout: float, files: list[str] | None = None) -> tuple[str, str, float]:
     """(verdict, catcher or reason, wall seconds) of one mutation."""
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="mutation-") as tmp:
@@ -99,7 +99,8 @@ def run_one(m: Mutation, *, timeout: float) -> tuple[str, str, float]:
         # the expected catchers first, then every other test file (explicit paths: pytest keeps their order)
         rest = [f"tests/{f.name}" for f in sorted((tree / "tests").glob("test_*.py"))
                 if f"tests/{f.name}" not in m.first]
-        cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-rf", "-p", "no:cacheprovider", *m.first, *rest]
+        order = list(files) if files else [*m.first, *rest]
+        cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-rf", "-p", "no:cacheprovider", *order]
         try:
             proc = subprocess.run(cmd, cwd=tree, capture_output=True, text=True, env=env, timeout=timeout)
         except subprocess.TimeoutExpired:
@@ -117,6 +118,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("names", nargs="*", help="substrings of mutation names (default: all)")
     ap.add_argument("--list", action="store_true", help="print the table and stop")
+    ap.add_argument("--files", nargs="+", default=None, help="run only these test files (which of them catches it)")
     ap.add_argument("--timeout", type=float, default=3600.0, help="seconds per mutation (default 3600)")
     args = ap.parse_args(argv)
     todo = [m for m in MUTATIONS if not args.names or any(n in m.name for n in args.names)]
@@ -126,7 +128,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     rows, ok = [], True
     for m in todo:
-        verdict, what, dt = run_one(m, timeout=args.timeout)
+        verdict, what, dt = run_one(m, timeout=args.timeout, files=args.files)
         ok &= verdict == "CAUGHT"
         rows.append(f"| {m.name} | {m.file} | {verdict} | {what} | {dt:.0f} |")
         print(rows[-1], flush=True)
