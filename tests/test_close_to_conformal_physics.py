@@ -25,7 +25,8 @@ quantity is, not from one machine's number:
    the merged patch by RMS/p0 = 0.24 (d = 0.70) and 0.32 (d = 1.00), while at d = 0.46 (one small Hertzian
    patch) the superposition at the FEM patch load matches to 0.022 (the h/a = 0.2 discretisation). The check:
    merged > 0.15, first step < 0.05: the gap between them is 5x the discretisation level on both sides.
-   While the patches are apart, the superposition at the FEM patch loads is within 0.015 of the best one.
+   While the patches are apart, the superposition at the FEM patch loads is within 0.005 (0.015 at d = 0.50)
+   of the best one.
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ SECONDARY_HERTZ_TOL = 0.03
 PRIMARY_EQ5_OVER_FEM_MIN = 1.5
 MERGED_BEST_RMS_MIN = 0.15
 FIRST_RMS_MAX = 0.05
-SUPERPOSITION_GAP_MAX = 0.015
+SUPERPOSITION_GAP_MAX = (0.005, 0.005, 0.005, 0.015)
 
 
 @pytest.fixture(scope="module", params=[1.0, 0.97], ids=["ci-mesh", "ci-mesh-x0.97"])
@@ -113,11 +114,13 @@ def test_close_to_conformal_primary_is_not_hertzian(steps):
 def test_superposition_at_the_patch_loads_is_the_best_while_the_patches_are_apart(steps):
     """While each pair has its own patch (d <= 0.50), the paper's superposition (each Hertz patch at its FEM
     patch's load) is as close to the FEM as the best least-squares choice of the loads: equilibrium fixes each
-    patch's load. Measured: best - independent RMS/p0 = 0.0012, 0.0020, 0.0020, 0.0067 (both meshes); band 0.015
-    (2x the largest). A sum that drops a patch or scales the loads moves the independent one away."""
-    for s in steps[:4]:
+    patch's load. Measured: independent - best RMS/p0 = 0.0012, 0.0020, 0.0020, 0.0067 (both meshes); bands
+    0.005 at the first three steps and 0.015 at d = 0.50 (where the secondary patch has grown less Hertzian, fit
+    RMS/p0 0.125): 2.2 to 4x the measured. A sum that scales the Hertz pressures by 1.1 adds ~0.01 at d = 0.46
+    (the RMS runs over every surface sample, ~1/16 of them in the patch)."""
+    for s, band in zip(steps[:4], SUPERPOSITION_GAP_MAX, strict=True):
         gap = s["superposition_independent_rms_over_p0"] - s["superposition_best_rms_over_p0"]
-        assert -1e-9 <= gap <= SUPERPOSITION_GAP_MAX, (s["d"], gap)
+        assert -1e-9 <= gap <= band, (s["d"], gap, band)
 
 
 def test_merged_pressure_is_not_a_hertz_superposition(steps):
