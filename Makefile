@@ -61,6 +61,8 @@ help:
 	@echo "make viz-check    installs Debian's paraview + xvfb if missing, runs the VTK and view.py checks in pvpython"
 	@echo "make fuzz         property-based fuzzing of case files and the command line (many examples)"
 	@echo "make faults       concurrent runs, SIGINT/SIGTERM during writes, a full disk -> results/faults/report.md"
+	@echo "make mutations    each mutation of tools/mutations.py must make the tests fail (names the catching test)"
+	@echo "make collect-alone  every test file collects alone (pytest FILE and python -m pytest FILE)"
 	@echo "make lint | clean | setup     (NP=N runs cases on N MPI processes)"
 	@echo "Everything here calls the one command .venv/bin/workbench (see: .venv/bin/workbench --help)"
 
