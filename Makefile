@@ -38,7 +38,7 @@ for c in "$$PYTHON" python3.13 python3.12 \
 done; exit 1
 endef
 
-.PHONY: help setup test run ci lint clean convergence stability validity bench report list example check-numbers fuzz faults $(CASES)
+.PHONY: help setup test run ci lint clean collect-alone mutations convergence stability validity bench report list example check-numbers fuzz faults $(CASES)
 .PHONY: viz-check save-baseline save-numbers emulate
 
 # Exit codes: the workbench exits 1 on a tolerance FAIL (results written) and 2 on bad input (nothing written).
@@ -64,6 +64,8 @@ help:
 	@echo "make viz-check    installs Debian's paraview + xvfb if missing, runs the VTK and view.py checks in pvpython"
 	@echo "make fuzz         property-based fuzzing of case files and the command line (many examples)"
 	@echo "make faults       concurrent runs, SIGINT/SIGTERM during writes, a full disk -> results/faults/report.md"
+	@echo "make mutations    each mutation of tools/mutations.py must make the tests fail (names the catching test)"
+	@echo "make collect-alone  every test file collects alone (pytest FILE and python -m pytest FILE)"
 	@echo "make lint | clean | setup     (NP=N runs cases on N MPI processes)"
 	@echo "Everything here calls the one command .venv/bin/workbench (see: .venv/bin/workbench --help)"
 
@@ -173,3 +175,16 @@ viz-check: setup
 clean:
 	rm -rf results .pytest_cache .ruff_cache
 	find . -name __pycache__ -not -path './.venv/*' -prune -exec rm -rf {} +
+
+# Every test file collects alone, started both ways (`pytest FILE` and `python -m pytest FILE`): issue 28
+collect-alone: setup
+	@fail=0; for f in tests/test_*.py; do \
+	  for run in "$(VENV)/bin/pytest" "$(PY) -m pytest"; do \
+	    $$run --collect-only -q -p no:cacheprovider $$f >/dev/null 2>&1 || { echo "FAIL: $$run --collect-only $$f"; fail=1; }; \
+	  done; done; \
+	 [ $$fail = 0 ] && echo "every test file collects alone (pytest and python -m pytest)"; exit $$fail
+
+# Mutation check (not part of `make test`): each mutation of tools/mutations.py applied to a temporary copy of the
+# tree must make the test suite fail; prints which test caught it, exits 1 if one SURVIVED
+mutations: setup
+	$(PY) tools/mutations.py

@@ -103,8 +103,10 @@ class SurfaceSampler:
         fields = ufl.as_vector([X[0], X[1], u[0], u[1], forms.pressure, forms.argument, forms.sigma_nn,
                                 forms.gap])
         self._expr = dolfinx.fem.Expression(fields, pts)
+        # built on every rank: an Expression is compiled collectively (dolfinx's mpi_jit), so a rank without
+        # contact facets must build it too, or the ranks that have some wait for it forever (a hang under mpiexec)
+        ends = dolfinx.fem.Expression(X, np.array([[0.0], [1.0]]))
         if self._ent.shape[0]:
-            ends = dolfinx.fem.Expression(X, np.array([[0.0], [1.0]]))
             xe = ends.eval(mesh, self._ent).reshape(self._ent.shape[0], 2, 2)
             length = np.linalg.norm(xe[:, 1] - xe[:, 0], axis=1)
             w = (length[:, None] * wts[None, :]).reshape(-1)

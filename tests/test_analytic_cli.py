@@ -58,8 +58,20 @@ def test_convective_json_keys(capsys):
             "--json",
         ],
     )
-    for key in ("b_over_b0_first_order", "b_over_b0_first_iterate", "b_over_b0_converged"):
-        assert 1.0 < d[key] < 1.2
+    # First order, derived by hand: b/b0 = (1 + 4 beta b/(pi R))^(-1/2) with b/R = (b/b0)(b0/R), i.e. the root x
+    # of x^2 (1 - x/(2 pi)) = 1 for b0/R = 1/4, beta = -1/2 (bisection here, 1e-15).
+    lo, hi = 1.0, 1.5
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if mid * mid * (1 - mid / (2 * math.pi)) < 1 else (lo, mid)
+    assert d["b_over_b0_first_order"] == pytest.approx(lo, rel=1e-12)
+    assert d["b_over_b0_first_order_numeric"] == pytest.approx(lo, rel=1e-7)  # quadrature, 4096 nodes: 3e-9
+    # the iterate and the converged value differ from first order by second-order terms: eps^2 with
+    # eps = 4 |beta| (b/R) / pi = 0.175 (b/R = 0.275), i.e. <= 0.031 (measured 0.027 and 0.020)
+    eps = 4 * 0.5 * (lo * 0.25) / math.pi
+    for key in ("b_over_b0_first_iterate", "b_over_b0_converged"):
+        assert abs(d[key] - lo) <= eps**2, (key, d[key])
+    assert d["b_over_b0_converged"] != d["b_over_b0_first_iterate"]
 
 
 def test_table1_json(capsys):

@@ -74,11 +74,48 @@ def test_load_levels_scale_the_far_field(meshes):
     """Three force levels (the far field at each level's load) end on the one-step answer."""
     one, three = _solve(meshes[20], "halfplane"), _solve(meshes[20], "halfplane", n_steps=3)
     np.testing.assert_allclose(three.samples.p, one.samples.p, rtol=0, atol=1e-7 * np.max(one.samples.p))
-    # the boundary moved as Flamant's field at the target: the bottom-right corner
+    # the boundary moved as Flamant's field at the target: the bottom-right corner, against an evaluation that
+    # shares no code with analytic.flamant (integrated from Flamant's stresses, _flamant_by_integration)
     W = 20 * A
-    ux, uy = flamant_displacement(W / 2, -W, P=P_TARGET, E=E, nu=NU, r_ref=W)
+    ux, uy = _flamant_by_integration(W / 2, W, P=P_TARGET, E=E, nu=NU, r_ref=W)
     got = one.u.eval(np.array([[W / 2, -W, 0.0]]), np.array([_cell_at(one.u, W / 2, -W)], dtype=np.int32))
-    np.testing.assert_allclose(got, [ux, uy], rtol=1e-9)
+    # the boundary dof holds the interpolated closed form (round-off); the quadrature is good to ~1e-11
+    np.testing.assert_allclose(got, [ux, uy], rtol=1e-8)
+    # and the closed form of analytic.flamant agrees with the integration (it is what fem/far_field.py imposes)
+    np.testing.assert_allclose(flamant_displacement(W / 2, -W, P=P_TARGET, E=E, nu=NU, r_ref=W), [ux, uy],
+                               rtol=1e-9)
+
+
+def _flamant_by_integration(x, depth, *, P, E, nu, r_ref):
+    """(u_x, u_y) at (x, -depth) from Flamant's stress field alone (Johnson, Contact Mechanics eq. 2.15):
+    sigma_x = -2P x^2 z / (pi r^4), sigma_z = -2P z^3 / (pi r^4), tau_xz = -2P x z^2 / (pi r^4), z = depth.
+
+    Plane-strain strains, then displacements by path integrals with the rigid motion fixed as the module's:
+    on the axis x = 0, u_x = 0 and the rotation vanish (symmetry) and u_z(0, r_ref) = 0, so
+        u_z(0, D) = int_{r_ref}^{D} eps_z(0, z) dz,   u_x(x, D) = int_0^x eps_x(s, D) ds,
+        u_z(x, D) = u_z(0, D) + int_0^x [2 eps_xz(s, D) - d/dz u_x(s, D)] ds,
+    with d/dz u_x(s, D) = int_0^s d/dz eps_x(t, D) dt (u_x = 0 on the axis at every depth).
+    """
+    from scipy.integrate import quad
+
+    def stress(px, z):
+        r4 = (px * px + z * z) ** 2
+        return -2 * P * px * px * z / (np.pi * r4), -2 * P * z**3 / (np.pi * r4), -2 * P * px * z * z / (np.pi * r4)
+
+    def eps(px, z):
+        sx, sz, txz = stress(px, z)
+        return ((1 + nu) / E * ((1 - nu) * sx - nu * sz), (1 + nu) / E * ((1 - nu) * sz - nu * sx),
+                (1 + nu) / E * txz)
+
+    def deps_x_dz(px, z, h=1e-5):
+        return (eps(px, z * (1 + h))[0] - eps(px, z * (1 - h))[0]) / (2 * h * z)
+
+    opts = dict(epsabs=0.0, epsrel=1e-11, limit=200)
+    uz_axis = quad(lambda z: eps(0.0, z)[1], r_ref, depth, **opts)[0] if depth != r_ref else 0.0
+    ux = quad(lambda s: eps(s, depth)[0], 0.0, x, **opts)[0]
+    dux_dz = lambda s: quad(lambda t: deps_x_dz(t, depth), 0.0, s, **opts)[0]  # noqa: E731
+    uz = uz_axis + quad(lambda s: 2 * eps(s, depth)[2] - dux_dz(s), 0.0, x, **opts)[0]
+    return ux, -uz
 
 
 def _cell_at(u, x, y):

@@ -68,7 +68,10 @@ def test_hertz_cylinder_nitsche(mesh20):
     assert abs(err_a) <= 5e-3, err_a
     assert abs(err_p0) <= 5e-3, err_p0
     assert rms <= 1e-2, rms
-    assert abs(res.P_pressure / res.P - 1.0) <= 1e-3
+    # Load balance: P (virtual work of the whole residual on the support dofs) and P_pressure (the same
+    # quadrature of the contact pressure law) are two sums of the same converged residual, so they agree to
+    # round-off of the solve (SNES rtol 1e-10 on a residual of size ~P), not to a discretisation error: 1e-9.
+    assert abs(res.P_pressure / res.P - 1.0) <= 1e-9, res.P_pressure / res.P - 1.0
     assert np.median(res.newton_iterations) <= 8, res.newton_iterations
 
 

@@ -7,14 +7,18 @@ gathered quadrature samples) must agree to far better than 1e-8 (the requirement
 
 import json
 import os
+import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 from meshes.block import build_block_mesh
 
 ROOT = Path(__file__).resolve().parents[1]
-PYTHON = ROOT / ".venv" / "bin" / "python"
-MPIEXEC = ROOT / ".venv" / "bin" / "mpiexec"
+# the interpreter running the tests and the mpiexec beside it (the venv's), else the one on PATH: no venv path is
+# assumed, so the file runs under any pytest start (``pytest``, ``python -m pytest``, another venv)
+PYTHON = Path(sys.executable)
+MPIEXEC = Path(shutil.which("mpiexec", path=str(PYTHON.parent)) or shutil.which("mpiexec") or "mpiexec")
 
 SCRIPT = r'''
 import json, sys

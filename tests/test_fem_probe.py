@@ -5,12 +5,12 @@ import dolfinx_solver  # noqa: F401
 
 import numpy as np
 import pytest
+from test_fem_patch import NU, TOL_ROUNDOFF, D, E, H, W, structured_block
 
 from fem.elasticity import lame
 from fem.obstacles import PlaneObstacle
 from fem.probe import stress_at_points
 from fem.solver import solve_contact
-from tests.test_fem_patch import NU, TOL_ROUNDOFF, D, E, H, W, structured_block
 
 
 @pytest.mark.parametrize("degree", [1, 2])

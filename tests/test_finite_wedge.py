@@ -55,7 +55,15 @@ def test_neo_hookean_wedge_at_nu_03_converges(tmp_path):
                   0.45, "neo_hookean")
     rec = v.solve_task(task, str(tmp_path))
     assert rec["converged"], rec["error"]
-    assert math.isfinite(rec["moment"]) and 0.8 < rec["half_width"] < 1.3
+    # The moment half-width (an integral of p, smooth in h) over the classical one carries the finite-strain
+    # effect: in obstacle mode a straight face makes small = convective = classical, and the validity study
+    # measured the finite-strain part of the moment gap at pi/10, nu = 0.3 as +0.0411 (U <= 0.008, W = 160 a,
+    # docs/models.md). Band 0.025: that U plus the a/h = 4 discretisation of the moment and the smaller block
+    # (W = 20 a) here, each ~1 %; it excludes the classical 1.0 (no finite-strain effect) and the C-H half-plane
+    # convective 1.074. The zero crossing is located to within one contact element, h = b/4, of that width.
+    expected = 1.0 + 0.0411
+    assert abs(rec["moment"] - expected) < 0.025, rec["moment"]  # measured 1.0299
+    assert abs(rec["half_width"] - rec["moment"]) < 1.0 / 4.0, rec  # measured 0.948
 
 
 def test_report_states_the_finite_settings():

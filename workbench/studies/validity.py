@@ -544,10 +544,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
     ap.add_argument("--workers", type=int, default=ValidityConfig.workers, help="processes (default 2)")
     ap.add_argument("--quick", action="store_true", help="two points per scene, nu = 0 and 0.499 (a smoke run)")
+    ap.add_argument("--tiny", action="store_true", help="one point per scene, nu = 0, coarse levels on a small "
+                    "block (the end-to-end test: every layer in seconds, no meaningful numbers)")
     args = ap.parse_args(argv)
     kw = {}
     if args.quick:
         kw = {"cylinder_a_over_R": (0.01, 0.2), "wedge_theta": (math.pi / 10, math.pi / 5), "nu": (0.0, 0.499)}
+    if args.tiny:
+        kw = {"cylinder_a_over_R": (0.1,), "wedge_theta": (math.pi / 10,), "nu": (0.0,), "h_ratios": (2.0, 3.0, 4.0),
+              "width_factor": 20.0, "width_factor_far": 40.0}
     try:
         cfg = ValidityConfig(out=args.out, mesh_cache=args.mesh_cache, workers=args.workers, **kw)
     except ValueError as exc:

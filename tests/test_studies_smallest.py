@@ -1,0 +1,62 @@
+"""Issue 28: every study's smallest configuration end to end through the real command line (``workbench <study>``):
+its options, its runs through the case pipeline, its JSON and its report, in seconds. Not the study's numbers
+(those need the full configuration): that each layer runs and writes what the README says.
+
+convective-table runs end to end in tests/test_studies_layout.py (test_convective_table_from_another_directory).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _study(tmp_path, *args):
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    env.setdefault("PYTHONPATH", str(ROOT))
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "workbench", *args, "--out", str(out), "--mesh-cache",
+                           str(tmp_path / "mesh")], capture_output=True, text=True, env=env, cwd=tmp_path,
+                          timeout=900)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return out
+
+
+def test_convergence_smallest(tmp_path):
+    out = _study(tmp_path, "convergence", "--cases", "hertz_cylinder", "--levels", "0.4", "0.2", "0.1",
+                 "--ideal-levels", "0.4", "0.2", "0.1", "--repeats", "1", "--no-diagnostics", "--no-plot")
+    d = json.loads((out / "convergence.json").read_text())
+    # 2 methods x 2 degrees x 2 series x 3 levels
+    assert len(d["rows"]) == 24 and {r["case"] for r in d["rows"]} == {"hertz_cylinder"}
+    assert all(r["time_s"] > 0 for r in d["rows"])
+    assert (out / "convergence.csv").is_file() and "hertz_cylinder" in (out / "report.md").read_text()
+
+
+def test_stability_smallest(tmp_path):
+    out = _study(tmp_path, "stability", "--study", "faults")
+    d = json.loads((out / "stability.json").read_text())
+    assert {r["study"] for r in d["records"]} == {"faults"} and len(d["records"]) == 2
+    assert (out / "report.md").stat().st_size > 0 and (out / "report.html").stat().st_size > 0
+
+
+def test_validity_smallest(tmp_path):
+    out = _study(tmp_path, "validity", "--tiny", "--workers", "1")
+    d = json.loads((out / "validity.json").read_text())
+    assert d["summary"]["runs"] > 0 and d["summary"]["runs"] == len(d["runs"])
+    assert d["config"]["h_ratios"] == [2.0, 3.0, 4.0]
+    assert (out / "report.md").stat().st_size > 0
+
+
+@pytest.mark.parametrize("section", ["linear"])
+def test_bench_smallest(tmp_path, section):
+    out = _study(tmp_path, "bench", "--quick", "--repeats", "1", "--sections", section)
+    d = json.loads((out / "bench.json").read_text())
+    assert section in d and d["repeats"] == 1
+    assert (out / "report.md").stat().st_size > 0
