@@ -29,6 +29,7 @@ import signal
 import sys
 from pathlib import Path
 
+from workbench.owned import check_dir, check_run_outputs, ensure_dir
 from workbench.paths import check_output_folder, default_paths
 
 __all__ = ["main", "STUDIES"]
@@ -78,6 +79,31 @@ def _study_out_options(argv: list[str]) -> list[tuple[str, str]]:
             elif a.startswith(opt + "="):
                 out.append((opt, a.split("=", 1)[1]))
     return out
+
+
+# study -> its folder under the output folder (the default of its --out)
+STUDY_FOLDERS = {"convergence": "convergence", "stability": "stability", "bench": "bench",
+                 "convective-table": "analytic", "validity": "validity"}
+
+
+def _root_option(out) -> str:
+    """How the output folder was given, for its error lines."""
+    import os
+
+    return "--out" if out is not None else "WORKBENCH_RESULTS" if os.environ.get("WORKBENCH_RESULTS") else \
+        "output folder"
+
+
+def _check_study_folders(study: str, given: dict[str, str]) -> None:
+    """A study writes into its folder and the mesh cache: each the workbench's own or new (issue 23)."""
+    paths = default_paths()
+    if "--out" not in given or "--mesh-cache" not in given:
+        check_output_folder(paths.root, option=_root_option(None))
+    out = Path(given["--out"]).expanduser() if "--out" in given else paths.study(STUDY_FOLDERS[study])
+    check_dir(out)
+    if study != "convective-table":
+        check_dir(Path(given["--mesh-cache"]).expanduser() if "--mesh-cache" in given else paths.mesh_cache,
+                  kinds=("mesh_cache",))
 
 
 def _folder(text: str) -> Path:
@@ -147,6 +173,7 @@ def _main(argv: list[str] | None = None) -> int:
                 if not folder.strip():
                     raise CaseError(f"{opt}: an empty folder name is not allowed; allowed: a folder path")
                 check_output_folder(folder, option=opt)
+            _check_study_folders(argv[0], dict(_study_out_options(argv[1:])))
             return int(importlib.import_module(STUDIES[argv[0]]).main(argv[1:]) or 0)
         except CaseError as exc:
             print(f"error: {_one_line(exc)}", file=sys.stderr)
@@ -156,7 +183,7 @@ def _main(argv: list[str] | None = None) -> int:
     try:
         paths = default_paths(args.out) if hasattr(args, "out") else None
         if args.command in ("run", "mesh", "report", "ci"):
-            check_output_folder(paths.root, option="--out" if args.out is not None else "output folder")
+            check_output_folder(paths.root, option=_root_option(args.out))
     except CaseError as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return 2
@@ -183,6 +210,7 @@ def _main(argv: list[str] | None = None) -> int:
                 preflight(case)
             for case in cases:
                 paths.case(case.name)  # inside the output folder (the case name is a slug: never fails)
+            check_run_outputs(paths, cases)  # only the workbench's own folders are replaced (issue 23)
             from workbench.pipeline.run_case import run_case
 
             ok = True
@@ -225,6 +253,9 @@ def _mesh(args, paths, load_case) -> int:
     if args.h_contact is not None and not 0 < args.h_contact <= 1:
         raise CaseError(f"--h-contact = {args.h_contact} is out of range; allowed: 0 < h_contact <= 1")
     case = load_case(args.case)
+    check_run_outputs(paths, [case])
+    ensure_dir(paths.case(case.name), kind="case")
+    ensure_dir(paths.mesh_cache, kind="mesh_cache")
     try:
         files = case_meshes(case, mesh_cache=paths.mesh_cache, comm=MPI.COMM_WORLD, h_contact=args.h_contact,
                             stats_dir=paths.case(case.name))

@@ -26,16 +26,48 @@ from pathlib import Path
 
 from cases.schema import CASE_DIR, MAX_ECHO, CaseError
 
-__all__ = ["DEFAULT_ROOT", "OutputError", "OutputPaths", "check_output_folder", "default_paths"]
+__all__ = ["DEFAULT_ROOT", "PROJECT_ROOT", "OutputError", "OutputPaths", "check_location", "check_output_folder",
+           "default_paths", "show"]
 
 
 class OutputError(CaseError):
     """The output folder cannot be used, or a path would leave it (one line; the CLI exits 2)."""
 
 
-def _show(path) -> str:
+def show(path) -> str:
+    """``path`` as text, cut to MAX_ECHO characters (for one-line messages)."""
     text = str(path)
     return text if len(text) <= MAX_ECHO else text[:MAX_ECHO - 3] + "..."
+
+
+_show = show
+PROJECT_ROOT = CASE_DIR.parent
+"""The checkout (the folder holding ``cases/``, ``fem/``, ...): no output folder may hold it or lie in its source."""
+
+
+def check_location(root: str | Path, *, option: str = "--out") -> None:
+    """Refuse an output folder that is ``/``, the home folder, the checkout, a folder above it, or inside one of
+    its source folders (``cases/``, ``fem/``, ``.git`` ...; ``results/`` of the checkout is allowed).
+
+    Raises:
+        OutputError: one line naming the option, the folder and why.
+    """
+    where = Path(root).expanduser().resolve()
+    project = PROJECT_ROOT.resolve()
+    why = None
+    if where == Path(where.anchor):
+        why = "is the root of the file system"
+    elif where == Path.home().resolve():
+        why = "is the home folder"
+    elif where == project or where in project.parents:
+        why = f"holds the project's source (the checkout {show(project)})"
+    elif project in where.parents:
+        top = where.relative_to(project).parts[0]
+        if top != "results" and (project / top).exists():
+            why = f"lies in the project's source folder {show(project / top)}"
+    if why:
+        raise OutputError(f"{option} {show(root)}: {why}; allowed: a folder of its own, e.g. results/ of the "
+                          "checkout (the default) or a new folder elsewhere")
 
 
 def _writable(folder: Path) -> bool:
@@ -51,13 +83,15 @@ def _writable(folder: Path) -> bool:
 def check_output_folder(root: str | Path, *, option: str = "--out") -> Path:
     """Refuse an output folder that cannot be used, before anything is written.
 
-    Allowed: an existing writable folder, or a new folder whose parent is an existing writable folder.
+    Allowed: an existing writable folder, or a new folder whose parent is an existing writable folder; never
+    ``/``, the home folder or the checkout's source (:func:`check_location`).
 
     Raises:
         OutputError: one line naming the option, the folder and what is wrong.
     """
     root = Path(root).expanduser()
     try:
+        check_location(root, option=option)
         if root.exists() or root.is_symlink():
             if not root.is_dir():
                 raise OutputError(f"{option} {_show(root)}: is not a folder (a file is in the way); "
@@ -72,8 +106,8 @@ def check_output_folder(root: str | Path, *, option: str = "--out") -> Path:
         if not _writable(parent):
             raise OutputError(f"{option} {_show(root)}: its parent {_show(parent)} is read-only; allowed: a new "
                               "folder inside an existing writable folder")
-    except OSError as exc:  # e.g. a name too long for the file system
-        raise OutputError(f"{option} {_show(root)}: cannot be used: {exc.strerror or exc}") from None
+    except (OSError, RuntimeError) as exc:  # e.g. a name too long for the file system, a symlink loop
+        raise OutputError(f"{option} {_show(root)}: cannot be used: {getattr(exc, 'strerror', None) or exc}") from None
     return root.resolve()
 
 DEFAULT_ROOT = CASE_DIR.parent / "results"

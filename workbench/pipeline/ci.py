@@ -11,7 +11,8 @@ import sys
 import time
 
 from cases import case_names, load_case
-from workbench.atomic import write_text
+from workbench.atomic import write_root_text
+from workbench.owned import check_dir, check_root_file, check_run_outputs, ensure_dir
 from workbench.paths import OutputPaths
 from workbench.reports.markdown import markdown_to_html
 from workbench.reports.summary import load_metrics
@@ -23,6 +24,12 @@ def run_ci(paths: OutputPaths) -> int:
     """Run every case at its CI level in a subprocess each (a crash of one case cannot hide the others)."""
     results = paths.root
     ci_root = paths.ci.root
+    for name in ("ci_report.md", "ci_report.html"):  # refuse before anything runs or is written (issue 23)
+        check_root_file(results, name)
+    check_dir(ci_root, kinds=("ci",))
+    ci = OutputPaths(ci_root)
+    check_run_outputs(ci, [load_case(name) for name in case_names()])
+    ensure_dir(ci_root, kind="ci", kinds=("ci",))
     rows, ok = [], True
     for name in case_names():
         case = load_case(name)
@@ -49,7 +56,7 @@ def run_ci(paths: OutputPaths) -> int:
         ok &= verdict == "PASS"
         lines.append(f"| {name} | {level} | {code} | {dt:.1f} | {checks} | {verdict} |")
     lines += ["", f"Overall: **{'PASS' if ok else 'FAIL'}**", ""]
-    write_text(results / "ci_report.md", "\n".join(lines))
-    write_text(results / "ci_report.html", markdown_to_html("\n".join(lines), title="CI report"))
+    write_root_text(results, "ci_report.md", "\n".join(lines))
+    write_root_text(results, "ci_report.html", markdown_to_html("\n".join(lines), title="CI report"))
     print("\n".join(lines))
     return 0 if ok else 1

@@ -22,8 +22,9 @@ import time
 import traceback
 from pathlib import Path
 
-from cases.schema import Case, Run
+from cases.schema import Case, Run, label_folder
 from workbench.atomic import atomic_dir, write_json, write_text
+from workbench.owned import ensure_dir, mark
 from workbench.paths import OutputPaths
 from workbench.scenes import Outcome, scene_for
 from workbench.scenes.wiring import solve_run, step_printer
@@ -142,6 +143,9 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
     if ci and h_contact is None:
         h_contact = case.discretisation.ci_level or case.discretisation.h_contact
     out = paths.case(case.name)
+    if comm.rank == 0:
+        ensure_dir(paths.mesh_cache, kind="mesh_cache")  # the workbench's own, or refused (OutputError)
+    comm.barrier()
     log: list[str] = []
     progress = _progress_printer(comm, log)
     progress(f"case {case.name}: {len(case.runs())} run(s), h_c = "
@@ -155,8 +159,11 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
                 frames: list = []
                 outcome = run_one(run, name=case.name, mesh_cache=paths.mesh_cache, comm=comm, progress=progress,
                                   frames=frames)
-                write_vtk(outcome.result, stage / "vtk" / _safe(run.label), frames=frames,
+                write_vtk(outcome.result, stage / "vtk" / label_folder(run.label), frames=frames,
                           record_at=getattr(run.loading, "d", None))
+                if comm.rank == 0:
+                    mark(stage / "vtk", kind="vtk")
+                    mark(stage / "vtk" / label_folder(run.label), kind="vtk")
                 outcomes.append(outcome)
             budget, subsurface = ({}, None) if ci or h_contact is not None else case_error_budget(
                 case, progress=progress,
@@ -196,10 +203,6 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
     return metrics
 
 
-def _safe(label: str) -> str:
-    return "".join(c if c.isalnum() or c in "-_." else "_" for c in label)
-
-
 class _null_dir:
     def __enter__(self):
         return None
@@ -211,7 +214,7 @@ class _null_dir:
 def _fail(case: Case, paths: OutputPaths, log: list[str], exc: BaseException, comm) -> None:
     if comm.rank != 0:
         return
-    path = paths.logs / f"{case.name}.log"
+    path = ensure_dir(paths.logs, kind="logs") / f"{case.name}.log"
     text = "\n".join(log) + "\n\n" + "".join(traceback.format_exception(exc))
     write_text(path, text)
     first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
