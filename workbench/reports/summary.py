@@ -204,7 +204,7 @@ def check_summary_writes(results: Path, *, case_reports: bool = True) -> None:
     if case_reports:
         for name in case_names():
             if (results / name / "metrics.json").is_file() or (results / name).is_symlink():
-                check_dir(results / name, kinds=("case",))
+                check_dir(results / name)
     for study in STUDY_REPORTS:
         f = results / study
         if f.is_file():
