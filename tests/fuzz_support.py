@@ -71,16 +71,58 @@ def to_toml(doc: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def tree(root: Path) -> dict[str, str]:
-    """relative path -> sha256 (files) or 'dir' of everything under ``root``."""
+_SHA: dict[tuple, str] = {}  # (path, size, mtime_ns, inode, ctime_ns) -> sha256: a file is hashed again when it changes
+SKIP = {".git", ".venv", "__pycache__", ".pytest_cache", ".ruff_cache", ".hypothesis", ".mypy_cache"}
+CHECKOUT = Path(__file__).resolve().parents[1]
+START_DIR = Path.cwd().resolve()  # the working directory pytest was started in
+
+
+def _sha(path: str, st: os.stat_result) -> str:
+    key = (path, st.st_size, st.st_mtime_ns, st.st_ino, st.st_ctime_ns)
+    if key not in _SHA:
+        with open(path, "rb") as fh:
+            _SHA[key] = hashlib.sha256(fh.read()).hexdigest()
+    return _SHA[key]
+
+
+def tree(root: Path, *, skip: frozenset[str] = frozenset()) -> dict[str, str]:
+    """relative path -> sha256 (files), 'dir', or 'link -> target' (symlinks, never followed) of everything under
+    ``root`` (folders named in ``skip`` are listed, not entered)."""
+    out: dict[str, str] = {}
+
+    def walk(folder: str, prefix: str) -> None:
+        try:
+            entries = list(os.scandir(folder))
+        except OSError:
+            return
+        for e in entries:
+            rel = prefix + e.name
+            try:
+                if e.is_symlink():
+                    out[rel] = "link -> " + os.readlink(e.path)
+                elif e.is_dir():
+                    out[rel] = "dir"
+                    if e.name not in skip:
+                        walk(e.path, rel + os.sep)
+                else:
+                    out[rel] = _sha(e.path, e.stat(follow_symlinks=False))
+            except OSError as exc:  # e.g. removed while walking
+                out[rel] = f"unreadable: {exc.strerror}"
+
+    walk(str(root), "")
+    return out
+
+
+def snapshot(sandbox: Path) -> dict[str, str]:
+    """Everything a run could touch by mistake: the sandbox, the checkout (its files and ``results/``, without
+    .git, the venv and caches) and the working directory pytest was started in, as absolute path -> content."""
+    roots = [(Path(sandbox), frozenset()), (CHECKOUT, SKIP)]
+    if not (START_DIR == CHECKOUT or CHECKOUT in START_DIR.parents):  # else it is in the checkout's snapshot
+        roots.append((START_DIR, SKIP))
     out = {}
-    for dirpath, dirnames, filenames in os.walk(root):
-        for d in dirnames:
-            out[os.path.relpath(os.path.join(dirpath, d), root)] = "dir"
-        for f in filenames:
-            p = os.path.join(dirpath, f)
-            with open(p, "rb") as fh:
-                out[os.path.relpath(p, root)] = hashlib.sha256(fh.read()).hexdigest()
+    for root, skip in roots:
+        prefix = str(root).rstrip(os.sep) + os.sep
+        out |= {prefix + rel: v for rel, v in tree(root, skip=skip).items()}
     return out
 
 
@@ -90,6 +132,49 @@ def changed(before: dict, after: dict) -> set[str]:
 
 
 def one_error_line(err: str) -> bool:
-    """Exactly one non-empty stderr line, an ``error:`` line, and no traceback."""
-    lines = [ln for ln in err.splitlines() if ln.strip()]
-    return len(lines) == 1 and "error" in lines[0] and "Traceback" not in err
+    """Exactly one line on stderr, starting with ``error:`` (no traceback, nothing else)."""
+    lines = err.splitlines()
+    return len(lines) == 1 and lines[0].startswith("error: ")
+
+
+def ownership(root: Path) -> dict:
+    """What of the output folder ``root`` is the workbench's: whether ``root`` exists, its top-level folders that
+    carry the workbench's marker (kind included), and the top-level files its marker lists."""
+    from workbench.owned import is_owned, read_marker, root_files
+
+    root = Path(root)
+    try:
+        exists = root.is_dir() and not root.is_symlink()
+    except OSError:  # e.g. a name too long for the file system
+        exists = False
+    folders = {}
+    if exists:
+        for p in root.iterdir():
+            if not p.is_symlink() and is_owned(p):
+                folders[p.name] = read_marker(p).get("kind")
+    existed = {p.name for p in root.iterdir()} if exists else set()
+    return {"exists": exists, "folders": folders, "files": root_files(root) if exists else set(), "existed": existed}
+
+
+def owned_change(path: str | Path, root: Path, before: dict, after: dict) -> bool:
+    """Whether a change at ``path`` lies in a part of the output folder ``root`` that the workbench owned before
+    the run (or that did not exist) and owns after it: ``root`` itself when it was created, its marker, a
+    top-level folder with the workbench's marker, or a top-level file its marker lists. ``before``, ``after``:
+    :func:`ownership` of ``root`` before and after the run; ``existed``: the names at the top of ``root`` before."""
+    from workbench.owned import MARKER
+
+    root, path = Path(root).resolve(), Path(path)
+    if path == root:
+        return not before["exists"]
+    if root not in path.parents:
+        return False
+    rel = path.relative_to(root).parts
+    name = rel[0]
+    if name == MARKER:
+        return True
+    existed = before["existed"]
+    if len(rel) == 1 and name not in after["folders"] and name not in before["folders"]:  # a top-level file
+        return name in after["files"] and (name not in existed or name in before["files"])
+    if name.startswith(".") and (".staging." in name or ".old." in name):  # a case folder being swapped
+        return name not in existed
+    return name in after["folders"] and (name not in existed or before["folders"].get(name) == after["folders"][name])

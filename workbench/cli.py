@@ -225,15 +225,17 @@ def _main(argv: list[str] | None = None) -> int:
                 ok &= bool(metrics is None or metrics.get("pass", False))
             return 0 if ok else 1
         if args.command == "report":
-            from workbench.reports.summary import write_summary
+            from workbench.reports.summary import check_summary_writes, write_summary
 
+            check_summary_writes(paths.root)  # nothing over a file or into a folder the workbench did not write
             write_summary(paths.root)
             return 0
         if args.command == "mesh":
             return _mesh(args, paths, load_case)
         if args.command == "ci":
-            from workbench.pipeline.ci import run_ci
+            from workbench.pipeline.ci import check_ci_writes, run_ci
 
+            check_ci_writes(paths)
             return run_ci(paths)
     except CaseError as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)

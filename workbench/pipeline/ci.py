@@ -17,18 +17,24 @@ from workbench.paths import OutputPaths
 from workbench.reports.markdown import markdown_to_html
 from workbench.reports.summary import load_metrics
 
-__all__ = ["run_ci"]
+__all__ = ["check_ci_writes", "run_ci"]
+
+
+def check_ci_writes(paths: OutputPaths) -> None:
+    """Refuse (:class:`workbench.paths.OutputError`, one line) before ``workbench ci`` writes anything over a file or
+    into a folder the workbench did not write: ``ci_report.{md,html}``, ``<out>/ci/`` and every case folder, the
+    mesh cache and the logs below it."""
+    for name in ("ci_report.md", "ci_report.html"):
+        check_root_file(paths.root, name)
+    check_dir(paths.ci.root, kinds=("ci",))
+    check_run_outputs(paths.ci, [load_case(name) for name in case_names()])
 
 
 def run_ci(paths: OutputPaths) -> int:
     """Run every case at its CI level in a subprocess each (a crash of one case cannot hide the others)."""
     results = paths.root
     ci_root = paths.ci.root
-    for name in ("ci_report.md", "ci_report.html"):  # refuse before anything runs or is written (issue 23)
-        check_root_file(results, name)
-    check_dir(ci_root, kinds=("ci",))
-    ci = OutputPaths(ci_root)
-    check_run_outputs(ci, [load_case(name) for name in case_names()])
+    check_ci_writes(paths)  # refuse before anything runs or is written (issue 23)
     ensure_dir(ci_root, kind="ci", kinds=("ci",))
     rows, ok = [], True
     for name in case_names():
