@@ -114,16 +114,33 @@ def tree(root: Path, *, skip: frozenset[str] = frozenset()) -> dict[str, str]:
 
 
 def snapshot(sandbox: Path) -> dict[str, str]:
-    """Everything a run could touch by mistake: the sandbox, the checkout (its files and ``results/``, without
-    .git, the venv and caches) and the working directory pytest was started in, as absolute path -> content."""
-    roots = [(Path(sandbox), frozenset()), (CHECKOUT, SKIP)]
+    """The sandbox as absolute path -> content (see :func:`tree`)."""
+    prefix = str(sandbox).rstrip(os.sep) + os.sep
+    return {prefix + rel: v for rel, v in tree(sandbox).items()}
+
+
+def _outside() -> dict[str, str]:
+    roots = [CHECKOUT]
     if not (START_DIR == CHECKOUT or CHECKOUT in START_DIR.parents):  # else it is in the checkout's snapshot
-        roots.append((START_DIR, SKIP))
+        roots.append(START_DIR)
     out = {}
-    for root, skip in roots:
+    for root in roots:
         prefix = str(root).rstrip(os.sep) + os.sep
-        out |= {prefix + rel: v for rel, v in tree(root, skip=skip).items()}
+        out |= {prefix + rel: v for rel, v in tree(root, skip=SKIP).items()}
     return out
+
+
+_OUTSIDE: dict[str, str] = {}
+
+
+def outside_changes() -> set[str]:
+    """What changed in the checkout (its files and ``results/``, without .git, the venv and caches) and in the
+    working directory pytest was started in since the first call in this process (paths and SHA-256). Nothing a
+    fuzz example runs may change them, so one snapshot taken first serves every example."""
+    now = _outside()
+    if not _OUTSIDE:
+        _OUTSIDE.update(now)
+    return changed(_OUTSIDE, now)
 
 
 def changed(before: dict, after: dict) -> set[str]:
