@@ -104,10 +104,13 @@ def make_dirs(folder: str | Path, *, kind: str = "folder") -> Path:
     return folder
 
 
+PATH_ECHO = 160  # characters of a path in these messages (cut in the middle beyond)
+
+
 def _refuse(path: Path, what: str = "exists and was not written by the workbench") -> OutputError:
-    return OutputError(f"{show(path)} {what}; the workbench replaces, deletes or overwrites only what it wrote "
-                       f"(a folder with its {MARKER} marker); nothing was written or deleted: move it away (results "
-                       "of an older workbench have no marker) or choose another --out")
+    return OutputError(f"{show(path, PATH_ECHO)} {what}; the workbench replaces, deletes or overwrites only what it "
+                       f"wrote (a folder with its {MARKER} marker); nothing was written or deleted: move it away "
+                       "(results of an older workbench have no marker) or choose another --out")
 
 
 def check_dir(folder: str | Path, *, kinds: Iterable[str] | None = None) -> None:
@@ -192,9 +195,9 @@ def check_run_outputs(paths, cases) -> None:
     seen: dict[str, object] = {}
     for case in cases:
         if case.name in seen:
-            raise OutputError(f"case name {case.name!r} is given twice ({show(seen[case.name])} and "
-                              f"{show(case.path)}); allowed: one case of each name per call (its results folder "
-                              "would be replaced by the other's)")
+            raise OutputError(f"case name {case.name!r} is given twice ({show(seen[case.name], PATH_ECHO)} "
+                              f"and {show(case.path, PATH_ECHO)}); allowed: one case of each name per call (its "
+                              "results folder would be replaced by the other's)")
         seen[case.name] = case.path
     check_dir(paths.mesh_cache, kinds=("mesh_cache",))
     check_dir(paths.logs, kinds=("logs",))
@@ -203,5 +206,6 @@ def check_run_outputs(paths, cases) -> None:
         check_dir(folder, kinds=("case",))
         source = Path(case.path).resolve()
         if folder == source or folder in source.parents:
-            raise OutputError(f"case file {show(case.path)} lies inside {show(folder)}, the folder its results "
-                              "would replace; allowed: a case file outside its case's results folder")
+            raise OutputError(f"case file {show(case.path, PATH_ECHO)} lies inside {show(folder, PATH_ECHO)}, "
+                              "the folder its results would replace; allowed: a case file outside its case's results "
+                              "folder")

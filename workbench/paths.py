@@ -34,10 +34,14 @@ class OutputError(CaseError):
     """The output folder cannot be used, or a path would leave it (one line; the CLI exits 2)."""
 
 
-def show(path) -> str:
-    """``path`` as text, cut to MAX_ECHO characters (for one-line messages)."""
+def show(path, limit: int = MAX_ECHO) -> str:
+    """``path`` as text for one-line messages: at most ``limit`` characters, cut in the middle (its start and its
+    last component stay readable)."""
     text = str(path)
-    return text if len(text) <= MAX_ECHO else text[:MAX_ECHO - 3] + "..."
+    if len(text) <= limit:
+        return text
+    head = limit // 3
+    return text[:head] + "..." + text[len(text) - (limit - head - 3):]
 
 
 _show = show
@@ -137,6 +141,9 @@ class OutputPaths:
 
     def inside(self, path: str | Path) -> Path:
         """``path`` (relative to root, or absolute) resolved, refused unless it lies inside root."""
+        if (self.root / path).is_symlink():
+            raise OutputError(f"{show(self.root / path, 160)} is a symlink (the workbench follows none out of its "
+                              "output folder); nothing was written or deleted: move it away or choose another --out")
         p = (self.root / path).resolve()
         if p == self.root or self.root not in p.parents:
             raise OutputError(f"{_show(path)}: resolves to {_show(p)}, outside the output folder {_show(self.root)}; "
