@@ -7,7 +7,7 @@ import time
 from collections.abc import Callable
 
 from meshes._session import gmsh_model
-from meshes.cache import MeshFiles, atomic_write_json, cache_key, cache_paths
+from meshes.cache import MeshFiles, atomic_write_json, cache_key, cache_paths, make_cache_dir
 from meshes.output import extract_model, msh_to_xdmf, write_msh
 from meshes.quality import mesh_quality, write_mesh_stats
 
@@ -39,6 +39,7 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
                                   write_xdmf=write_xdmf, stats_dir=stats_dir, comm=None,
                                   extra_stats=extra_stats)
         return comm.bcast(result, root=0)
+    make_cache_dir(out_dir)  # with the workbench's marker (a folder that exists is left as it is)
     key = cache_key({"kind": kind, "version": BUILDER_VERSION, "write_xdmf": write_xdmf, **params})
     paths = cache_paths(out_dir, name, key)
     have = paths["msh"].exists() and paths["json"].exists()

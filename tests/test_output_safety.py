@@ -289,6 +289,30 @@ def test_a_top_level_file_is_overwritten_only_when_listed(tmp_path):
     assert (tmp_path / "ci_report.md").read_text() == "the user's"
 
 
+def test_a_study_elsewhere_writes_no_summary_above_its_folder(tmp_path, capsys):
+    from workbench.reports.study_pages import publish_study
+
+    user_files(tmp_path, ["report.md"])
+    study = make_dirs(tmp_path / "conv", kind="convergence")  # `workbench convergence --out <user folder>/conv`
+    (study / "report.md").write_text("# Convergence\n")
+    before = tree(tmp_path)
+    assert publish_study(study, []).is_file()
+    assert "summary not rebuilt" in capsys.readouterr().out
+    assert {k: v for k, v in tree(tmp_path).items() if not k.startswith("conv")} == {
+        k: v for k, v in before.items() if not k.startswith("conv")}
+
+
+def test_a_mesh_cache_made_by_the_mesh_layer_is_the_workbenchs(tmp_path):
+    from meshes.cache import make_cache_dir
+    from workbench.owned import TOOL
+
+    make_cache_dir(tmp_path / "new" / "mesh_cache")
+    assert is_owned(tmp_path / "new" / "mesh_cache", kinds=("mesh_cache",)) and TOOL == "contact-workbench"
+    user_files(tmp_path, ["mine/keep.msh"])
+    make_cache_dir(tmp_path / "mine")  # a folder that exists: left as it is
+    assert not (tmp_path / "mine" / MARKER).exists()
+
+
 def test_results_of_the_checkout_stay_the_default_and_allowed():
     from workbench.paths import DEFAULT_ROOT, OutputError, check_location
 
