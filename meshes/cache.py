@@ -70,14 +70,26 @@ def make_cache_dir(cache_dir) -> Path:
     cache_dir = Path(cache_dir)
     if cache_dir.exists() or cache_dir.is_symlink():
         return cache_dir
+    import shutil
+    import tempfile
+
     cache_dir.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        cache_dir.mkdir()
-    except FileExistsError:  # a concurrent build made it
-        return cache_dir
-    now = datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
-    atomic_write_json(cache_dir / ".workbench-owned", {"tool": "contact-workbench", "kind": "mesh_cache",
-                                                       "created": now})
+    tmp = Path(tempfile.mkdtemp(prefix=f".{cache_dir.name[:40]}.new.", dir=cache_dir.parent))
+    try:  # the folder appears with its marker in one rename (a concurrent build never sees it without)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o777 & ~umask)
+        now = datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
+        atomic_write_json(tmp / ".workbench-owned", {"tool": "contact-workbench", "kind": "mesh_cache",
+                                                     "created": now})
+        try:
+            os.rename(tmp, cache_dir)
+        except OSError:  # a concurrent build made it meanwhile
+            if not cache_dir.is_dir():
+                raise
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
     return cache_dir
 
 

@@ -24,6 +24,7 @@ import contextlib
 import datetime
 import json
 import os
+import shutil
 import tempfile
 from collections.abc import Iterable
 from pathlib import Path
@@ -98,10 +99,27 @@ def make_dirs(folder: str | Path, *, kind: str = "folder") -> Path:
             break
         p = p.parent
     for p in reversed(missing):
-        with contextlib.suppress(FileExistsError):  # a concurrent run made it: its marker comes with it
-            p.mkdir()
-            mark(p, kind=kind if p == folder else "folder")
+        _make_marked(p, kind=kind if p == folder else "folder")
     return folder
+
+
+def _make_marked(folder: Path, *, kind: str) -> None:
+    """Create ``folder`` with its marker in one step (a marked temporary folder renamed into place), so a
+    concurrent run never sees it without its marker; if a concurrent run made it first, keep theirs."""
+    tmp = Path(tempfile.mkdtemp(prefix=f".{folder.name[:40]}.new.", dir=folder.parent))
+    try:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o777 & ~umask)  # mkdtemp makes 0700; an output folder is an ordinary one
+        _write_marker(tmp, _new_marker(kind))
+        try:
+            os.rename(tmp, folder)  # fails when a concurrent run made it meanwhile (ENOTEMPTY / EEXIST)
+        except OSError:
+            if not folder.is_dir():
+                raise
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
 
 
 PATH_ECHO = 160  # characters of a path in these messages (cut in the middle beyond)
