@@ -115,12 +115,12 @@ def _previous(out: Path) -> None:
         with atomic_dir(out / name) as stage:
             write_json(stage / "metrics.json", {"case": name, "previous": True})
             (stage / "report.md").write_text(f"# {name}\nprevious\n")
-    for name in ("logs", "user_folder", "analytic"):
+    for name in ("convergence", "user_folder", "analytic"):  # not logs or mesh_cache: every run would be refused
         (out / name).mkdir()
         (out / name / "notes.txt").write_text(f"the user's notes in {name}\n")
 
 
-USER_FOLDERS = ("results/logs", "results/user_folder", "results/analytic")
+USER_FOLDERS = ("results/convergence", "results/user_folder", "results/analytic")
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -183,6 +183,7 @@ def test_any_case_file_runs_or_is_refused_in_one_line(muts, tmp_path_factory, re
     recorder.clear()
     code = main(["run", str(p), "--out", str(out)])
     _, err = capsys.readouterr()
+    event(f"exit {code}")
     assert outside_changes() == set()
     diff = {os.path.relpath(d, sandbox) for d in changed(before, snapshot(sandbox))}
     assert code in (0, 2), (code, err)
