@@ -238,16 +238,23 @@ def test_a_run_marks_its_folders_and_replaces_only_its_own(tmp_path):
     out = tmp_path / "out"
     user_files(out, ["notes.txt", "mine/notes.txt"])
     case = case_file(tmp_path / "probe.toml", "probe")
+    other = case_file(tmp_path / "other.toml", "other")
     mine = tree(out / "mine")
-    for _ in range(2):  # the second run replaces the first one's folder (its own)
-        proc = wb("run", case, "--ci", "--out", out, cwd=tmp_path)
-        assert proc.returncode in (0, 1), proc.stderr[-2000:]
-        assert proc.stderr == "", proc.stderr
+    # two concurrent runs into one --out: both make the mesh cache and logs checks at once, neither is refused
+    procs = [subprocess.Popen([sys.executable, "-m", "workbench", "run", str(c), "--ci", "--out", str(out)],
+                              cwd=tmp_path, env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+             for c in (case, other)]
+    for p in procs:
+        err = p.communicate(timeout=600)[1]
+        assert p.returncode in (0, 1) and err == "", (p.returncode, err[-2000:])
+    proc = wb("run", case, "--ci", "--out", out, cwd=tmp_path)  # replaces the first run's folder (its own)
+    assert proc.returncode in (0, 1) and proc.stderr == "", proc.stderr[-2000:]
+    assert is_owned(out / "other", kinds=("case",))
     assert is_owned(out / "probe", kinds=("case",)) and is_owned(out / "mesh_cache", kinds=("mesh_cache",))
     assert is_owned(out / "probe" / "vtk" / "base", kinds=("vtk",))
     assert json.loads((out / "probe" / "metrics.json").read_text())["case"] == "probe"
     assert tree(out / "mine") == mine and (out / "notes.txt").read_text() == "the user's notes.txt\n"
-    assert not is_owned(out) and not any(p.name.startswith(".probe.") for p in out.iterdir())  # no staging left
+    assert not is_owned(out) and not [p.name for p in out.iterdir() if p.name.startswith(".") and p.name != MARKER]
 
 
 # --- the writers themselves ---------------------------------------------------------------------------------------
