@@ -85,9 +85,9 @@ def _sha(path: str, st: os.stat_result) -> str:
     return _SHA[key]
 
 
-def tree(root: Path, *, skip: frozenset[str] = frozenset()) -> dict[str, str]:
+def tree(root: Path, *, skip: frozenset[str] = frozenset(), depth: int | None = None) -> dict[str, str]:
     """relative path -> sha256 (files), 'dir', or 'link -> target' (symlinks, never followed) of everything under
-    ``root`` (folders named in ``skip`` are listed, not entered)."""
+    ``root`` (folders named in ``skip`` are listed, not entered; with ``depth``, only that many levels)."""
     out: dict[str, str] = {}
 
     def walk(folder: str, prefix: str) -> None:
@@ -102,7 +102,7 @@ def tree(root: Path, *, skip: frozenset[str] = frozenset()) -> dict[str, str]:
                     out[rel] = "link -> " + os.readlink(e.path)
                 elif e.is_dir():
                     out[rel] = "dir"
-                    if e.name not in skip:
+                    if e.name not in skip and (depth is None or rel.count(os.sep) + 1 < depth):
                         walk(e.path, rel + os.sep)
                 else:
                     out[rel] = _sha(e.path, e.stat(follow_symlinks=False))
@@ -119,14 +119,21 @@ def snapshot(sandbox: Path) -> dict[str, str]:
     return {prefix + rel: v for rel, v in tree(sandbox).items()}
 
 
+def _shared(folder: Path) -> bool:
+    """``folder`` holds the temporary folder or is the home folder or the file system's root: other programs write
+    there while the tests run."""
+    import tempfile
+
+    tmp = Path(tempfile.gettempdir()).resolve()
+    return folder == tmp or folder in tmp.parents or folder == Path.home().resolve() or folder == Path("/")
+
+
 def _outside() -> dict[str, str]:
-    roots = [CHECKOUT]
-    if not (START_DIR == CHECKOUT or CHECKOUT in START_DIR.parents):  # else it is in the checkout's snapshot
-        roots.append(START_DIR)
-    out = {}
-    for root in roots:
-        prefix = str(root).rstrip(os.sep) + os.sep
-        out |= {prefix + rel: v for rel, v in tree(root, skip=SKIP).items()}
+    out = {str(CHECKOUT / rel): v for rel, v in tree(CHECKOUT, skip=SKIP).items()}
+    # the working directory pytest started in, its top level (inside the checkout: already in its snapshot; a
+    # shared folder such as /tmp changes under other programs, so the fuzz tests run inside their sandboxes)
+    if not (START_DIR == CHECKOUT or CHECKOUT in START_DIR.parents or _shared(START_DIR)):
+        out |= {str(START_DIR / rel): v for rel, v in tree(START_DIR, skip=SKIP, depth=1).items()}
     return out
 
 
@@ -135,8 +142,9 @@ _OUTSIDE: dict[str, str] = {}
 
 def outside_changes() -> set[str]:
     """What changed in the checkout (its files and ``results/``, without .git, the venv and caches) and in the
-    working directory pytest was started in since the first call in this process (paths and SHA-256). Nothing a
-    fuzz example runs may change them, so one snapshot taken first serves every example."""
+    working directory pytest was started in (its top level; not when it is a shared folder such as /tmp) since the
+    first call in this process (paths and SHA-256). Nothing a fuzz example runs may change them, so one snapshot
+    taken first serves every example."""
     now = _outside()
     if not _OUTSIDE:
         _OUTSIDE.update(now)

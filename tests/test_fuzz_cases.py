@@ -173,8 +173,9 @@ def test_any_case_file_validates_to_ok_or_one_line(text, tmp_path, capsys):
 
 @examples(150)
 @given(muts=st.lists(MUTATION, min_size=1, max_size=3))
-def test_any_case_file_runs_or_is_refused_in_one_line(muts, tmp_path_factory, recorder, capsys):
+def test_any_case_file_runs_or_is_refused_in_one_line(muts, tmp_path_factory, recorder, capsys, monkeypatch):
     sandbox = tmp_path_factory.mktemp("fuzz_run")
+    monkeypatch.chdir(sandbox)  # the working directory of the run: in the snapshot
     out = sandbox / "results"
     _previous(out)
     p = sandbox / "probe.toml"
@@ -217,8 +218,9 @@ SOLVE = st.fixed_dictionaries({
 
 @examples(25)
 @given(s=SOLVE)
-def test_real_runs_end_in_a_result_or_a_named_failure(s, tmp_path_factory, capsys):
+def test_real_runs_end_in_a_result_or_a_named_failure(s, tmp_path_factory, capsys, monkeypatch):
     sandbox = tmp_path_factory.mktemp("fuzz_solve")
+    monkeypatch.chdir(sandbox)  # the working directory of the run: in the snapshot
     out = sandbox / "results"
     _previous(out)
     doc = {k: dict(v) for k, v in BASE.items()}
