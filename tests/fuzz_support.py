@@ -140,13 +140,14 @@ def _outside() -> dict[str, str]:
 _OUTSIDE: dict[str, str] = {}
 
 
-def outside_changes() -> set[str]:
+def outside_changes(*, reset: bool = False) -> set[str]:
     """What changed in the checkout (its files and ``results/``, without .git, the venv and caches) and in the
     working directory pytest was started in (its top level; not when it is a shared folder such as /tmp) since the
     first call in this process (paths and SHA-256). Nothing a fuzz example runs may change them, so one snapshot
-    taken first serves every example."""
+    taken first serves every example; ``reset`` takes it again (each fuzz module, before its first example)."""
     now = _outside()
-    if not _OUTSIDE:
+    if reset or not _OUTSIDE:
+        _OUTSIDE.clear()
         _OUTSIDE.update(now)
     return changed(_OUTSIDE, now)
 

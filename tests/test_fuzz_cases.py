@@ -127,7 +127,7 @@ USER_FOLDERS = ("results/convergence", "results/user_folder", "results/analytic"
 def checkout_untouched():
     """The checkout and the working directory pytest started in: snapshotted before the first example, and
     byte-identical after every example that runs (and after all the examples of ``validate``)."""
-    outside_changes()
+    outside_changes(reset=True)
     yield
     assert outside_changes() == set()
 

@@ -196,7 +196,7 @@ def _plant(sandbox: Path, work: Path, scene: dict) -> None:
 @pytest.fixture(scope="module", autouse=True)
 def outside_snapshot():
     """The checkout and the working directory pytest started in, snapshotted before the first example."""
-    outside_changes()
+    outside_changes(reset=True)
 
 
 @examples(300)
