@@ -10,8 +10,11 @@ Collisions (issue 23): each example plants some of a user's own files and folder
 named like a real case, ``logs``, ``analytic``, ``ci``, ``report.md``, ``ci_report.html``, results of an older
 workbench, a ``mesh_cache`` that is a symlink out of it) and writes a case file whose ``[case] name`` and variant
 labels collide with them, with reserved names, with the source tree, or with each other; ``--out`` and
-``WORKBENCH_RESULTS`` take the checkout, its ``cases/``, the folder above it, ``/``, the home folder, a user's
-folder, or the folder holding the case file. Before and after each command the sandbox, the checkout (its files and
+``WORKBENCH_RESULTS`` take the checkout, its ``cases/``, the folder above it, the home folder, a user's folder, or
+the folder holding the case file. The checkout they take is a copy of its layout in the sandbox (the guards are
+pointed at it, and ``HOME`` at a sandbox folder), so a guard that fails can never write into the real checkout
+or home; ``/`` is left to ``tests/test_output_safety.py``, with a case file the schema refuses after the guard.
+Before and after each command the sandbox, the checkout (its files and
 ``results/``) and the working directory pytest started in are snapshotted (paths and SHA-256): on exit 2 nothing
 changed anywhere; on exit 0 every change lies in a part of the output folder the workbench owned (its marker) and
 that it owned before the run, never in a parent of ``--out``; a previous result folder stays byte-identical
@@ -29,11 +32,12 @@ import os
 from pathlib import Path
 
 import pytest
-from fuzz_support import CHECKOUT, changed, examples, one_error_line, outside_changes, owned_change, ownership, snapshot
+from fuzz_support import changed, examples, one_error_line, outside_changes, owned_change, ownership, snapshot
 from hypothesis import event, given
 from hypothesis import strategies as st
 from probe_cases import PROBE_BLOCK
 
+import workbench.paths as paths_module
 import workbench.pipeline.ci as ci_module
 import workbench.pipeline.run_case as run_case_module
 import workbench.reports.summary as summary_module
@@ -47,9 +51,10 @@ CASE_ARGS = ["hertz_cylinder", "wedge", "no_such_case", "../../escaped", "sub/di
              "case.toml", "case.toml", "proj/probe.toml", "out/previous/c.toml", "twin.toml"]
 OUT_ARGS = ["out", "out/sub", "../out2", "../../out3", "a file", "a file/x", "missing/parent/x", "readonly",
             "readonly/new", "/dev/null/x", "ü/ñ", "x" * 300, "", ".",
-            # collisions: the source tree, the home folder, a user's folders, the folder holding a case file
-            str(CHECKOUT), str(CHECKOUT / "cases"), str(CHECKOUT.parent), "/", "~", "~/new", "out/hertz_cylinder",
-            "out/previous", "out/logs", "out/mesh_cache", "proj", "out"]
+            # collisions: the source tree (a copy of its layout in the sandbox, see _plant), the home folder, a user's
+            # folders, the folder holding a case file
+            "@checkout", "@checkout/cases", "@checkout/fem/new", "@checkout/..", "@checkout/.git", "@checkout/results",
+            "~", "~/new", "out/hertz_cylinder", "out/previous", "out/logs", "out/mesh_cache", "proj", "out"]
 # [case] name of the generated case file: fine, reserved, a user's folder, a source folder, not a path component
 NAMES = ["probe", "probe", "previous", "hertz_cylinder", "proj", "wedge", "mesh_cache", "analytic", "logs", "ci",
          "report", "convergence", "validity", "Logs", "cases", "fem", "workbench", "results", ".hidden", "a/b", "..",
@@ -89,7 +94,7 @@ SCENE = st.fixed_dictionaries({
     "twin": st.sampled_from(NAMES[:6]),  # the [case] name of a second case file (twin.toml)
     "labels": st.sampled_from(LABELS),
     "user": st.lists(st.sampled_from(USER), unique=True, max_size=3),
-    "results": st.one_of(st.just("out"), st.sampled_from(["out", "home", "checkout", "cases", "/", "out/logs",
+    "results": st.one_of(st.just("out"), st.sampled_from(["out", "home", "checkout", "cases", "above", "out/logs",
                                                           "proj"])),
 })
 
@@ -158,8 +163,17 @@ def recorders(monkeypatch):
     return calls
 
 
+SOURCE = ("cases", "fem", "meshes", "analytic", "workbench", "tests", "docs", ".git")
+
+
 def _plant(sandbox: Path, work: Path, scene: dict) -> None:
-    """The user's files and folders, a previous result of the workbench, and the case files."""
+    """The user's files and folders, a previous result of the workbench, the case files, and the layout of the
+    checkout (its source folders, each with a file; the guards are pointed at it, so a failing guard can never
+    write into the real checkout, which is snapshotted all the same)."""
+    for name in SOURCE:
+        (sandbox / "checkout" / name).mkdir(parents=True)
+        (sandbox / "checkout" / name / "source.py").write_text(f"# {name}\n")
+    (sandbox / "checkout" / "README.md").write_text("the project\n")
     out = work / "out"
     out.mkdir(parents=True)
     make_dirs(out / "previous", kind="case")  # a previous result (the workbench's)
@@ -209,9 +223,12 @@ def test_any_command_line_ends_in_0_or_one_line_2(argv, scene, tmp_path_factory,
     (work / "readonly").symlink_to(readonly_dir)
     monkeypatch.chdir(work)
     monkeypatch.setenv("HOME", str(sandbox / "home"))
-    results = {"out": work / "out", "home": sandbox / "home", "checkout": CHECKOUT, "cases": CHECKOUT / "cases",
-               "/": Path("/"), "out/logs": work / "out" / "logs", "proj": work / "proj"}[scene["results"]]
+    checkout = sandbox / "checkout"
+    monkeypatch.setattr(paths_module, "PROJECT_ROOT", checkout)
+    results = {"out": work / "out", "home": sandbox / "home", "checkout": checkout, "cases": checkout / "cases",
+               "above": sandbox, "out/logs": work / "out" / "logs", "proj": work / "proj"}[scene["results"]]
     monkeypatch.setenv("WORKBENCH_RESULTS", str(results))
+    argv = (argv[0], [(o, v.replace("@checkout", str(checkout)) if v else v) for o, v in argv[1]])
     args = _flatten(*argv)
     outs = [v for o, v in argv[1] if o == "--out" and v is not None]
     root = (work / Path(outs[-1]).expanduser()).resolve() if outs else results.resolve()

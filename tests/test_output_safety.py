@@ -72,17 +72,25 @@ def checkout_unchanged():
 # --- --out and WORKBENCH_RESULTS: never /, the home folder or the project's source ---------------------------------
 
 def test_out_never_the_root_home_or_the_source_tree(tmp_path, checkout_unchanged):
+    """Each real folder is given with a case file the schema refuses later (a reserved name): should this guard ever
+    fail, the run still writes nothing there, and the test fails on the message."""
     home = tmp_path / "home"
     user_files(home, ["notes.txt", "cases/mine.toml"])
-    case = case_file(tmp_path / "c" / "cases.toml", "cases")  # the issue: a case named like the source folder
+    refused_later = case_file(tmp_path / "c" / "logs.toml", "logs")
+    case = case_file(tmp_path / "c" / "cases.toml", "cases")
     env = ENV | {"HOME": str(home)}
     before = tree(tmp_path)
     for out, why in ((CHECKOUT, "holds the project's source"), (CHECKOUT / "cases", "source folder"),
                      (CHECKOUT / "fem", "source folder"), (CHECKOUT.parent, "holds the project's source"),
                      ("/", "root of the file system"), (home, "home folder"), ("~", "home folder")):
-        refused(wb("run", case, "--out", out, cwd=tmp_path, env=env), "--out", why)
-        refused(wb("report", "--out", out, cwd=tmp_path, env=env), "--out", why)
-        refused(wb("run", case, cwd=tmp_path, env=env | {"WORKBENCH_RESULTS": str(out)}), "WORKBENCH_RESULTS", why)
+        refused(wb("run", refused_later, "--out", out, cwd=tmp_path, env=env), "--out", why)
+        refused(wb("run", refused_later, cwd=tmp_path, env=env | {"WORKBENCH_RESULTS": str(out)}),
+                "WORKBENCH_RESULTS", why)
+    # the issue: a case named "cases" run with --out at the checkout (its cases/ is the user's: refused again by the
+    # ownership check if this guard ever fails)
+    refused(wb("run", case, "--out", CHECKOUT, cwd=tmp_path, env=env), "--out", "holds the project's source")
+    for out in (home, "~"):
+        refused(wb("report", "--out", out, cwd=tmp_path, env=env), "--out", "home folder")
     refused(wb("convective-table", "--out", CHECKOUT / "analytic", cwd=tmp_path, env=env), "--out", "source folder")
     refused(wb("convergence", "--out", CHECKOUT, cwd=tmp_path, env=env), "--out", "project's source")
     assert tree(tmp_path) == before
