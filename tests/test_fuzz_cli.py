@@ -248,6 +248,11 @@ def test_any_command_line_ends_in_0_or_one_line_2(argv, scene, tmp_path_factory,
         assert one_error_line(err), (args, err)
         assert not diff, (args, diff)
         return
+    # a run that wrote used an output folder that is not the home folder, the checkout, above it or in its source
+    if diff:
+        home = (sandbox / "home").resolve()
+        inside = checkout in root.parents and root.relative_to(checkout).parts[0] != "results"
+        assert not (root in (home, checkout) or root in checkout.parents or inside), (args, scene, root)
     # every change lies in a part of the output folder the workbench owns (and owned before), never above it
     own_after = ownership(root)
     bad = sorted(d for d in diff if not owned_change(d, root, own_before, own_after))
