@@ -33,7 +33,7 @@ from hypothesis import event, given
 from hypothesis import strategies as st
 
 import workbench.pipeline.run_case as run_case_module
-from cases.schema import _SECTIONS, label_folder, load_case
+from cases.schema import _SECTIONS, RESERVED_NAMES, label_folder, load_case
 from workbench.atomic import atomic_dir, write_json
 from workbench.cli import main
 from workbench.owned import is_owned
@@ -194,6 +194,7 @@ def test_any_case_file_runs_or_is_refused_in_one_line(muts, tmp_path_factory, re
     else:
         assert err == "" and len(recorder) == 1, err
         name = recorder[0]
+        assert name.lower() not in RESERVED_NAMES, name  # never the workbench's own folders
         assert all(d == f"results/{name}" or d.startswith(f"results/{name}/") for d in diff), diff  # its own folder
         assert is_owned(out / name, kinds=("case",))
         vtk = sorted((out / name / "vtk").iterdir())  # one folder per run: labels never share one, none escapes

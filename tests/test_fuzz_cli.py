@@ -41,7 +41,7 @@ import workbench.paths as paths_module
 import workbench.pipeline.ci as ci_module
 import workbench.pipeline.run_case as run_case_module
 import workbench.reports.summary as summary_module
-from cases.schema import label_folder
+from cases.schema import RESERVED_NAMES, label_folder
 from workbench.atomic import atomic_dir, write_json, write_root_text, write_text
 from workbench.cli import main
 from workbench.owned import ensure_dir, make_dirs
@@ -90,7 +90,7 @@ WELL_FORMED = st.builds(
     st.sampled_from(["run", "run", "run", "validate", "mesh", "report", "report", "ci"]), _CASE, _MORE)
 ARGV = st.one_of(ANY, WELL_FORMED, WELL_FORMED)
 SCENE = st.fixed_dictionaries({
-    "name": st.sampled_from(NAMES),
+    "name": st.one_of(st.sampled_from(NAMES), st.sampled_from(RESERVED_NAMES)),
     "twin": st.sampled_from(NAMES[:6]),  # the [case] name of a second case file (twin.toml)
     "labels": st.sampled_from(LABELS),
     "user": st.lists(st.sampled_from(USER), unique=True, max_size=3),
@@ -241,6 +241,9 @@ def test_any_command_line_ends_in_0_or_one_line_2(argv, scene, tmp_path_factory,
     out, err = capsys.readouterr()
     event(f"exit {code}")
     event(f"{args[0] if args else '-'}: exit {code}")
+    if args[:1] == ["run"] and "case.toml" in args:
+        event(f"run case.toml named {'a reserved name' if scene['name'].lower() in RESERVED_NAMES else 'otherwise'}: "
+              f"exit {code}")
     assert code in (0, 2), (args, code, err)
     assert "Traceback" not in err
     diff = changed(before, snapshot(sandbox)) | outside_changes()  # the checkout and start directory: never
@@ -248,6 +251,7 @@ def test_any_command_line_ends_in_0_or_one_line_2(argv, scene, tmp_path_factory,
         assert one_error_line(err), (args, err)
         assert not diff, (args, diff)
         return
+    assert not [n for n in recorders if n.lower() in RESERVED_NAMES], recorders  # no case takes a reserved name
     # a run that wrote used an output folder that is not the home folder, the checkout, above it or in its source
     if diff:
         home = (sandbox / "home").resolve()
