@@ -17,8 +17,9 @@ Subcommands:
 the working directory. A study's own options follow its name (``workbench convergence --help``).
 
 Exit codes: 0 success; 1 a run failed or a tolerance was violated (or the disk filled: named, previous results
-intact); 2 bad input (case file, arguments or an unusable ``--out``), reported as one line naming the field and
-the allowed range, before anything is written; 130 interrupted (SIGINT or SIGTERM: previous results intact).
+intact); 2 bad input (case file, arguments or an unusable ``--out``, or a folder or file in the way that the
+workbench did not write: :mod:`workbench.owned`), reported as one line naming the field and the allowed range,
+before anything is written; 130 interrupted (SIGINT or SIGTERM: previous results intact).
 """
 
 from __future__ import annotations

@@ -12,9 +12,10 @@ Everything the workbench writes lives under one output folder (``--out``; defaul
 =====================  ============================================================
 
 Nothing is written outside the output folder: every path handed out here resolves inside ``root`` (a case or
-study name that would leave it raises :class:`OutputError`), and :func:`check_output_folder` refuses an output
-folder that is a file, has a missing or unwritable parent, or is read-only, with one line (exit code 2) before
-anything is written.
+study name that would leave it, or a symlink in its place, raises :class:`OutputError`), and
+:func:`check_output_folder` refuses an output folder that is a file, has a missing or unwritable parent, is
+read-only, or is ``/``, the home folder, the checkout, above it or in its source (:func:`check_location`), with one
+line (exit code 2) before anything is written. What may be replaced or overwritten inside it: :mod:`workbench.owned`.
 """
 
 from __future__ import annotations
