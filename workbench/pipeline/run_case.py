@@ -25,7 +25,7 @@ from pathlib import Path
 from cases.schema import Case, Run, label_folder
 from workbench.atomic import atomic_dir, write_json, write_text
 from workbench.owned import ensure_dir, mark
-from workbench.paths import OutputPaths
+from workbench.paths import OutputError, OutputPaths
 from workbench.scenes import Outcome, scene_for
 from workbench.scenes.wiring import solve_run, step_printer
 
@@ -143,9 +143,15 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
     if ci and h_contact is None:
         h_contact = case.discretisation.ci_level or case.discretisation.h_contact
     out = paths.case(case.name)
+    refusal = None
     if comm.rank == 0:
-        ensure_dir(paths.mesh_cache, kind="mesh_cache")  # the workbench's own, or refused (OutputError)
-    comm.barrier()
+        try:
+            ensure_dir(paths.mesh_cache, kind="mesh_cache")  # the workbench's own, or refused
+        except OutputError as exc:
+            refusal = str(exc)
+    refusal = comm.bcast(refusal, root=0)  # every rank stops on rank 0's refusal (none waits for it)
+    if refusal:
+        raise OutputError(refusal)
     log: list[str] = []
     progress = _progress_printer(comm, log)
     progress(f"case {case.name}: {len(case.runs())} run(s), h_c = "
