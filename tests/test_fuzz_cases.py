@@ -28,8 +28,8 @@ import os
 from pathlib import Path
 
 import pytest
-from fuzz_support import changed, examples, one_error_line, outside_changes, snapshot, to_toml, tree
-from hypothesis import event, given
+from fuzz_support import SCALE, changed, examples, one_error_line, outside_changes, snapshot, to_toml, tree
+from hypothesis import event, given, seed
 from hypothesis import strategies as st
 
 import workbench.pipeline.run_case as run_case_module
@@ -217,7 +217,15 @@ SOLVE = st.fixed_dictionaries({
 })
 
 
+# ``make test``: the examples of 7402bd3 (the seed its derandomized profile drew from this test's source then), so
+# edits to the test body no longer change which solves run and its run time stays what it was (these 25 solves
+# dominate it); ``make fuzz`` draws at random.
+SOLVE_SEED = int("37107468925382963029803867238645320794018162172072685790136137065072582249500049233226800844088567"
+                 "403864732312067868")
+
+
 @examples(25)
+@(seed(SOLVE_SEED) if SCALE == 1 else (lambda test: test))
 @given(s=SOLVE)
 def test_real_runs_end_in_a_result_or_a_named_failure(s, tmp_path_factory, capsys, monkeypatch):
     sandbox = tmp_path_factory.mktemp("fuzz_solve")
