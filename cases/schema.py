@@ -51,12 +51,18 @@ __all__ = [
     "load_case",
     "CASE_NAME_RE",
     "MAX_ECHO",
+    "RESERVED_NAMES",
+    "label_folder",
 ]
 
 CASE_DIR = Path(__file__).resolve().parent
 
 # A case name names its output folder and its mesh-cache files: a slug, nothing path-like.
 CASE_NAME_RE = re.compile(r"[A-Za-z0-9_-]{1,64}")
+# Names the workbench gives its own folders and files under the output folder (``workbench.paths``): no case may
+# take one (its results folder would replace them). Compared case-insensitively.
+RESERVED_NAMES = ("mesh_cache", "analytic", "logs", "ci", "ci_report", "convergence", "stability", "bench",
+                  "validity", "report", "results", "faults", "vtk")
 MAX_LABEL = 64  # characters of a [[variant]] label (it names files: cut in file names, refused beyond)
 MAX_ECHO = 60  # characters of a value or key echoed in an error message
 # Near-incompressibility (fem.postprocess.LOCKING_NU: the solver's 'near-incompressible' warning starts there).
@@ -634,6 +640,17 @@ def _check_circle_reachable(run: Run, where: str) -> None:
                         f"(Hertz half-width {a:.4g} mm); allowed: half-width < radius/2 = {limit:.4g} mm")
 
 
+def label_folder(label: str) -> str:
+    """The folder (and file-name part) of a run label: ``vtk/<folder>/``, ``render_<folder>.png``.
+
+    ASCII letters, digits, ``-``, ``_`` and ``.`` are kept, every other character becomes ``_``, and a leading
+    ``.`` becomes ``_`` (never ``.``, ``..`` or a hidden name). Two labels of one case that map to the same
+    folder are refused by :func:`load_case`.
+    """
+    text = "".join(c if (c.isascii() and c.isalnum()) or c in "-_." else "_" for c in str(label))
+    return "_" + text[1:] if text.startswith(".") else text
+
+
 def load_case(path: str | Path) -> Case:
     """Load and validate a case file.
 
@@ -680,6 +697,10 @@ def load_case(path: str | Path) -> Case:
         field_ = "case.name" if "name" in head else "case.name (the file name)"
         raise CaseError(f"{where}: {field_} = {_r(name)} is not allowed; allowed: 1 to 64 letters, digits, '_' "
                         "or '-' (it names the output folder)")
+    if name.lower() in RESERVED_NAMES:
+        field_ = "[case] name" if "name" in head else "[case] name (the file name)"
+        raise CaseError(f"{where}: {field_} = {_r(name)} is reserved (the workbench's own folders and files under "
+                        f"--out: {', '.join(RESERVED_NAMES)}); allowed: any other name")
     for sec in _REQUIRED_SECTIONS:
         if sec not in raw:
             raise CaseError(f"{where}: [{sec}] is a required section and is missing")
@@ -726,6 +747,13 @@ def load_case(path: str | Path) -> Case:
     labels = [r.label for r in runs]
     if len(set(labels)) != len(labels):
         raise CaseError(f"{where}: variant labels must be unique; got {_r(labels)}")
+    folders: dict[str, int] = {}
+    for i, label in enumerate(labels):  # each run writes vtk/<folder>/: two labels must not share one
+        j = folders.setdefault(label_folder(label), i)
+        if j != i:
+            raise CaseError(f"{where}: variant[{i}].label = {_r(label)} and variant[{j}].label = {_r(labels[j])} "
+                            f"both name the run folder {_r(label_folder(label))}; allowed: labels that differ in "
+                            "their ASCII letters, digits, '-', '_' or '.' (other characters become '_')")
     for i, run in enumerate(runs):
         given = set(raw.get("geometry", {})) | set((variants[i] if variants else {}).get("geometry", {}))
         _check_used_geometry(run, given, f"{where}: variant[{i}]" if variants else where)

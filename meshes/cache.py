@@ -12,7 +12,7 @@ import os
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ["MeshFiles", "cache_key", "cache_paths", "atomic_write_json", "DEFAULT_CACHE_DIR"]
+__all__ = ["MeshFiles", "cache_key", "cache_paths", "atomic_write_json", "make_cache_dir", "DEFAULT_CACHE_DIR"]
 
 # The default of the standalone builders and `python -m meshes`: results/mesh_cache of this checkout, whatever the
 # working directory (the workbench passes its own output folder's cache).
@@ -59,6 +59,38 @@ def cache_paths(cache_dir, name: str, key: str) -> dict[str, Path]:
     """Paths of the cached files of one mesh."""
     base = Path(cache_dir) / f"{name}-{key}"
     return {ext: base.with_suffix("." + ext) for ext in ("msh", "xdmf", "h5", "json")}
+
+
+def make_cache_dir(cache_dir) -> Path:
+    """Create a missing cache folder with the workbench's ownership marker ``.workbench-owned`` (kind
+    ``mesh_cache``; the format of :mod:`workbench.owned`, which this layer cannot import), so the workbench
+    later recognises the folder as its own. A folder that exists is left as it is (the workbench checks it)."""
+    import datetime
+
+    cache_dir = Path(cache_dir)
+    if cache_dir.exists() or cache_dir.is_symlink():
+        return cache_dir
+    import shutil
+    import tempfile
+
+    cache_dir.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{cache_dir.name[:40]}.new.", dir=cache_dir.parent))
+    try:  # the folder appears with its marker in one rename (a concurrent build never sees it without)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o777 & ~umask)
+        now = datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
+        atomic_write_json(tmp / ".workbench-owned", {"tool": "contact-workbench", "kind": "mesh_cache",
+                                                     "created": now})
+        try:
+            os.rename(tmp, cache_dir)
+        except OSError:  # a concurrent build made it meanwhile
+            if not cache_dir.is_dir():
+                raise
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
+    return cache_dir
 
 
 def atomic_write_json(path, data: dict) -> Path:

@@ -7,7 +7,7 @@ import time
 from collections.abc import Callable
 
 from meshes._session import gmsh_model
-from meshes.cache import MeshFiles, atomic_write_json, cache_key, cache_paths
+from meshes.cache import MeshFiles, atomic_write_json, cache_key, cache_paths, make_cache_dir
 from meshes.fingerprint import mesh_fingerprint
 from meshes.output import extract_model, msh_to_xdmf, write_msh
 from meshes.portable import GmshInputs
@@ -49,6 +49,7 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
         return comm.bcast(result, root=0)
     params = {**params, "gmsh_input_floats_sha256": inputs.digest(), "perturb": inputs.perturb}
     input_sha = cache_key({"kind": kind, **params})  # every float handed to gmsh and every option of the builder
+    make_cache_dir(out_dir)  # with the workbench's marker (a folder that exists is left as it is)
     key = cache_key({"kind": kind, "version": BUILDER_VERSION, "write_xdmf": write_xdmf, **params})
     paths = cache_paths(out_dir, name, key)
     have = paths["msh"].exists() and paths["json"].exists()

@@ -7,11 +7,16 @@ Requirements (hypothesis, profiles in tests/fuzz_support.py; ``make test`` runs 
    unicode and path-like strings; keys deleted, unknown keys and sections added, variants added), or random text
    -- through ``workbench validate`` and ``workbench run`` (the solver replaced by a recorder: the CLI, the
    schema and the scene preflight are what is fuzzed) ends with exit 0, or exit 2 and exactly one ``error:``
-   line on stderr; never a traceback; nothing is written outside the output folder, and a previous result
-   folder stays byte-identical.
+   line on stderr (starting with ``error:``); never a traceback; nothing is written outside the output folder, a
+   previous result folder stays byte-identical, and a user's folders in the output folder (some named like
+   reserved names or a case) are never touched: the case names and variant labels drawn collide with them, with
+   reserved names (``logs``, ``mesh_cache`` ...), with the source tree and with each other (issue 23).
 2. Real solves (block scene, coarse mesh) over extreme but schema-valid magnitudes and every method: exit 0, 1
    with a named ``error: case ... failed`` line, or 2 with one line; never a traceback; on a failure (1 or 2)
    the previous results of the case stay byte-identical, and nothing is written outside the output folder.
+
+Every test snapshots (paths and SHA-256) the sandbox and, per example where a run can write or once around the
+module, the checkout (its files and ``results/``) and the working directory pytest started in.
 """
 
 from __future__ import annotations
@@ -19,17 +24,19 @@ from __future__ import annotations
 import dolfinx_solver  # noqa: F401
 
 import math
+import os
 from pathlib import Path
 
 import pytest
-from fuzz_support import changed, examples, one_error_line, to_toml, tree
-from hypothesis import event, given
+from fuzz_support import SCALE, changed, examples, one_error_line, outside_changes, snapshot, to_toml, tree
+from hypothesis import event, given, seed
 from hypothesis import strategies as st
 
 import workbench.pipeline.run_case as run_case_module
-from cases.schema import _SECTIONS
-from workbench.atomic import write_json
+from cases.schema import _SECTIONS, RESERVED_NAMES, label_folder, load_case
+from workbench.atomic import atomic_dir, write_json
 from workbench.cli import main
+from workbench.owned import is_owned
 
 BASE = {
     "case": {"name": "probe", "description": "fuzz"},
@@ -45,7 +52,13 @@ FIELDS = [("case", "name"), ("case", "description"), ("analytic", "predictions")
           ("tolerances", "rms")]
 FIELDS += [(sec, f) for sec, cls in _SECTIONS.items() if sec != "analytic" for f in cls.__dataclass_fields__]
 PATHLIKE = ["../../escaped", "sub/dir", "/abs/x", "..", ".", "a\\b", "x" * 300, "ü", "名前", "a b", "", "CON",
-            "-rf", "~", "$HOME", "a\x00b", "probe", "hertz_cylinder", "wedge", "concave", "particle", "mixed"]
+            "-rf", "~", "$HOME", "a\x00b", "probe", "hertz_cylinder", "wedge", "concave", "particle", "mixed",
+            # collisions (issue 23): reserved names, a user's folder, the source tree, a case-insensitive twin
+            "mesh_cache", "logs", "analytic", "ci", "report", "convergence", "Logs", "user_folder", "cases", "fem",
+            ".hidden", "other_case", "a/b", "a_b"]
+# variant labels: distinct, or colliding run folders ("a/b" and "a_b"), or path-like
+LABELS = [("a/b", "a_b"), ("..",), (".", ".."), ("ü", "é"), ("theta=pi/20", "theta_pi_20"), ("small", "convective"),
+          ("../../up",), ("x", "X")]
 MAGNITUDES = [0.0, -0.0, 1e300, -1e300, 1e-300, 5e-324, 1e308, 1e-12, 1e12, 1e6, 0.4999, 0.5, -1.0, 2**63, -(2**63)]
 SCALAR = st.one_of(
     st.booleans(),
@@ -63,6 +76,7 @@ MUTATION = st.one_of(
               VALUE),
     st.tuples(st.just("section"), st.tuples(st.sampled_from(list(BASE)), st.none()), st.one_of(st.none(), SCALAR)),
     st.tuples(st.just("variant"), st.sampled_from(FIELDS), VALUE),
+    st.tuples(st.just("labels"), st.tuples(st.none(), st.none()), st.sampled_from(LABELS)),
 )
 
 
@@ -85,6 +99,8 @@ def _mutate(muts) -> dict:
                 doc.pop(sec, None)
             else:
                 doc[sec] = value
+        elif kind == "labels":
+            doc["variant"] = [{"label": label} for label in value]
         elif kind == "variant" and sec not in ("case", "analytic", "tolerances"):
             doc.setdefault("variant", [])
             if isinstance(doc["variant"], list):
@@ -93,10 +109,27 @@ def _mutate(muts) -> dict:
 
 
 def _previous(out: Path) -> None:
-    """Results of an earlier run: the case's own folder and another case's."""
+    """Results of an earlier run (the case's own folder and another case's, as the workbench writes them), and a
+    user's own folders in the output folder (no marker: never to be touched)."""
     for name in ("probe", "other_case"):
-        write_json(out / name / "metrics.json", {"case": name, "previous": True})
-        (out / name / "report.md").write_text(f"# {name}\nprevious\n")
+        with atomic_dir(out / name) as stage:
+            write_json(stage / "metrics.json", {"case": name, "previous": True})
+            (stage / "report.md").write_text(f"# {name}\nprevious\n")
+    for name in ("convergence", "user_folder", "analytic"):  # not logs or mesh_cache: every run would be refused
+        (out / name).mkdir()
+        (out / name / "notes.txt").write_text(f"the user's notes in {name}\n")
+
+
+USER_FOLDERS = ("results/convergence", "results/user_folder", "results/analytic")
+
+
+@pytest.fixture(scope="module", autouse=True)
+def checkout_untouched():
+    """The checkout and the working directory pytest started in: snapshotted before the first example, and
+    byte-identical after every example that runs (and after all the examples of ``validate``)."""
+    outside_changes(reset=True)
+    yield
+    assert outside_changes() == set()
 
 
 @pytest.fixture
@@ -108,6 +141,8 @@ def recorder(monkeypatch):
         calls.append(case.name)
         with run_case_module.atomic_dir(paths.case(case.name)) as stage:
             write_json(stage / "metrics.json", {"case": case.name, "pass": True})
+            for run in case.runs():  # as the real run: one VTK folder per run, named by its label
+                write_json(stage / "vtk" / label_folder(run.label) / "frames.json", {"label": run.label})
         return {"pass": True}
 
     monkeypatch.setattr(run_case_module, "run_case", fake_run_case)
@@ -138,17 +173,20 @@ def test_any_case_file_validates_to_ok_or_one_line(text, tmp_path, capsys):
 
 @examples(150)
 @given(muts=st.lists(MUTATION, min_size=1, max_size=3))
-def test_any_case_file_runs_or_is_refused_in_one_line(muts, tmp_path_factory, recorder, capsys):
+def test_any_case_file_runs_or_is_refused_in_one_line(muts, tmp_path_factory, recorder, capsys, monkeypatch):
     sandbox = tmp_path_factory.mktemp("fuzz_run")
+    monkeypatch.chdir(sandbox)  # the working directory of the run: in the snapshot
     out = sandbox / "results"
     _previous(out)
     p = sandbox / "probe.toml"
     p.write_text(to_toml(_mutate(muts)), encoding="utf-8", errors="surrogateescape")
-    before = tree(sandbox)
+    before = snapshot(sandbox)
     recorder.clear()
     code = main(["run", str(p), "--out", str(out)])
     _, err = capsys.readouterr()
-    diff = changed(before, tree(sandbox))
+    event(f"exit {code}")
+    assert outside_changes() == set()
+    diff = {os.path.relpath(d, sandbox) for d in changed(before, snapshot(sandbox))}
     assert code in (0, 2), (code, err)
     if code == 2:
         assert one_error_line(err), err
@@ -156,9 +194,13 @@ def test_any_case_file_runs_or_is_refused_in_one_line(muts, tmp_path_factory, re
     else:
         assert err == "" and len(recorder) == 1, err
         name = recorder[0]
-        assert all(d.startswith(f"results/{name}") for d in diff), diff  # only the case's own folder
+        assert name.lower() not in RESERVED_NAMES, name  # never the workbench's own folders
+        assert all(d == f"results/{name}" or d.startswith(f"results/{name}/") for d in diff), diff  # its own folder
+        assert is_owned(out / name, kinds=("case",))
+        vtk = sorted((out / name / "vtk").iterdir())  # one folder per run: labels never share one, none escapes
+        assert len([v for v in vtk if v.is_dir()]) == len(load_case(p).runs()), vtk
         assert name == "probe" or not any(d.startswith("results/probe") for d in diff)
-    assert not any(d.startswith("results/other_case") for d in diff)
+    assert not any(d.startswith(("results/other_case", *USER_FOLDERS)) for d in diff), diff
 
 
 # --- real solves ---------------------------------------------------------------------------------------------
@@ -175,10 +217,19 @@ SOLVE = st.fixed_dictionaries({
 })
 
 
+# ``make test``: the examples of 7402bd3 (the seed its derandomized profile drew from this test's source then), so
+# edits to the test body no longer change which solves run and its run time stays what it was (these 25 solves
+# dominate it); ``make fuzz`` draws at random.
+SOLVE_SEED = int("37107468925382963029803867238645320794018162172072685790136137065072582249500049233226800844088567"
+                 "403864732312067868")
+
+
 @examples(25)
+@(seed(SOLVE_SEED) if SCALE == 1 else (lambda test: test))
 @given(s=SOLVE)
-def test_real_runs_end_in_a_result_or_a_named_failure(s, tmp_path_factory, capsys):
+def test_real_runs_end_in_a_result_or_a_named_failure(s, tmp_path_factory, capsys, monkeypatch):
     sandbox = tmp_path_factory.mktemp("fuzz_solve")
+    monkeypatch.chdir(sandbox)  # the working directory of the run: in the snapshot
     out = sandbox / "results"
     _previous(out)
     doc = {k: dict(v) for k, v in BASE.items()}
@@ -192,14 +243,15 @@ def test_real_runs_end_in_a_result_or_a_named_failure(s, tmp_path_factory, capsy
     doc["analytic"] = {"predictions": ["wedge" if s["indenter"] == "wedge" else "hertz"]}
     p = sandbox / "probe.toml"
     p.write_text(to_toml(doc))
-    before = tree(sandbox)
+    before = snapshot(sandbox)
     try:
         code = main(["run", str(p), "--out", str(out)])
     except SystemExit as exc:  # run_case ends a failed run with SystemExit(1) after its one-line message
         code = exc.code
     stdout, err = capsys.readouterr()
     event(f"exit {code}")
-    diff = changed(before, tree(sandbox))
+    assert outside_changes() == set()
+    diff = {os.path.relpath(d, sandbox) for d in changed(before, snapshot(sandbox))}
     assert code in (0, 1, 2), (code, err)
     assert "Traceback" not in err, err
     if code == 2:
@@ -212,4 +264,4 @@ def test_real_runs_end_in_a_result_or_a_named_failure(s, tmp_path_factory, capsy
     # only the case's folder, the mesh cache and (on a failure) its log are written, all inside the output folder
     allowed = ("results/probe", "results/.probe", "results/mesh_cache", "results/logs")
     assert all(d.startswith(allowed) for d in diff), diff
-    assert not any(d.startswith("results/other_case") for d in diff)
+    assert not any(d.startswith(("results/other_case", *USER_FOLDERS)) for d in diff), diff

@@ -1,11 +1,29 @@
-"""Property-based fuzzing of the command line (issue 15): any arguments end in exit 0, or exit 2 with one line.
+"""Property-based fuzzing of the command line (issues 15, 23, 28): any arguments end in exit 0, or exit 2 with one
+line, and nothing the workbench did not write is ever changed.
 
 Requirement (``make test``: 300 examples, ``make fuzz``: 3000): ``workbench`` with a random subcommand and random
 options and values (numbers, NaN/inf, unicode, path-like case names and ``--out`` folders, among them a file, a
-folder under a file, a missing parent and, when one can be made, a read-only folder) returns 0, or 2 with exactly
-one ``error:`` line on stderr; never a traceback; nothing is written outside the output folder it was given, and
-a previous result folder stays byte-identical. The computing steps are replaced by recorders that write where the
-real ones would (inside ``paths.case`` / the output folder), so what is fuzzed is the argument handling.
+folder under a file, a missing parent and a folder no file can be created in) returns 0, or 2 with exactly one
+line on stderr that starts with ``error:``; never a traceback.
+
+Collisions (issue 23): each example plants some of a user's own files and folders in the output folder (a folder
+named like a real case, ``logs``, ``analytic``, ``ci``, ``report.md``, ``ci_report.html``, results of an older
+workbench, a ``mesh_cache`` that is a symlink out of it) and writes a case file whose ``[case] name`` and variant
+labels collide with them, with reserved names, with the source tree, or with each other; ``--out`` and
+``WORKBENCH_RESULTS`` take the checkout, its ``cases/``, the folder above it, the home folder, a user's folder, or
+the folder holding the case file. The checkout they take is a copy of its layout in the sandbox (the guards are
+pointed at it, and ``HOME`` at a sandbox folder), so a guard that fails can never write into the real checkout
+or home; ``/`` is left to ``tests/test_output_safety.py``, with a case file the schema refuses after the guard.
+Before and after each command the sandbox, the checkout (its files and
+``results/``) and the working directory pytest started in are snapshotted (paths and SHA-256): on exit 2 nothing
+changed anywhere; on exit 0 every change lies in a part of the output folder the workbench owned (its marker) and
+that it owned before the run, never in a parent of ``--out``; a previous result folder stays byte-identical
+unless its own case ran.
+
+The computing steps are replaced by recorders that write where the real ones would, with the real writers
+(``atomic_dir``, ``write_root_text``): what is fuzzed is the argument handling and the ownership checks. Nothing is
+mounted: as root, the folder no file can be created in is a procfs folder; the read-only tmpfs is tested by
+``tests/test_output_safety.py`` in a private mount namespace.
 """
 
 from __future__ import annotations
@@ -14,20 +32,39 @@ import os
 from pathlib import Path
 
 import pytest
-from fuzz_support import changed, examples, one_error_line, tree
+from fuzz_support import changed, examples, one_error_line, outside_changes, owned_change, ownership, snapshot
 from hypothesis import event, given
 from hypothesis import strategies as st
+from probe_cases import PROBE_BLOCK
 
+import workbench.paths as paths_module
 import workbench.pipeline.ci as ci_module
 import workbench.pipeline.run_case as run_case_module
 import workbench.reports.summary as summary_module
-from workbench.atomic import atomic_dir, write_json
+from cases.schema import RESERVED_NAMES, label_folder
+from workbench.atomic import atomic_dir, write_json, write_root_text, write_text
 from workbench.cli import main
+from workbench.owned import ensure_dir, make_dirs
 
 CASE_ARGS = ["hertz_cylinder", "wedge", "no_such_case", "../../escaped", "sub/dir", "/etc/passwd", "x" * 300, "ü",
-             "", "-", "--", "probe.toml", "cases/wedge.toml", "../cases/hertz_cylinder.toml", "..", "."]
+             "", "-", "--", "probe.toml", "cases/wedge.toml", "../cases/hertz_cylinder.toml", "..", ".",
+             "case.toml", "case.toml", "proj/probe.toml", "out/previous/c.toml", "twin.toml"]
 OUT_ARGS = ["out", "out/sub", "../out2", "../../out3", "a file", "a file/x", "missing/parent/x", "readonly",
-            "readonly/new", "/dev/null/x", "ü/ñ", "x" * 300, "", "."]
+            "readonly/new", "/dev/null/x", "ü/ñ", "x" * 300, "", ".",
+            # collisions: the source tree (a copy of its layout in the sandbox, see _plant), the home folder, a user's
+            # folders, the folder holding a case file
+            "@checkout", "@checkout/cases", "@checkout/fem/new", "@checkout/..", "@checkout/.git", "@checkout/results",
+            "~", "~/new", "out/hertz_cylinder", "out/previous", "out/logs", "out/mesh_cache", "proj", "out"]
+# [case] name of the generated case file: fine, reserved, a user's folder, a source folder, not a path component
+NAMES = ["probe", "probe", "previous", "hertz_cylinder", "proj", "wedge", "mesh_cache", "analytic", "logs", "ci",
+         "report", "convergence", "validity", "Logs", "cases", "fem", "workbench", "results", ".hidden", "a/b", "..",
+         "-", "x" * 65]
+# variant labels of the generated case file: distinct, colliding folders, path-like
+LABELS = [(), ("a/b", "a_b"), ("..",), (".", ".."), ("x", "x"), ("ü", "é"), ("theta=pi/20", "theta_pi_20"),
+          ("small", "convective"), ("../../up",), ("a" * 64,)]
+# a user's own files and folders planted in the sandbox (each example plants some)
+USER = ("case_dir", "logs_dir", "report", "ci_report", "analytic", "mesh_link", "ci_dir", "old_results",
+        "owned_report", "proj")
 NUMBERS = st.one_of(st.floats(allow_nan=True, allow_infinity=True).map(repr), st.integers().map(str),
                     st.sampled_from(["0", "1", "0.1", "1.5", "-1", "nan", "inf", "1e300", "abc", ""]))
 OPTION = st.one_of(
@@ -39,14 +76,27 @@ OPTION = st.one_of(
 )
 ANY = st.tuples(st.sampled_from(["run", "validate", "mesh", "report", "ci", "list", "bogus", "", "--out"]),
                 st.lists(OPTION, max_size=4))
-# mostly well-formed: a subcommand, a real case and an output folder (good or bad), maybe --h-contact
-WELL_FORMED = st.tuples(
-    st.sampled_from(["run", "validate", "mesh", "report", "ci"]),
-    st.tuples(st.tuples(st.sampled_from(["hertz_cylinder", "wedge", "concave_symmetric"]), st.none()),
-              st.tuples(st.just("--out"), st.sampled_from(OUT_ARGS)),
-              st.tuples(st.just("--h-contact"), NUMBERS)).map(list).flatmap(
-                  lambda opts: st.lists(st.sampled_from(opts), min_size=1, max_size=3, unique=True)))
-ARGV = st.one_of(ANY, WELL_FORMED)
+# mostly well-formed: a subcommand, a case (a real one or a generated file) where it takes one, maybe a second case,
+# an output folder (good or bad), maybe --h-contact
+_CASE = st.sampled_from(["hertz_cylinder", "wedge", "case.toml", "case.toml", "proj/probe.toml", "out/previous/c.toml"])
+_MORE = st.lists(st.one_of(
+    st.tuples(st.just("--out"), st.one_of(st.sampled_from(["out", "out2", "out/previous", "~/new"]),
+                                        st.sampled_from(OUT_ARGS))),
+    st.tuples(st.just("--h-contact"), st.sampled_from(["0.2", "0.5", "1e-300", "nan"])),
+    st.tuples(st.sampled_from(["twin.toml", "concave_symmetric"]), st.none())), max_size=2, unique_by=lambda t: t[0])
+WELL_FORMED = st.builds(
+    lambda cmd, case, more: (cmd, ([(case, None)] if cmd in ("run", "validate", "mesh") else [])
+                             + [m for m in more if cmd == "run" or m[0] == "--out"]),
+    st.sampled_from(["run", "run", "run", "validate", "mesh", "report", "report", "ci"]), _CASE, _MORE)
+ARGV = st.one_of(ANY, WELL_FORMED, WELL_FORMED)
+SCENE = st.fixed_dictionaries({
+    "name": st.one_of(st.sampled_from(NAMES), st.sampled_from(RESERVED_NAMES)),
+    "twin": st.sampled_from(NAMES[:6]),  # the [case] name of a second case file (twin.toml)
+    "labels": st.sampled_from(LABELS),
+    "user": st.lists(st.sampled_from(USER), unique=True, max_size=3),
+    "results": st.one_of(st.just("out"), st.sampled_from(["out", "home", "checkout", "cases", "above", "out/logs",
+                                                          "proj"])),
+})
 
 
 def _flatten(cmd, opts) -> list[str]:
@@ -56,34 +106,50 @@ def _flatten(cmd, opts) -> list[str]:
     return argv
 
 
+def _case_text(name: str, labels: tuple[str, ...]) -> str:
+    text = PROBE_BLOCK.replace('name = "probe"', f"name = {name!r}".replace("'", '"'))
+    return text + "".join(f'[[variant]]\nlabel = "{lb}"\n' for lb in labels)
+
+
 @pytest.fixture(scope="module")
 def readonly_dir(tmp_path_factory):
-    """A real read-only folder: a read-only tmpfs (root ignores mode bits), else mode 0555 (non-root)."""
-    d = tmp_path_factory.mktemp("ro")
+    """A folder in which no file can be created, without mounting anything: mode 0555 (non-root; root ignores mode
+    bits), else a procfs folder (root)."""
     if os.geteuid() == 0:
-        if os.system(f"mount -t tmpfs -o ro,size=64k tmpfs {d} 2>/dev/null") != 0:
-            pytest.skip("running as root without permission to mount a read-only tmpfs: no read-only folder to test")
-        yield d
-        os.system(f"umount {d}")
-    else:
-        d.chmod(0o555)
-        yield d
-        d.chmod(0o755)
+        yield Path("/proc/self/fdinfo")
+        return
+    d = tmp_path_factory.mktemp("ro")
+    d.chmod(0o555)
+    yield d
+    d.chmod(0o755)
 
 
 @pytest.fixture
 def recorders(monkeypatch):
+    calls = []
+
     def fake_run_case(case, *, paths, h_contact=None, ci=False):
+        calls.append(case.name)
+        ensure_dir(paths.mesh_cache, kind="mesh_cache")
         with atomic_dir(paths.case(case.name)) as stage:
             write_json(stage / "metrics.json", {"case": case.name})
+            for run in case.runs():
+                write_json(stage / "vtk" / label_folder(run.label) / "frames.json", {})
         return {"pass": True}
 
     def fake_run_ci(paths):
-        write_json(paths.ci.root / "ci_summary.json", {})
+        ensure_dir(paths.ci.root, kind="ci", kinds=("ci",))
+        write_root_text(paths.root, "ci_report.md", "# CI\n")
+        write_root_text(paths.root, "ci_report.html", "<p>CI</p>\n")
         return 0
 
     def fake_summary(root):
-        write_json(Path(root) / "summary.json", {})
+        write_root_text(root, "report.md", "# summary\n")
+        write_root_text(root, "report.html", "<p>summary</p>\n")
+        for twin in ("analytic/convective.md", "ci_report.md"):
+            if (Path(root) / twin).is_file():
+                html = Path(root) / twin.replace(".md", ".html")
+                (write_root_text(root, html.name, "<p/>") if html.parent == Path(root) else write_text(html, "<p/>"))
 
     monkeypatch.setattr(run_case_module, "run_case", fake_run_case)
     monkeypatch.setattr(ci_module, "run_ci", fake_run_ci)
@@ -94,38 +160,107 @@ def recorders(monkeypatch):
         return {}
 
     monkeypatch.setattr(case_mesh_module, "case_meshes", fake_case_meshes)
+    return calls
+
+
+SOURCE = ("cases", "fem", "meshes", "analytic", "workbench", "tests", "docs", ".git")
+
+
+def _plant(sandbox: Path, work: Path, scene: dict) -> None:
+    """The user's files and folders, a previous result of the workbench, the case files, and the layout of the
+    checkout (its source folders, each with a file; the guards are pointed at it, so a failing guard can never
+    write into the real checkout, which is snapshotted all the same)."""
+    for name in SOURCE:
+        (sandbox / "checkout" / name).mkdir(parents=True)
+        (sandbox / "checkout" / name / "source.py").write_text(f"# {name}\n")
+    (sandbox / "checkout" / "README.md").write_text("the project\n")
+    out = work / "out"
+    out.mkdir(parents=True)
+    make_dirs(out / "previous", kind="case")  # a previous result (the workbench's)
+    (out / "previous" / "metrics.json").write_text('{"previous": true}\n')
+    (work / "a file").write_text("not a folder\n")
+    (work / "notes.txt").write_text("the user's notes in the working directory\n")
+    (sandbox / "home").mkdir()
+    (sandbox / "home" / "notes.txt").write_text("home\n")
+    user = set(scene["user"])
+    files = {"case_dir": ["hertz_cylinder/notes.txt"], "logs_dir": ["logs/notes.txt"],
+             "report": ["report.md", "report.html"], "ci_report": ["ci_report.html"],
+             "analytic": ["analytic/convective.md", "analytic/convective.html"], "ci_dir": ["ci/notes.txt"],
+             "old_results": ["wedge/metrics.json"]}
+    for key, rels in files.items():
+        if key in user:
+            for rel in rels:
+                (out / rel).parent.mkdir(parents=True, exist_ok=True)
+                (out / rel).write_text(f"the user's {rel}\n")
+    if "mesh_link" in user:
+        (sandbox / "elsewhere").mkdir()
+        (sandbox / "elsewhere" / "keep.msh").write_text("a mesh outside --out\n")
+        (out / "mesh_cache").symlink_to(sandbox / "elsewhere")
+    if "owned_report" in user and "report" not in user:
+        write_root_text(out, "report.md", "# an earlier summary\n")
+    (work / "case.toml").write_text(_case_text(scene["name"], scene["labels"]))
+    (work / "twin.toml").write_text(_case_text(scene["twin"], ()))
+    (out / "previous" / "c.toml").write_text(_case_text("previous", ()))
+    if "proj" in user:
+        (work / "proj").mkdir()
+        (work / "proj" / "probe.toml").write_text(_case_text("proj", ()))
+        (work / "proj" / "notes.txt").write_text("beside the case file\n")
+
+
+@pytest.fixture(scope="module", autouse=True)
+def outside_snapshot():
+    """The checkout and the working directory pytest started in, snapshotted before the first example."""
+    outside_changes(reset=True)
 
 
 @examples(300)
-@given(argv=ARGV)
-def test_any_command_line_ends_in_0_or_one_line_2(argv, tmp_path_factory, readonly_dir, recorders, capsys,
+@given(argv=ARGV, scene=SCENE)
+def test_any_command_line_ends_in_0_or_one_line_2(argv, scene, tmp_path_factory, readonly_dir, recorders, capsys,
                                                   monkeypatch):
     sandbox = tmp_path_factory.mktemp("fuzz_cli")
     work = sandbox / "a" / "b"
-    (work / "out" / "previous").mkdir(parents=True)
-    write_json(work / "out" / "previous" / "metrics.json", {"previous": True})
-    (work / "a file").write_text("not a folder\n")
+    _plant(sandbox, work, scene)
     (work / "readonly").symlink_to(readonly_dir)
     monkeypatch.chdir(work)
-    monkeypatch.setenv("WORKBENCH_RESULTS", str(work / "out"))
+    monkeypatch.setenv("HOME", str(sandbox / "home"))
+    checkout = sandbox / "checkout"
+    monkeypatch.setattr(paths_module, "PROJECT_ROOT", checkout)
+    results = {"out": work / "out", "home": sandbox / "home", "checkout": checkout, "cases": checkout / "cases",
+               "above": sandbox, "out/logs": work / "out" / "logs", "proj": work / "proj"}[scene["results"]]
+    monkeypatch.setenv("WORKBENCH_RESULTS", str(results))
+    argv = (argv[0], [(o, v.replace("@checkout", str(checkout)) if v else v) for o, v in argv[1]])
     args = _flatten(*argv)
-    before = tree(sandbox)
+    outs = [v for o, v in argv[1] if o == "--out" and v is not None]
+    root = (work / Path(outs[-1]).expanduser()).resolve() if outs else results.resolve()
+    before, own_before = snapshot(sandbox), ownership(root)
+    recorders.clear()
     try:
         code = main(args)
     except SystemExit as exc:  # argparse: --help (0) or a usage error (2)
         code = exc.code
     out, err = capsys.readouterr()
     event(f"exit {code}")
+    event(f"{args[0] if args else '-'}: exit {code}")
+    if args[:1] == ["run"] and "case.toml" in args:
+        event(f"run case.toml named {'a reserved name' if scene['name'].lower() in RESERVED_NAMES else 'otherwise'}: "
+              f"exit {code}")
     assert code in (0, 2), (args, code, err)
     assert "Traceback" not in err
-    diff = changed(before, tree(sandbox))
+    diff = changed(before, snapshot(sandbox)) | outside_changes()  # the checkout and start directory: never
     if code == 2:
         assert one_error_line(err), (args, err)
         assert not diff, (args, diff)
-    # every write lies inside the output folder the command used (--out, else $WORKBENCH_RESULTS)
-    outs = [v for o, v in argv[1] if o == "--out" and v is not None]
-    root = (work / outs[-1]).resolve() if outs else (work / "out").resolve()
-    for d in diff:
-        p = (sandbox / d).resolve()
-        assert p == root or root in p.parents or p in root.parents, (args, d)
-    assert not any(d.startswith("a/b/out/previous") for d in diff), diff
+        return
+    assert not [n for n in recorders if n.lower() in RESERVED_NAMES], recorders  # no case takes a reserved name
+    # a run that wrote used an output folder that is not the home folder, the checkout, above it or in its source
+    if diff:
+        home = (sandbox / "home").resolve()
+        inside = checkout in root.parents and root.relative_to(checkout).parts[0] != "results"
+        assert not (root in (home, checkout) or root in checkout.parents or inside), (args, scene, root)
+    # every change lies in a part of the output folder the workbench owns (and owned before), never above it
+    own_after = ownership(root)
+    bad = sorted(d for d in diff if not owned_change(d, root, own_before, own_after))
+    assert not bad, (args, scene, bad)
+    previous = work / "out" / "previous"
+    if "previous" not in recorders and root != previous and previous not in root.parents:
+        assert not any(d.startswith(str(previous)) for d in diff), diff

@@ -36,8 +36,10 @@ def test_every_markdown_report_has_a_clean_html_twin():
 
 
 def test_study_page_embeds_its_plots_and_rebuilds_the_summary(tmp_path):
-    study = tmp_path / "stability"
-    study.mkdir()
+    from workbench.owned import make_dirs
+
+    tmp_path = make_dirs(tmp_path / "results")  # an output folder the workbench made (the summary is rebuilt there)
+    study = make_dirs(tmp_path / "stability")
     (study / "report.md").write_text("# Stability\n\n| a | b |\n|---|---|\n| **1** | 2 |\n")
     plots = []
     for name in ("method.png", "incompressible.png"):

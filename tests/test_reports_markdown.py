@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import re
 
+from workbench.atomic import write_text
 from workbench.reports.markdown import fmt, markdown_to_html
 from workbench.reports.summary import write_summary
 
@@ -89,8 +90,7 @@ def test_links_to_markdown_reports_can_point_at_their_html_twins():
 
 
 def test_summary_links_html_twins_and_renders_convective_table(tmp_path):
-    (tmp_path / "analytic").mkdir()
-    (tmp_path / "analytic" / "convective.md").write_text(CONVECTIVE_MD)
+    write_text(tmp_path / "analytic" / "convective.md", CONVECTIVE_MD)  # as the study writes it: a marked folder
     write_summary(tmp_path)
     assert "[Analytic convective table](analytic/convective.md)" in (tmp_path / "report.md").read_text()
     summary = (tmp_path / "report.html").read_text()

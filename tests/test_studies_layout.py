@@ -82,5 +82,5 @@ def test_convective_table_from_another_directory(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "workbench", "convective-table", "--out", str(out)], cwd=tmp_path,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
-    assert sorted(p.name for p in out.iterdir()) == ["convective.json", "convective.md"]
+    assert sorted(p.name for p in out.iterdir()) == [".workbench-owned", "convective.json", "convective.md"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["ct"]

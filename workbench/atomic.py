@@ -1,6 +1,8 @@
 """Atomic file output: write to a temporary file in the same folder, then rename.
 
-An interrupted run never leaves a half-written file, and the previous results stay intact.
+An interrupted run never leaves a half-written file, and the previous results stay intact. Every folder made
+here carries the workbench's marker (:mod:`workbench.owned`), and :func:`atomic_dir` replaces only a folder that
+carries it.
 """
 
 from __future__ import annotations
@@ -14,7 +16,9 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-__all__ = ["atomic_dir", "atomic_path", "write_json", "write_text"]
+from workbench.owned import check_dir, check_root_file, is_owned, make_dirs, mark, record_root_files
+
+__all__ = ["atomic_dir", "atomic_path", "write_json", "write_root_text", "write_text"]
 
 
 @contextlib.contextmanager
@@ -27,7 +31,7 @@ def atomic_path(path: str | Path, *, suffix: str | None = None) -> Iterator[Path
             the extension, like matplotlib's ``savefig``, still work).
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    make_dirs(path.parent)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix or path.suffix, dir=path.parent)
     os.close(fd)
     tmp = Path(tmp)
@@ -43,6 +47,18 @@ def write_text(path: str | Path, text: str) -> None:
     """Write ``text`` to ``path`` atomically."""
     with atomic_path(path) as tmp:
         tmp.write_text(text)
+
+
+def write_root_text(root: str | Path, name: str, text: str) -> Path:
+    """Write ``root/name`` (a file at the top of an output folder, e.g. ``report.md``) atomically, after
+    :func:`workbench.owned.check_root_file` (only a file the workbench wrote is overwritten) and recording it in
+    ``root``'s marker."""
+    root = Path(root)
+    make_dirs(root)
+    check_root_file(root, name)
+    record_root_files(root, [name])
+    write_text(root / name, text)
+    return root / name
 
 
 def write_json(path: str | Path, data: Any) -> None:
@@ -63,23 +79,27 @@ def _json_default(obj: Any) -> Any:
 
 
 @contextlib.contextmanager
-def atomic_dir(path: str | Path) -> Iterator[Path]:
-    """Yield a fresh staging folder; on success it replaces ``path`` as a whole.
+def atomic_dir(path: str | Path, *, kind: str = "case") -> Iterator[Path]:
+    """Yield a fresh staging folder (with the marker of ``kind``); on success it replaces ``path`` as a whole.
 
     The old folder is kept until the new one is complete, so an interrupted run (an exception,
-    SIGINT) leaves the previous results of the case intact.
+    SIGINT) leaves the previous results of the case intact. ``path`` must not exist or be a workbench folder
+    of the same ``kind`` (else :class:`workbench.paths.OutputError`, before anything is written).
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    check_dir(path, kinds=(kind,))
+    make_dirs(path.parent)
     _restore_interrupted_swap(path)
     stage = Path(tempfile.mkdtemp(prefix=f".{path.name}.staging.", dir=path.parent))
     os.chmod(stage, 0o777 & ~_umask())  # mkdtemp makes 0700; a results folder is an ordinary one (umask)
     try:
+        mark(stage, kind=kind)
         yield stage
         old = path.with_name(f".{path.name}.old.{os.getpid()}")
         # The swap is two renames: SIGINT/SIGTERM are held back between them, so a signal never leaves the
         # case without its folder (a kill -9 there is repaired by the next run: _restore_interrupted_swap).
         with _signals_blocked():
+            check_dir(path, kinds=(kind,))  # still the workbench's (never replace what appeared meanwhile)
             had_old = path.exists()
             if had_old:
                 os.replace(path, old)
@@ -127,12 +147,13 @@ def _alive(pid: int) -> bool:
 def _restore_interrupted_swap(path: Path) -> None:
     """A previous run killed between the two renames of :func:`atomic_dir` left ``.<name>.old.<pid>`` and no
     ``<name>``: put the previous results back."""
-    if path.exists():
+    if path.exists() or path.is_symlink():
         for old in path.parent.glob(f".{path.name}.old.*"):  # left by a process that died after the swap
             pid = old.name.rsplit(".", 1)[-1]
-            if pid.isdigit() and not _alive(int(pid)):
+            if pid.isdigit() and not _alive(int(pid)) and is_owned(old):
                 shutil.rmtree(old, ignore_errors=True)
         return
-    olds = sorted(path.parent.glob(f".{path.name}.old.*"), key=lambda p: p.stat().st_mtime)
+    olds = sorted((p for p in path.parent.glob(f".{path.name}.old.*") if is_owned(p)),
+                  key=lambda p: p.stat().st_mtime)
     if olds:
         os.replace(olds[-1], path)

@@ -17,8 +17,9 @@ Subcommands:
 the working directory. A study's own options follow its name (``workbench convergence --help``).
 
 Exit codes: 0 success; 1 a run failed or a tolerance was violated (or the disk filled: named, previous results
-intact); 2 bad input (case file, arguments or an unusable ``--out``), reported as one line naming the field and
-the allowed range, before anything is written; 130 interrupted (SIGINT or SIGTERM: previous results intact).
+intact); 2 bad input (case file, arguments or an unusable ``--out``, or a folder or file in the way that the
+workbench did not write: :mod:`workbench.owned`), reported as one line naming the field and the allowed range,
+before anything is written; 130 interrupted (SIGINT or SIGTERM: previous results intact).
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ import signal
 import sys
 from pathlib import Path
 
+from workbench.owned import check_dir, check_run_outputs, ensure_dir
 from workbench.paths import check_output_folder, default_paths
 
 __all__ = ["main", "STUDIES"]
@@ -78,6 +80,31 @@ def _study_out_options(argv: list[str]) -> list[tuple[str, str]]:
             elif a.startswith(opt + "="):
                 out.append((opt, a.split("=", 1)[1]))
     return out
+
+
+# study -> its folder under the output folder (the default of its --out)
+STUDY_FOLDERS = {"convergence": "convergence", "stability": "stability", "bench": "bench",
+                 "convective-table": "analytic", "validity": "validity"}
+
+
+def _root_option(out) -> str:
+    """How the output folder was given, for its error lines."""
+    import os
+
+    return "--out" if out is not None else "WORKBENCH_RESULTS" if os.environ.get("WORKBENCH_RESULTS") else \
+        "output folder"
+
+
+def _check_study_folders(study: str, given: dict[str, str]) -> None:
+    """A study writes into its folder and the mesh cache: each the workbench's own or new (issue 23)."""
+    paths = default_paths()
+    if "--out" not in given or "--mesh-cache" not in given:
+        check_output_folder(paths.root, option=_root_option(None))
+    out = Path(given["--out"]).expanduser() if "--out" in given else paths.study(STUDY_FOLDERS[study])
+    check_dir(out)
+    if study != "convective-table":
+        check_dir(Path(given["--mesh-cache"]).expanduser() if "--mesh-cache" in given else paths.mesh_cache,
+                  kinds=("mesh_cache",))
 
 
 def _folder(text: str) -> Path:
@@ -154,6 +181,7 @@ def _main(argv: list[str] | None = None) -> int:
                 if not folder.strip():
                     raise CaseError(f"{opt}: an empty folder name is not allowed; allowed: a folder path")
                 check_output_folder(folder, option=opt)
+            _check_study_folders(argv[0], dict(_study_out_options(argv[1:])))
             return int(importlib.import_module(STUDIES[argv[0]]).main(argv[1:]) or 0)
         except CaseError as exc:
             print(f"error: {_one_line(exc)}", file=sys.stderr)
@@ -163,7 +191,7 @@ def _main(argv: list[str] | None = None) -> int:
     try:
         paths = default_paths(args.out) if hasattr(args, "out") else None
         if args.command in ("run", "mesh", "report", "ci"):
-            check_output_folder(paths.root, option="--out" if args.out is not None else "output folder")
+            check_output_folder(paths.root, option=_root_option(args.out))
     except CaseError as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return 2
@@ -190,6 +218,7 @@ def _main(argv: list[str] | None = None) -> int:
                 preflight(case)
             for case in cases:
                 paths.case(case.name)  # inside the output folder (the case name is a slug: never fails)
+            check_run_outputs(paths, cases)  # only the workbench's own folders are replaced (issue 23)
             from workbench.pipeline.run_case import run_case
 
             ok = True
@@ -204,15 +233,17 @@ def _main(argv: list[str] | None = None) -> int:
                 ok &= bool(metrics is None or metrics.get("pass", False))
             return 0 if ok else 1
         if args.command == "report":
-            from workbench.reports.summary import write_summary
+            from workbench.reports.summary import check_summary_writes, write_summary
 
+            check_summary_writes(paths.root)  # nothing over a file or into a folder the workbench did not write
             write_summary(paths.root)
             return 0
         if args.command == "mesh":
             return _mesh(args, paths, load_case)
         if args.command == "ci":
-            from workbench.pipeline.ci import run_ci
+            from workbench.pipeline.ci import check_ci_writes, run_ci
 
+            check_ci_writes(paths)
             return run_ci(paths)
     except CaseError as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
@@ -232,6 +263,9 @@ def _mesh(args, paths, load_case) -> int:
     if args.h_contact is not None and not 0 < args.h_contact <= 1:
         raise CaseError(f"--h-contact = {args.h_contact} is out of range; allowed: 0 < h_contact <= 1")
     case = load_case(args.case)
+    check_run_outputs(paths, [case])
+    ensure_dir(paths.case(case.name), kind="case")
+    ensure_dir(paths.mesh_cache, kind="mesh_cache")
     try:
         files = case_meshes(case, mesh_cache=paths.mesh_cache, comm=MPI.COMM_WORLD, h_contact=args.h_contact,
                             stats_dir=paths.case(case.name))

@@ -12,9 +12,10 @@ Everything the workbench writes lives under one output folder (``--out``; defaul
 =====================  ============================================================
 
 Nothing is written outside the output folder: every path handed out here resolves inside ``root`` (a case or
-study name that would leave it raises :class:`OutputError`), and :func:`check_output_folder` refuses an output
-folder that is a file, has a missing or unwritable parent, or is read-only, with one line (exit code 2) before
-anything is written.
+study name that would leave it, or a symlink in its place, raises :class:`OutputError`), and
+:func:`check_output_folder` refuses an output folder that is a file, has a missing or unwritable parent, is
+read-only, or is ``/``, the home folder, the checkout, above it or in its source (:func:`check_location`), with one
+line (exit code 2) before anything is written. What may be replaced or overwritten inside it: :mod:`workbench.owned`.
 """
 
 from __future__ import annotations
@@ -26,16 +27,52 @@ from pathlib import Path
 
 from cases.schema import CASE_DIR, MAX_ECHO, CaseError
 
-__all__ = ["DEFAULT_ROOT", "OutputError", "OutputPaths", "check_output_folder", "default_paths"]
+__all__ = ["DEFAULT_ROOT", "PROJECT_ROOT", "OutputError", "OutputPaths", "check_location", "check_output_folder",
+           "default_paths", "show"]
 
 
 class OutputError(CaseError):
     """The output folder cannot be used, or a path would leave it (one line; the CLI exits 2)."""
 
 
-def _show(path) -> str:
+def show(path, limit: int = MAX_ECHO) -> str:
+    """``path`` as text for one-line messages: at most ``limit`` characters, cut in the middle (its start and its
+    last component stay readable)."""
     text = str(path)
-    return text if len(text) <= MAX_ECHO else text[:MAX_ECHO - 3] + "..."
+    if len(text) <= limit:
+        return text
+    head = limit // 3
+    return text[:head] + "..." + text[len(text) - (limit - head - 3):]
+
+
+_show = show
+PROJECT_ROOT = CASE_DIR.parent
+"""The checkout (the folder holding ``cases/``, ``fem/``, ...): no output folder may hold it or lie in its source."""
+
+
+def check_location(root: str | Path, *, option: str = "--out") -> None:
+    """Refuse an output folder that is ``/``, the home folder, the checkout, a folder above it, or inside one of
+    its source folders (``cases/``, ``fem/``, ``.git`` ...; ``results/`` of the checkout is allowed).
+
+    Raises:
+        OutputError: one line naming the option, the folder and why.
+    """
+    where = Path(root).expanduser().resolve()
+    project = PROJECT_ROOT.resolve()
+    why = None
+    if where == Path(where.anchor):
+        why = "is the root of the file system"
+    elif where == Path.home().resolve():
+        why = "is the home folder"
+    elif where == project or where in project.parents:
+        why = f"holds the project's source (the checkout {show(project)})"
+    elif project in where.parents:
+        top = where.relative_to(project).parts[0]
+        if top != "results" and (project / top).exists():
+            why = f"lies in the project's source folder {show(project / top)}"
+    if why:
+        raise OutputError(f"{option} {show(root)}: {why}; allowed: a folder of its own, e.g. results/ of the "
+                          "checkout (the default) or a new folder elsewhere")
 
 
 def _writable(folder: Path) -> bool:
@@ -51,13 +88,15 @@ def _writable(folder: Path) -> bool:
 def check_output_folder(root: str | Path, *, option: str = "--out") -> Path:
     """Refuse an output folder that cannot be used, before anything is written.
 
-    Allowed: an existing writable folder, or a new folder whose parent is an existing writable folder.
+    Allowed: an existing writable folder, or a new folder whose parent is an existing writable folder; never
+    ``/``, the home folder or the checkout's source (:func:`check_location`).
 
     Raises:
         OutputError: one line naming the option, the folder and what is wrong.
     """
     root = Path(root).expanduser()
     try:
+        check_location(root, option=option)
         if root.exists() or root.is_symlink():
             if not root.is_dir():
                 raise OutputError(f"{option} {_show(root)}: is not a folder (a file is in the way); "
@@ -72,8 +111,8 @@ def check_output_folder(root: str | Path, *, option: str = "--out") -> Path:
         if not _writable(parent):
             raise OutputError(f"{option} {_show(root)}: its parent {_show(parent)} is read-only; allowed: a new "
                               "folder inside an existing writable folder")
-    except OSError as exc:  # e.g. a name too long for the file system
-        raise OutputError(f"{option} {_show(root)}: cannot be used: {exc.strerror or exc}") from None
+    except (OSError, RuntimeError) as exc:  # e.g. a name too long for the file system, a symlink loop
+        raise OutputError(f"{option} {_show(root)}: cannot be used: {getattr(exc, 'strerror', None) or exc}") from None
     return root.resolve()
 
 DEFAULT_ROOT = CASE_DIR.parent / "results"
@@ -103,6 +142,9 @@ class OutputPaths:
 
     def inside(self, path: str | Path) -> Path:
         """``path`` (relative to root, or absolute) resolved, refused unless it lies inside root."""
+        if (self.root / path).is_symlink():
+            raise OutputError(f"{show(self.root / path, 160)} is a symlink (the workbench follows none out of its "
+                              "output folder); nothing was written or deleted: move it away or choose another --out")
         p = (self.root / path).resolve()
         if p == self.root or self.root not in p.parents:
             raise OutputError(f"{_show(path)}: resolves to {_show(p)}, outside the output folder {_show(self.root)}; "

@@ -18,13 +18,24 @@ import time
 from collections.abc import Sequence
 
 from cases import case_names, load_case
-from workbench.atomic import write_text
+from workbench.atomic import write_root_text
+from workbench.owned import check_dir, check_root_file, check_run_outputs, ensure_dir
 from workbench.paths import OutputPaths
 from workbench.reports.markdown import markdown_to_html
 
-__all__ = ["CI_CASES_ENV", "ci_cases", "run_ci"]
+__all__ = ["CI_CASES_ENV", "check_ci_writes", "ci_cases", "run_ci"]
 
 CI_CASES_ENV = "WORKBENCH_CI_CASES"
+
+
+def check_ci_writes(paths: OutputPaths, cases: Sequence[str] | None = None) -> None:
+    """Refuse (:class:`workbench.paths.OutputError`, one line) before ``workbench ci`` writes anything over a file or
+    into a folder the workbench did not write: ``ci_report.{md,html}``, ``<out>/ci/`` and every case folder, the
+    mesh cache and the logs below it."""
+    for name in ("ci_report.md", "ci_report.html"):
+        check_root_file(paths.root, name)
+    check_dir(paths.ci.root, kinds=("ci",))
+    check_run_outputs(paths.ci, [load_case(entry) for entry in ci_cases(cases)])
 
 
 def ci_cases(cases: Sequence[str] | None = None) -> list[str]:
@@ -41,9 +52,10 @@ def run_ci(paths: OutputPaths, *, cases: Sequence[str] | None = None) -> int:
     case cannot hide the others)."""
     results = paths.root
     ci_root = paths.ci.root
+    check_ci_writes(paths, cases)  # refuse before anything runs or is written (issue 23)
+    ensure_dir(ci_root, kind="ci", kinds=("ci",))
     rows, ok = [], True
     selected = [(entry, load_case(entry)) for entry in ci_cases(cases)]  # all validated before any runs
-    results.mkdir(parents=True, exist_ok=True)  # a new --out (checked by the CLI): the runs' --out is inside it
     for entry, case in selected:
         name = case.name
         level = case.discretisation.ci_level or case.discretisation.h_contact
@@ -76,7 +88,7 @@ def run_ci(paths: OutputPaths, *, cases: Sequence[str] | None = None) -> int:
             f"**{len(rows) - len(failing)} of {len(rows)} cases PASS** ({'PASS' if ok else 'FAIL'}).", "",
             *failing, *([""] if failing else [])]
     lines = head + lines + ["", f"Overall: **{'PASS' if ok else 'FAIL'}**", ""]
-    write_text(results / "ci_report.md", "\n".join(lines))
-    write_text(results / "ci_report.html", markdown_to_html("\n".join(lines), title="CI report"))
+    write_root_text(results, "ci_report.md", "\n".join(lines))
+    write_root_text(results, "ci_report.html", markdown_to_html("\n".join(lines), title="CI report"))
     print("\n".join(lines))
     return 0 if ok else 1

@@ -22,9 +22,10 @@ import time
 import traceback
 from pathlib import Path
 
-from cases.schema import Case, Run
+from cases.schema import Case, Run, label_folder
 from workbench.atomic import atomic_dir, write_json, write_text
-from workbench.paths import OutputPaths
+from workbench.owned import ensure_dir, mark
+from workbench.paths import OutputError, OutputPaths
 from workbench.scenes import Outcome, scene_for
 from workbench.scenes.wiring import solve_run, step_printer
 
@@ -145,6 +146,15 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
     if ci and h_contact is None:
         h_contact = case.discretisation.ci_level or case.discretisation.h_contact
     out = paths.case(case.name)
+    refusal = None
+    if comm.rank == 0:
+        try:
+            ensure_dir(paths.mesh_cache, kind="mesh_cache")  # the workbench's own, or refused
+        except OutputError as exc:
+            refusal = str(exc)
+    refusal = comm.bcast(refusal, root=0)  # every rank stops on rank 0's refusal (none waits for it)
+    if refusal:
+        raise OutputError(refusal)
     log: list[str] = []
     progress = _progress_printer(comm, log)
     progress(f"case {case.name}: {len(case.runs())} run(s), h_c = "
@@ -158,8 +168,11 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
                 frames: list = []
                 outcome = run_one(run, name=case.name, mesh_cache=paths.mesh_cache, comm=comm, progress=progress,
                                   frames=frames)
-                write_vtk(outcome.result, stage / "vtk" / _safe(run.label), frames=frames,
+                write_vtk(outcome.result, stage / "vtk" / label_folder(run.label), frames=frames,
                           record_at=getattr(run.loading, "d", None))
+                if comm.rank == 0:
+                    mark(stage / "vtk", kind="vtk")
+                    mark(stage / "vtk" / label_folder(run.label), kind="vtk")
                 outcomes.append(outcome)
             budget, subsurface = ({}, None) if ci or h_contact is not None else case_error_budget(
                 case, progress=progress,
@@ -199,10 +212,6 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
     return metrics
 
 
-def _safe(label: str) -> str:
-    return "".join(c if c.isalnum() or c in "-_." else "_" for c in label)
-
-
 class _null_dir:
     def __enter__(self):
         return None
@@ -214,7 +223,7 @@ class _null_dir:
 def _fail(case: Case, paths: OutputPaths, log: list[str], exc: BaseException, comm) -> None:
     if comm.rank != 0:
         return
-    path = paths.logs / f"{case.name}.log"
+    path = ensure_dir(paths.logs, kind="logs") / f"{case.name}.log"
     text = "\n".join(log) + "\n\n" + "".join(traceback.format_exception(exc))
     write_text(path, text)
     first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__

@@ -18,6 +18,7 @@ import json
 import pprint
 from pathlib import Path
 
+from cases.schema import label_folder
 from workbench.atomic import write_text
 from workbench.reports.renders import colour_range, view_window
 
@@ -167,8 +168,7 @@ def view_script(case_dir: Path) -> str | None:
     mfile = case_dir / "metrics.json"
     metrics = json.loads(mfile.read_text()) if mfile.is_file() else None
     labels = [r.get("label") for r in (metrics or {}).get("runs", [])]
-    order = {name: k for k, name in enumerate("".join(c if c.isalnum() or c in "-_." else "_" for c in lb)
-                                              for lb in labels)}
+    order = {name: k for k, name in enumerate(label_folder(lb) for lb in labels if lb is not None)}
     runs.sort(key=lambda p: order.get(p.name, len(order)))
     settings = {r.name: _settings(r, metrics) for r in runs}
     return _TEMPLATE.format(case=(metrics or {}).get("case", case_dir.name), runs=", ".join(settings),

@@ -42,7 +42,16 @@ def publish_study(folder: Path, plots: list[Path], *, report: str = "report.md")
     write_text(md_file, md)
     page = md_file.with_suffix(".html")
     write_text(page, markdown_to_html(md, title=folder.name, link_suffixes={".md": ".html"}))
+    from workbench.owned import read_marker
+    from workbench.paths import OutputError
     from workbench.reports.summary import write_summary
 
-    write_summary(folder.parent, case_reports=False)
+    # the summary is rebuilt only in a workbench output folder (a study's --out elsewhere writes nothing above it)
+    if read_marker(folder.parent) is None:
+        print(f"summary not rebuilt: {folder.parent} is not a workbench output folder (run `workbench report`)")
+        return page
+    try:
+        write_summary(folder.parent, case_reports=False)
+    except OutputError as exc:
+        print(f"summary not rebuilt: {exc}")
     return page

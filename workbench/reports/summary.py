@@ -15,11 +15,12 @@ import json
 from pathlib import Path
 
 from cases import case_names
-from workbench.atomic import write_text
+from workbench.atomic import write_root_text, write_text
+from workbench.owned import check_dir, check_root_file, record_root_files
 from workbench.reports.markdown import fmt, markdown_to_html
 
-__all__ = ["STUDY_REPORTS", "load_metrics", "failing_checks", "verdict_markdown", "summary_markdown",
-           "trust_markdown", "write_summary"]
+__all__ = ["STUDY_REPORTS", "check_summary_writes", "load_metrics", "failing_checks", "verdict_markdown",
+           "summary_markdown", "trust_markdown", "write_summary"]
 
 STUDY_REPORTS = ("convergence/report.md", "stability/report.md", "bench/report.md", "analytic/convective.md",
                  "validity/report.md", "ci_report.md")
@@ -222,6 +223,26 @@ def summary_markdown(results: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def check_summary_writes(results: Path, *, case_reports: bool = True) -> None:
+    """Refuse (:class:`workbench.paths.OutputError`, one line) before :func:`write_summary` writes anything into a
+    folder or over a file that the workbench did not write: the summary files at the top of ``results``, the
+    case folders whose reports it draws again, the study folders that get an HTML twin."""
+    results = Path(results)
+    for name in ("report.md", "report.html", "p_delta.png"):
+        check_root_file(results, name)
+    if case_reports:
+        for name in case_names():
+            if (results / name / "metrics.json").is_file() or (results / name).is_symlink():
+                check_dir(results / name)
+    for study in STUDY_REPORTS:
+        f = results / study
+        if f.is_file():
+            if f.parent == results:
+                check_root_file(results, f.with_suffix(".html").name)
+            else:
+                check_dir(f.parent)
+
+
 def write_summary(results: Path, *, case_reports: bool = True) -> None:
     """Write ``report.md`` and ``report.html`` in ``results``, and an HTML twin of each study report.
 
@@ -231,6 +252,7 @@ def write_summary(results: Path, *, case_reports: bool = True) -> None:
             (:func:`workbench.reports.case_report.write_case_reports`).
     """
     results = Path(results)
+    check_summary_writes(results, case_reports=case_reports)  # refuse before anything is written (issue 23)
     if case_reports:
         from workbench.reports.case_report import write_case_reports
 
@@ -250,16 +272,20 @@ def write_summary(results: Path, *, case_reports: bool = True) -> None:
                                              [r.P for r in TABLE1 if r.config == cfg])
                  for cfg, label in (("symmetrical", "symmetrical (P as printed: one patch)"),
                                     ("close_to_conformal", "close to conformal"))}
+        record_root_files(results, ["p_delta.png"])
         plot_load_indentation(curves, results / "p_delta.png", title="Load against indentation (our designs)",
                               reference=paper)
     md = summary_markdown(results)
-    write_text(results / "report.md", md)
+    write_root_text(results, "report.md", md)
     # the summary links the Markdown reports; its HTML twin links their HTML twins
-    write_text(results / "report.html", markdown_to_html(md, title="Contact workbench summary",
-                                                         link_suffixes={".md": ".html"}))
+    write_root_text(results, "report.html", markdown_to_html(md, title="Contact workbench summary",
+                                                             link_suffixes={".md": ".html"}))
     for study in STUDY_REPORTS:
         f = results / study
         if f.is_file():  # an HTML twin of each study report, so the summary's links work in a browser
-            write_text(f.with_suffix(".html"), markdown_to_html(f.read_text(), title=f.parent.name,
-                                                                link_suffixes={".md": ".html"}))
+            html = markdown_to_html(f.read_text(), title=f.parent.name, link_suffixes={".md": ".html"})
+            if f.parent == results:
+                write_root_text(results, f.with_suffix(".html").name, html)
+            else:
+                write_text(f.with_suffix(".html"), html)
     print(f"wrote {results / 'report.md'} and {results / 'report.html'}")

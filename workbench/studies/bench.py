@@ -72,6 +72,7 @@ from typing import Any
 import numpy as np
 
 from workbench.atomic import write_json, write_text
+from workbench.owned import ensure_dir
 from workbench.studies.config import BENCH_SECTIONS, SCALE_FAMILIES, BenchConfig, from_json, to_json
 from workbench.studies.rates import fit_exponent
 
@@ -905,6 +906,7 @@ def run_bench(cfg: BenchConfig | None = None, *, progress: Callable[[str], None]
     from mpi4py import MPI
 
     cfg = BenchConfig() if cfg is None else cfg
+    ensure_dir(cfg.cache_dir, kind="mesh_cache", kinds=("mesh_cache",))  # the workbench's own, or refused
     sections = cfg.sections
     comm = MPI.COMM_WORLD
     t0 = time.perf_counter()

@@ -52,6 +52,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from workbench.atomic import write_json, write_text
+from workbench.owned import ensure_dir
 from workbench.studies.config import ConvergenceConfig, to_json
 from workbench.studies.rates import fit_rate
 
@@ -269,6 +270,7 @@ def run_study(cfg: ConvergenceConfig | None = None, *, progress: Callable[[str],
     from cases import load_case
 
     cfg = ConvergenceConfig() if cfg is None else cfg
+    ensure_dir(cfg.cache_dir, kind="mesh_cache", kinds=("mesh_cache",))  # the workbench's own, or refused
     series_levels = {"case": [float(v) for v in cfg.levels], "ideal": [float(v) for v in cfg.ideal_levels]}
     repeats, n_finest = cfg.repeats, cfg.n_finest
     loaded = [load_case(c) for c in cfg.cases]  # validate all before running any

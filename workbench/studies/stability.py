@@ -43,6 +43,7 @@ from pathlib import Path
 from analytic import convective, materials, wedge
 from cases.schema import Discretisation, Geometry, Loading, Material, Run, Solver
 from workbench.atomic import write_json, write_text
+from workbench.owned import ensure_dir
 from workbench.paths import default_paths
 from workbench.scenes.base import LoadPath
 from workbench.scenes.block_theory import block_theory
@@ -400,6 +401,7 @@ def run_conformal(cfg: StabilityConfig | None = None, *, comm, progress) -> list
 def run_sweep(cfg: StabilityConfig | None = None, *, comm=None, progress=print) -> list[dict]:
     """Run the studies of ``cfg`` (default: all); returns one record per run, each with its ``status``."""
     cfg = StabilityConfig() if cfg is None else cfg
+    ensure_dir(cfg.cache_dir, kind="mesh_cache", kinds=("mesh_cache",))  # the workbench's own, or refused
     if comm is None:
         from mpi4py import MPI
 

@@ -41,6 +41,7 @@ import numpy as np
 from analytic import convective, halfplane, materials
 from workbench.atomic import write_json
 from workbench.error_budget import grid_study
+from workbench.owned import ensure_dir
 from workbench.studies.config import ValidityConfig, to_json
 
 __all__ = ["Task", "assemble", "claim_points", "finite_settings", "main", "point_theories", "run_study", "solve_task",
@@ -274,7 +275,7 @@ def run_study(cfg: ValidityConfig, *, progress=print) -> tuple[list[dict], list[
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     todo, skipped = tasks(cfg)
     cache = str(cfg.cache_dir)
-    Path(cache).mkdir(parents=True, exist_ok=True)
+    ensure_dir(cache, kind="mesh_cache", kinds=("mesh_cache",))  # the workbench's own, or refused
     meshes = {t.mesh_name: t for t in todo}
     timing = {}
     t0 = time.perf_counter()
