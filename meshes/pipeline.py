@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import json
+import os
 import time
 from collections.abc import Callable
 
+from meshes._child import run_in_child
 from meshes._session import gmsh_model
 from meshes.cache import MeshFiles, atomic_write_json, cache_key, cache_paths
 from meshes.output import extract_model, msh_to_xdmf, write_msh
@@ -49,14 +51,24 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
         cached = True
     else:
         t0 = time.perf_counter()
-        with gmsh_model(name) as gmsh:
-            contact_curves, window, groups = make(gmsh)
-            points, tri, edges = extract_model(gmsh, contact_curves=contact_curves)
-            write_msh(gmsh, paths["msh"])
+
+        def build(pid: int) -> tuple[dict, dict]:
+            with gmsh_model(name) as gmsh:
+                contact_curves, window, groups = make(gmsh)
+                points, tri, edges = extract_model(gmsh, contact_curves=contact_curves)
+                write_msh(gmsh, paths["msh"])
+            st = mesh_quality(points, tri, edges, window)
+            if extra_stats is not None:
+                st.update(extra_stats(points, tri, edges))
+            return st, groups
+
+        try:  # in a child process: a signal stops gmsh at once (see meshes._child)
+            stats, groups = run_in_child(build)
+        finally:
+            for tmp in paths["msh"].parent.glob(f".{paths['msh'].stem}.*.tmp.msh"):
+                if not _pid_alive(tmp.name.rsplit(".", 3)[-3]):  # left by a killed child
+                    tmp.unlink(missing_ok=True)
         t_mesh = time.perf_counter() - t0
-        stats = mesh_quality(points, tri, edges, window)
-        if extra_stats is not None:
-            stats.update(extra_stats(points, tri, edges))
         stats.update(kind=kind, key=key, params=params, mesh_time_s=t_mesh,
                      physical_groups={k: list(v) for k, v in groups.items()})
         if write_xdmf:
@@ -69,3 +81,16 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
         write_mesh_stats(stats, stats_dir)
     return MeshFiles(msh=paths["msh"], xdmf=paths["xdmf"] if write_xdmf else None, stats=stats, key=key,
                      cached=cached)
+
+
+def _pid_alive(pid: str) -> bool:
+    """Whether the process ``pid`` (a string from a file name) still runs (a non-number: treated as alive)."""
+    if not pid.isdigit():
+        return True
+    try:
+        os.kill(int(pid), 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True

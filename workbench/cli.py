@@ -18,7 +18,8 @@ the working directory. A study's own options follow its name (``workbench conver
 
 Exit codes: 0 success; 1 a run failed or a tolerance was violated (or the disk filled: named, previous results
 intact); 2 bad input (case file, arguments or an unusable ``--out``), reported as one line naming the field and
-the allowed range, before anything is written; 130 interrupted (SIGINT or SIGTERM: previous results intact).
+the allowed range, before anything is written; 130 interrupted by SIGINT, 143 by SIGTERM, at any stage (one line
+naming the stage; previous results intact, staging removed: :mod:`workbench.interrupt`).
 """
 
 from __future__ import annotations
@@ -58,14 +59,6 @@ def _one_line(message: str) -> str:
     """``message`` on one line, cut to MAX_MESSAGE characters."""
     text = " ".join(str(message).split())
     return text if len(text) <= MAX_MESSAGE else text[:MAX_MESSAGE - 3] + "..."
-
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM, raised like Ctrl-C so the same clean-up runs (staging removed, previous results intact)."""
-
-
-def _on_sigterm(signum, frame) -> None:
-    raise Terminated()
 
 
 def _study_out_options(argv: list[str]) -> list[tuple[str, str]]:
@@ -114,27 +107,35 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the CLI; returns the exit code (SIGTERM is handled like Ctrl-C while it runs: exit 130, the previous
-    results intact)."""
+    """Run the CLI; returns the exit code (SIGINT -> 130, SIGTERM -> 143 at any stage: one line, the previous
+    results intact; :mod:`workbench.interrupt`)."""
     import os
     import threading
+
+    from workbench import interrupt
 
     # PETSc would install its own SIGTERM/SIGINT handlers (an MPI_Abort, no clean-up): keep Python's.
     if "-no_signal_handler" not in os.environ.get("PETSC_OPTIONS", ""):
         os.environ["PETSC_OPTIONS"] = (os.environ.get("PETSC_OPTIONS", "") + " -no_signal_handler").strip()
     if threading.current_thread() is not threading.main_thread():
         return _main(argv)
-    previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    previous = interrupt.install()
+    interrupt.stage("start-up")
     try:
         return _main(argv)
-    except KeyboardInterrupt:
-        print("interrupted: nothing more written; previous results left intact", file=sys.stderr)
-        return 130
+    except BaseException as exc:  # noqa: BLE001 - after a signal, whatever native code made of it is an interrupt
+        signum = interrupt.received()
+        if signum is None and not isinstance(exc, KeyboardInterrupt):
+            raise
+        signum = signum or signal.SIGINT
+        print(interrupt.message(signum), file=sys.stderr)
+        return interrupt.exit_code(signum)
     finally:
-        signal.signal(signal.SIGTERM, previous)
         if argv is None:  # the program itself: its work is done, a signal now would only garble the exit code
             signal.signal(signal.SIGINT, signal.SIG_IGN)
             signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        else:
+            interrupt.restore(previous)
 
 
 def _main(argv: list[str] | None = None) -> int:
