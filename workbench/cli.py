@@ -170,8 +170,13 @@ def _main(argv: list[str] | None = None) -> int:
                 print(f"{name:22s} runs={len(case.runs())}  compares: {preds}\n{'':22s} {case.description}")
             return 0
         if args.command == "validate":
+            from workbench.pipeline.preflight import preflight
+            from workbench.pipeline.size_estimate import check_case_fits
+
             for name in args.cases:
                 case = load_case(name)
+                preflight(case)  # what `run` checks before meshing, `validate` checks too
+                check_case_fits(case)
                 print(f"{case.path.name}: ok ({len(case.runs())} run(s))")
             return 0
         if args.command == "run":
@@ -179,9 +184,11 @@ def _main(argv: list[str] | None = None) -> int:
                 raise CaseError(f"--h-contact = {args.h_contact} is out of range; allowed: 0 < h_contact <= 1")
             cases = [load_case(name) for name in args.cases]  # validate all before running any
             from workbench.pipeline.preflight import preflight
+            from workbench.pipeline.size_estimate import check_case_fits
 
             for case in cases:
                 preflight(case)
+                check_case_fits(case, h_contact=args.h_contact, ci=args.ci)  # before anything is meshed
             for case in cases:
                 paths.case(case.name)  # inside the output folder (the case name is a slug: never fails)
             from workbench.pipeline.run_case import run_case
@@ -226,6 +233,11 @@ def _mesh(args, paths, load_case) -> int:
     if args.h_contact is not None and not 0 < args.h_contact <= 1:
         raise CaseError(f"--h-contact = {args.h_contact} is out of range; allowed: 0 < h_contact <= 1")
     case = load_case(args.case)
+    from workbench.pipeline.size_estimate import check_run_fits
+
+    for run in case.runs(h_contact=args.h_contact):
+        check_run_fits(run, where=f"{case.path.name}: [{run.label}]",
+                       field="--h-contact" if args.h_contact is not None else "discretisation.h_contact")
     try:
         files = case_meshes(case, mesh_cache=paths.mesh_cache, comm=MPI.COMM_WORLD, h_contact=args.h_contact,
                             stats_dir=paths.case(case.name))

@@ -104,8 +104,10 @@ def run_one(run: Run, *, name: str, mesh_cache: Path, comm, progress=print, stat
     """Mesh, solve and compare one run through its scene (``solver_overrides``: extra solver keywords;
     ``frames``: a list that receives every converged step for the VTK time series)."""
     from workbench.mesh_io import read_mesh
+    from workbench.pipeline.size_estimate import check_run_fits
 
     scene = scene_for(run)
+    check_run_fits(run, where=f"{name} [{run.label}]", field="h_contact")  # studies too: refused before meshing
     interrupt.stage(f"meshing [{run.label}] of {name}")
     mesh = scene.mesh(run, name=name, mesh_cache=mesh_cache, comm=comm, stats_dir=stats_dir)
     progress(f"[{run.label}] {mesh.summary}")

@@ -175,6 +175,27 @@ class ConcaveMesh(NamedTuple):
     h_contact: float
 
 
+def concave_a_est(run: Run, *, lcps=None) -> float:
+    """The smallest expected patch half-width (mm), a ~ sqrt(R delta) at the first step with an overlap (the mesh
+    is sized from it); ValueError if no step brings the particle into contact."""
+    from analytic.designs import design
+
+    ld = run.loading
+    des = design(run.geometry.design)
+    a_est = math.inf
+    for i, d in enumerate(ld.d):
+        lcp = lcps[i] if lcps is not None else _lcp_at(des, d)
+        for pr in lcp.pairs:
+            if _plausible_overlap(pr):
+                a_est = min(a_est, math.sqrt(pr.relative_radius * pr.delta))
+        if math.isfinite(a_est):
+            break
+    if not math.isfinite(a_est):
+        raise ValueError(f"{run.label}: loading.d = {list(ld.d)} never brings the particle into contact "
+                         "(no overlapping plausible LCP pair); allowed: displacements that reach the body")
+    return a_est
+
+
 def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None) -> ConcaveMesh:
     """The (cached) mesh of a concave run, refined where the LCP predicts contact over the whole path."""
     from analytic.designs import design
@@ -183,17 +204,7 @@ def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path
     ld, disc = run.loading, run.discretisation
     des = design(run.geometry.design)
     lcps = [_lcp_at(des, d) for d in ld.d]
-    # Mesh size from the smallest expected patch: a ~ sqrt(R delta) at the first step with an overlap.
-    a_est = math.inf
-    for lcp in lcps:
-        for pr in lcp.pairs:
-            if _plausible_overlap(pr):
-                a_est = min(a_est, math.sqrt(pr.relative_radius * pr.delta))
-        if math.isfinite(a_est):
-            break
-    if not math.isfinite(a_est):
-        raise ValueError(f"{name}: loading.d = {list(ld.d)} never brings the particle into contact "
-                         "(no overlapping plausible LCP pair); allowed: displacements that reach the body")
+    a_est = concave_a_est(run, lcps=lcps)
     h_c = disc.h_contact * a_est
     files = build_concave_mesh(design=des, h_contact=h_c, growth=disc.growth, out_dir=mesh_cache, name=name,
                                comm=comm, stats_dir=stats_dir)
