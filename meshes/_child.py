@@ -27,11 +27,20 @@ class MeshChildError(RuntimeError):
 def run_in_child(fn: Callable[[int], Any]) -> Any:
     """``fn(child_pid)`` run in a forked child; returns its result or re-raises its exception here.
 
-    ``fn`` receives the child's pid (temporary file names use it). On any exception in the parent (SIGINT,
+    ``fn`` receives the child's pid (temporary file names use it). With other Python threads running (a
+    caller that is a thread pool), ``fn`` runs in this process instead (a fork could deadlock on their locks).
+    On any exception in the parent (SIGINT,
     SIGTERM) the child is killed and reaped before the exception propagates.
     """
+    import threading
+    import warnings
+
+    if threading.active_count() > 1:  # other Python threads may hold locks the child would wait for: in-process
+        return fn(os.getpid())
     r, w = os.pipe()
-    pid = os.fork()
+    with warnings.catch_warnings():  # native helper threads (MPI) hold no lock the child needs: it runs gmsh only
+        warnings.simplefilter("ignore", DeprecationWarning)
+        pid = os.fork()
     if pid == 0:  # child
         status = 0
         try:
