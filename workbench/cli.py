@@ -91,6 +91,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--h-contact", type=float, default=None, help="override h_c as a fraction of the half-width")
     r.add_argument("--ci", action="store_true", help="run at the case's ci_level")
     r.add_argument("--out", type=_folder, default=None, help="output folder (default: results/ of this checkout)")
+    r.add_argument("--dry-run", action="store_true",
+                   help="check everything a run checks before meshing (cases, sizes, memory), then stop")
     m = sub.add_parser("mesh", help="build the meshes of a case and print their statistics")
     m.add_argument("case", metavar="CASE")
     m.add_argument("--h-contact", type=float, default=None, help="h_c as a fraction of the half-width")
@@ -191,6 +193,10 @@ def _main(argv: list[str] | None = None) -> int:
                 check_case_fits(case, h_contact=args.h_contact, ci=args.ci)  # before anything is meshed
             for case in cases:
                 paths.case(case.name)  # inside the output folder (the case name is a slug: never fails)
+            if args.dry_run:
+                for case in cases:
+                    print(f"{case.path.name}: would run {len(case.runs())} run(s)")
+                return 0
             from workbench.pipeline.run_case import run_case
 
             ok = True
