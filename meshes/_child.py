@@ -37,6 +37,7 @@ def run_in_child(fn: Callable[[int], Any]) -> Any:
 
     if threading.active_count() > 1:  # other Python threads may hold locks the child would wait for: in-process
         return fn(os.getpid())
+    ppid = os.getpid()
     r, w = os.pipe()
     with warnings.catch_warnings():  # native helper threads (MPI) hold no lock the child needs: it runs gmsh only
         warnings.simplefilter("ignore", DeprecationWarning)
@@ -47,6 +48,7 @@ def run_in_child(fn: Callable[[int], Any]) -> Any:
             os.close(r)
             for s in (signal.SIGINT, signal.SIGTERM):
                 signal.signal(s, signal.SIG_DFL)
+            _die_with_parent(ppid)
             try:
                 res = ("ok", fn(os.getpid()))
             except BaseException as exc:  # noqa: BLE001 - handed to the parent
@@ -84,3 +86,15 @@ def run_in_child(fn: Callable[[int], Any]) -> Any:
     if kind == "err":
         raise value
     return value
+
+
+def _die_with_parent(ppid: int) -> None:
+    """Linux: the child gets SIGKILL when the parent dies (a SIGKILLed run leaves no gmsh behind)."""
+    try:
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL))  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+    if os.getppid() != ppid:  # the parent died before prctl
+        os._exit(1)
