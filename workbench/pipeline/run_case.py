@@ -22,7 +22,7 @@ import time
 import traceback
 from pathlib import Path
 
-from cases.schema import Case, Run
+from cases.schema import Case, CaseError, Run
 from workbench import interrupt
 from workbench.atomic import atomic_dir, write_json, write_text
 from workbench.paths import OutputPaths
@@ -200,6 +200,8 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
         raise  # the command line prints the one line and exits 130 / 143 (staging already removed)
     except OSError:
         raise  # e.g. ENOSPC: named by the command line
+    except CaseError:
+        raise  # bad input found late (a run that cannot fit): one line, exit 2
     except Exception as exc:  # noqa: BLE001 - any failure writes logs/<case>.log (the README's promise)
         if interrupt.received() is not None:  # e.g. petsc4py.PETSc.Error 101 made of the signal's exception
             raise interrupt.Interrupted(interrupt.received()) from None
