@@ -81,7 +81,7 @@ def _write(tmp_path: Path, text: str, name: str = "probe") -> Path:
 @pytest.mark.parametrize("edit, words", [
     ("[solver]\nkappa0 = 1e303\n", ["solver.kappa0", "1e+12"]),
     ("[solver]\ngamma0 = 1e303\n", ["solver.gamma0", "1e+12"]),
-    ("[solver]\nkappa0 = 1e-30\n", ["solver.kappa0", "0.001"]),
+    ("[solver]\nkappa0 = 1e-30\n", ["solver.kappa0", "1e-06"]),
     ("[tolerances]\np_max = inf\n", ["tolerances.p_max", "finite"]),
     ("[tolerances]\np_max = 1e400\n", ["tolerances.p_max", "finite"]),
     ("[tolerances]\np_max = 1e5\n", ["tolerances.p_max", "<= 10"]),
