@@ -205,3 +205,24 @@ def test_validate_accepts_implies_run_accepts_concave(tmp_path_factory, d, h):
     text = text.replace("d = [0.60, 0.80, 1.00]", f"d = {sorted(d)!r}")
     text = text.replace("h_contact = 0.05", f"h_contact = {h!r}")
     _same_verdict(_write(tmp_path_factory.mktemp("c"), text, "concave_symmetric"))
+
+
+def test_study_levels_refused_before_any_mesh_through_the_cli(tmp_path):
+    code, err, _ = _cli("convergence", "--levels", "0.1", "0.01", "1e-6", "--out", str(tmp_path / "cv"),
+                        "--mesh-cache", str(tmp_path / "mc"))
+    line = _one_line(err)
+    assert code == 2 and "--levels = 1e-06" in line and "GiB" in line
+    assert not (tmp_path / "cv").exists() and not (tmp_path / "mc").exists()
+
+
+def test_every_run_one_refuses_a_run_that_cannot_fit(tmp_path):
+    """The last guard (studies, the error budget): run_one refuses before meshing."""
+    from mpi4py import MPI
+
+    from cases import CaseError, load_case
+    from workbench.pipeline.run_case import run_one
+
+    run = load_case("wedge").runs(h_contact=1e-7)[0]
+    with pytest.raises(CaseError, match="h_contact = 1e-07 needs about"):
+        run_one(run, name="wedge", mesh_cache=tmp_path / "mc", comm=MPI.COMM_WORLD)
+    assert not (tmp_path / "mc").exists()

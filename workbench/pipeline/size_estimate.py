@@ -213,3 +213,18 @@ def check_case_fits(case, *, h_contact: float | None = None, ci: bool = False,
             fine = replace(run, geometry=g, discretisation=replace(d, h_contact=min(d.budget_levels)))
             check_run_fits(fine, where=f"{where}: [{run.label}] error budget", field="discretisation.budget_levels",
                            available=available)
+
+
+def check_levels_fit(case_names, levels, *, study: str, field: str, available: float | None = None) -> None:
+    """A study's configuration: every run of every case at every level (h_c fractions) fits; else one line."""
+    from cases import load_case
+
+    available = mem_available() if available is None else available
+    for name in case_names:
+        case = load_case(name)
+        for level in levels:
+            if level is None:
+                continue
+            for run in case.runs(h_contact=level):
+                check_run_fits(run, where=f"{study}: {case.path.name} [{run.label}]", field=field,
+                               available=available)
