@@ -164,7 +164,7 @@ _EDITS = st.fixed_dictionaries({}, optional={
     "growth": st.floats(1.0, 2.5),
     "p_max_tol": st.one_of(_finite, st.just(1e400)),
 })
-_CONCAVE = st.lists(st.sampled_from([0.1, 0.6, 0.8, 1.0, 5.0, 100.0]), min_size=1, max_size=3)
+_CONCAVE = st.lists(st.sampled_from([0.1, 0.6, 0.8, 1.0, 5.0, 100.0, 1e300]), min_size=1, max_size=3)
 
 
 def _text(edits: dict) -> str:
@@ -226,3 +226,12 @@ def test_every_run_one_refuses_a_run_that_cannot_fit(tmp_path):
     with pytest.raises(CaseError, match="h_contact = 1e-07 needs about"):
         run_one(run, name="wedge", mesh_cache=tmp_path / "mc", comm=MPI.COMM_WORLD)
     assert not (tmp_path / "mc").exists()
+
+
+def test_concave_displacement_beyond_the_body_refused_quickly(tmp_path, capsys):
+    """d = 1e300 overflowed in the LCP and ran for more than a minute; now one line before any LCP."""
+    text = (ROOT / "cases" / "concave_symmetric.toml").read_text().replace("d = [0.60, 0.80, 1.00]", "d = [1e300]")
+    t0 = time.perf_counter()
+    assert main(["validate", str(_write(tmp_path, text, "concave_symmetric"))]) == 2
+    assert time.perf_counter() - t0 < 5
+    assert "goes beyond half the body's depth" in _one_line(capsys.readouterr().err)

@@ -175,6 +175,11 @@ class ConcaveMesh(NamedTuple):
     h_contact: float
 
 
+def _short(values: list) -> str:
+    text = repr(values)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 def concave_a_est(run: Run, *, lcps=None) -> float:
     """The smallest expected patch half-width (mm), a ~ sqrt(R delta) at the first step with an overlap (the mesh
     is sized from it); ValueError if no step brings the particle into contact."""
@@ -241,6 +246,13 @@ class ConcaveScene:
         from cases import CaseError
 
         des = design(run.geometry.design)
+        # The body is |y_bottom| deep (20 mm): a particle pushed through half of it is no contact problem, and
+        # the LCP of d = 1e300 overflowed and ran for more than a minute.
+        d_max = 0.5 * abs(float(des.body_box[2]))
+        if max(run.loading.d) > d_max:
+            raise CaseError(f"{where}: variant {run.label!r}: loading.d = {_short(list(run.loading.d))} goes beyond "
+                            f"half the body's depth; allowed: 0 < d <= {d_max:g} mm (Table 1 of the paper: "
+                            f"{min(des.table1_d)} ... {max(des.table1_d)} mm)")
         if not any(_plausible_overlap(pr) for pr in _lcp_at(des, run.loading.d[-1]).pairs):
             raise CaseError(
                 f"{where}: variant {run.label!r}: loading.d = {list(run.loading.d)!r} never brings the "
