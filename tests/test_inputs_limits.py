@@ -46,7 +46,10 @@ def test_tiny_h_contact_refused_before_meshing_through_the_cli(tmp_path, h):
     line = _one_line(err)
     assert code == 2 and "--h-contact" in line and "triangles" in line and "GiB" in line and "available" in line
     assert not (tmp_path / "out" / "hertz_cylinder").exists() and not (tmp_path / "out" / "mesh_cache").exists()
-    assert secs < 10, secs  # measured 0.7-1.0 s on the loaded 2-core machine (the interpreter's start included)
+    # measured 0.7-1.0 s in all (the interpreter's start included); against `validate` of the same case in this
+    # run, so a loaded machine does not decide: the estimate itself must add less than 3 s
+    _, _, base = _cli("validate", "hertz_cylinder")
+    assert secs < base + 3, (secs, base)
 
 
 def test_tiny_h_contact_in_a_case_file_refused_by_validate_and_run(tmp_path):
