@@ -106,6 +106,7 @@ def run_one(run: Run, *, name: str, mesh_cache: Path, comm, progress=print, stat
     from workbench.mesh_io import read_mesh
     from workbench.pipeline.size_estimate import check_run_fits
 
+    interrupt.check()  # a study that recorded a signal's PETSc.Error as a failed run stops at its next run
     scene = scene_for(run)
     check_run_fits(run, where=f"{name} [{run.label}]", field="h_contact")  # studies too: refused before meshing
     interrupt.stage(f"meshing [{run.label}] of {name}")
@@ -116,6 +117,7 @@ def run_one(run: Run, *, name: str, mesh_cache: Path, comm, progress=print, stat
     result = solve_run(run, mesh_data, scene.obstacle(run, mesh), scene.load_path(run, mesh),
                        case=f"{name}[{run.label}]", on_step=step_printer(progress, run.label), frames=frames,
                        **solver_overrides)
+    interrupt.check()
     for w in result.warnings:
         progress(f"[{run.label}] WARNING: {w}")
     interrupt.stage(f"post-processing [{run.label}] of {name}")
