@@ -40,6 +40,25 @@ def _emit(data: dict[str, Any], as_json: bool) -> None:
             print(f"{key:32s} {value}")
 
 
+# Magnitudes (--P, --E, --R, --E2, --E-star): every command forms products such as P / (E* R) and p0 b; inside
+# [1e-100, 1e100] they stay far from the double range (1e-308 ... 1e308) whatever the combination.
+MAGNITUDE = (1e-100, 1e100)
+# b/R of the circle and the parabola (b the classical half-width): the half-plane theory needs b/R < 1 (the
+# contact cannot be wider than the circle) and its solve needs b/R above round-off (E = 1e308 gave b/R = 1e-153
+# and hung for more than 60 s; R = 1e-300 gave b/R = 1e151 and a NaN answer with exit 0).
+B_OVER_R = (1e-8, 1.0)
+
+
+def _magnitudes(args: argparse.Namespace) -> None:
+    """The dimensional inputs within MAGNITUDE (one line naming the option)."""
+    lo, hi = MAGNITUDE
+    for attr, name in (("P", "--P"), ("E", "--E"), ("R", "--R"), ("E2", "--E2"), ("E_star", "--E-star")):
+        v = getattr(args, attr, None)
+        if v is not None and not (math.isfinite(v) and lo <= v <= hi):
+            raise ValueError(f"{name} = {v!r} out of range: need {lo:g} <= {name} <= {hi:g} (units of mm, N/mm, "
+                             "MPa; beyond that the theory's products leave the floating-point range)")
+
+
 def _body(args: argparse.Namespace) -> None:
     """Check the deformable body's --E and --nu under their command-line names (ValueError, one line)."""
     from analytic import materials
@@ -139,6 +158,12 @@ def _cmd_halfplane(args: argparse.Namespace) -> dict[str, Any]:
     if args.pressure is not None and not 2 <= args.pressure <= 100000:
         raise ValueError(f"--pressure = {args.pressure!r} out of range: need 2 <= --pressure <= 100000 (points)")
     E_star = materials.composite_modulus(args.E, args.nu)
+    if prof.kind in ("circle", "parabola"):
+        g = math.sqrt(4.0 * args.P / (math.pi * E_star * args.R))
+        if not B_OVER_R[0] <= g < B_OVER_R[1]:
+            raise ValueError(f"--P = {args.P!r}, --E = {args.E!r}, --R = {args.R!r} give a classical half-width b/R = "
+                             f"{g:.3g}; allowed: {B_OVER_R[0]:g} <= b/R < {B_OVER_R[1]:g} (the half-plane theory's "
+                             "range, above round-off)")
     sol = halfplane.solve_halfplane(prof, P=args.P, E_star=E_star, beta=args.beta)
     out: dict[str, Any] = {
         "profile": prof.kind,
@@ -272,6 +297,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = _build_parser()
     args = parser.parse_args(argv)
     try:
+        _magnitudes(args)
         data = args.func(args)
     except ValueError as exc:
         print(f"python -m analytic {args.command}: error: {str(exc).splitlines()[0]}", file=sys.stderr)

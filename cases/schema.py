@@ -97,6 +97,21 @@ BAND_QUANTITIES = {
     "concave": ("load_symmetry", "first_contact_width", "width_moment", "width_fem"),
 }
 MAX_ASPECT = 1e3
+# Penalty / Nitsche factors: the contact terms add kappa0 (gamma0) times the bulk stiffness entries of the contact
+# rows (kappa = kappa0 E / h integrated over an edge of length h ~ kappa0 E). LU resolves the bulk part of those
+# rows to about eps * kappa0 relative (eps = 2.2e-16): at the upper bound 1e12 that is 2e-4, beyond it the bulk is
+# lost in round-off (1e303 even overflows to inf in the compiled form). The stability study sweeps 1e0 ... 1e10.
+# Below 1e-6 the contact term is a millionth of the bulk stiffness: penetrations of 1e6 times the elastic approach,
+# no contact to speak of. Between 1e-6 and ~1 a Nitsche factor may lose coercivity and the solve diverges: a named
+# solver failure (exit 1, logs/<case>.log; tests/test_stability_faults.py provokes it with gamma0 = 1e-6).
+FACTOR_RANGE = (1e-6, 1e12)
+# Limits no real case reaches (the largest case file is 3 kB): refused in one line, so a huge file is never copied.
+MAX_FILE_BYTES = 1_000_000
+MAX_DESCRIPTION = 2000  # characters
+MAX_LIST = 100  # entries of levels, d, budget lists
+MAX_VARIANTS = 100
+MAX_TOLERANCE = 10.0  # a relative error of 1000 %: anything above checks nothing
+E_MIN = 1e-6  # MPa: the stability study's scale sweep starts at 1e-3
 # The finite-strain material models (material.model; "linear" is the small-strain one), docs/models.md.
 HYPERELASTIC_MODELS = ("saint_venant_kirchhoff", "neo_hookean")
 
@@ -344,7 +359,7 @@ _CHOICES = {
 }
 # (low, high, low_inclusive, high_inclusive, text)
 _RANGES = {
-    ("material", "E"): (0.0, E_MAX, False, True, f"E > 0 and E <= {E_MAX:g} (MPa)"),
+    ("material", "E"): (E_MIN, E_MAX, True, True, f"E > 0, {E_MIN:g} <= E <= {E_MAX:g} (MPa)"),
     ("material", "nu"): (-1.0, 0.5, False, False, "-1 < nu < 0.5"),
     ("geometry", "radius"): (0.0, math.inf, False, False, "radius > 0 (mm)"),
     ("geometry", "wedge_angle"): (0.0, math.pi / 2, False, False, "0 < wedge_angle < pi/2 (rad)"),
@@ -357,8 +372,10 @@ _RANGES = {
     ("discretisation", "h_contact"): (0.0, 1.0, False, True, "0 < h_contact <= 1 (fraction of half-width)"),
     ("discretisation", "ci_level"): (0.0, 1.0, False, True, "0 < ci_level <= 1"),
     ("discretisation", "growth"): (1.05, 2.0, True, True, "1.05 <= growth <= 2"),
-    ("solver", "kappa0"): (0.0, math.inf, False, False, "kappa0 > 0"),
-    ("solver", "gamma0"): (0.0, math.inf, False, False, "gamma0 > 0"),
+    ("solver", "kappa0"): (*FACTOR_RANGE, True, True, f"kappa0 > 0, {FACTOR_RANGE[0]:g} <= kappa0 <= "
+                           f"{FACTOR_RANGE[1]:g} (the LU solve resolves the bulk up to eps x kappa0)"),
+    ("solver", "gamma0"): (*FACTOR_RANGE, True, True, f"gamma0 > 0, {FACTOR_RANGE[0]:g} <= gamma0 <= "
+                           f"{FACTOR_RANGE[1]:g} (the LU solve resolves the bulk up to eps x gamma0)"),
 }
 _SEQ_RANGES = {
     ("loading", "d"): (0.0, math.inf, False, False, "every d > 0 (mm)"),
@@ -411,10 +428,16 @@ def _coerce(value: Any, annotation: str, where: str) -> Any:
             isinstance(v, bool) or not isinstance(v, int | float) for v in value
         ):
             raise CaseError(f"{where} = {_r(value)} has the wrong type; expected a list of numbers")
+        if len(value) > MAX_LIST:
+            raise CaseError(f"{where} has {len(value)} entries; allowed: at most {MAX_LIST}")
+        if not all(math.isfinite(v) for v in value):
+            raise CaseError(f"{where} = {_r(value)} must hold finite numbers")
         return tuple(float(v) for v in value)
     if base == "tuple[str,...]":
         if not isinstance(value, list | tuple) or any(not isinstance(v, str) for v in value):
             raise CaseError(f"{where} = {_r(value)} has the wrong type; expected a list of strings")
+        if len(value) > MAX_LIST:
+            raise CaseError(f"{where} has {len(value)} entries; allowed: at most {MAX_LIST}")
         return tuple(value)
     raise AssertionError(f"unhandled annotation {annotation}")  # pragma: no cover
 
@@ -669,18 +692,8 @@ def load_case(path: str | Path) -> Case:
         if not CASE_NAME_RE.fullmatch(str(path)):
             raise CaseError(f"{_r(str(path))}: no such case file; known cases: {known} (or a path to a .toml file)")
         p = CASE_DIR / f"{path}.toml"
-    try:
-        found = p.is_file()
-        text = p.read_text() if found else ""
-    except (OSError, UnicodeDecodeError) as exc:
-        raise CaseError(f"{_r(str(path))}: cannot read the case file: {_r(exc.strerror or str(exc))[1:-1]}") from None
-    if not found:
-        raise CaseError(f"{_r(str(path))}: no such case file; known cases: {known}")
     where = _r(p.name)[1:-1]
-    try:
-        raw = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseError(f"{where}: malformed TOML: {_r(str(exc).splitlines()[0])[1:-1]}") from None
+    raw = _read_toml(p, str(path), known)
     allowed_top = {"case", *_SECTIONS, "tolerances", "bands", "variant"}
     for key in raw:
         if key not in allowed_top:
@@ -715,12 +728,21 @@ def load_case(path: str | Path) -> Case:
         if key not in _TOLERANCE_KEYS:
             raise CaseError(f"{where}: tolerances.{_r(key)[1:-1]} is an unknown key; "
                            f"allowed keys: {', '.join(_TOLERANCE_KEYS)}")
-        if isinstance(value, bool) or not isinstance(value, int | float) or not value > 0:
-            raise CaseError(f"{where}: tolerances.{key} = {_r(value)} is out of range; allowed: a number > 0")
+        if (isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value)
+                or not 0 < value <= MAX_TOLERANCE):
+            raise CaseError(f"{where}: tolerances.{key} = {_r(value)} is out of range; allowed: a finite number "
+                            f"with 0 < {key} <= {MAX_TOLERANCE:g}")
         tol[key] = float(value)
     variants = raw.get("variant", [])
     if not isinstance(variants, list) or any(not isinstance(v, dict) for v in variants):
         raise CaseError(f"{where}: variant must be an array of tables ([[variant]])")
+    if len(variants) > MAX_VARIANTS:
+        raise CaseError(f"{where}: {len(variants)} [[variant]] tables; allowed: at most {MAX_VARIANTS}")
+    description = head.get("description", "")
+    if not isinstance(description, str) or len(description) > MAX_DESCRIPTION:
+        raise CaseError(f"{where}: case.description is not allowed ({type(description).__name__} of "
+                        f"{len(description) if isinstance(description, str) else '?'} characters); allowed: a string "
+                        f"of at most {MAX_DESCRIPTION} characters")
     for i, var in enumerate(variants):
         for key, value in var.items():
             if key == "label":
@@ -737,7 +759,7 @@ def load_case(path: str | Path) -> Case:
     case = Case(
         name=name,
         path=p,
-        description=str(head.get("description", "")),
+        description=description,
         tolerances=tol,
         bands=_parse_bands(raw.get("bands", {}), where),
         variants=tuple(copy.deepcopy(variants)),
@@ -760,6 +782,38 @@ def load_case(path: str | Path) -> Case:
     _check_predictions(case, runs, where)
     _check_bands(case, runs, where)
     return case
+
+
+def _read_toml(p: Path, given: str, known: str) -> dict:
+    """Read and parse a case file: one line for a folder, a missing file, a file too large, bytes that are not
+    UTF-8 (with the byte offset) or TOML nested too deeply. A UTF-8 byte-order mark is accepted."""
+    where = _r(p.name)[1:-1]
+    if p.is_dir():
+        raise CaseError(f"{_r(given)}: is a folder, not a case file; allowed: a .toml file or a case name ({known})")
+    try:
+        found = p.is_file()
+        size = p.stat().st_size if found else 0
+        if size > MAX_FILE_BYTES:
+            raise CaseError(f"{where}: the case file has {size} bytes; allowed: at most {MAX_FILE_BYTES} bytes")
+        data = p.read_bytes() if found else b""
+    except OSError as exc:
+        raise CaseError(f"{_r(given)}: cannot read the case file: {_r(exc.strerror or str(exc))[1:-1]}") from None
+    if not found:
+        raise CaseError(f"{_r(given)}: no such case file; known cases: {known}")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise CaseError(f"{where}: the case file is not UTF-8 text: byte 0x{data[exc.start]:02x} at byte offset "
+                        f"{exc.start}; allowed: a UTF-8 text file") from None
+    text = text.removeprefix("\ufeff")  # a byte-order mark (some editors write one): accepted
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(f"{where}: malformed TOML: {_r(str(exc).splitlines()[0])[1:-1]}") from None
+    except RecursionError:
+        raise CaseError(f"{where}: malformed TOML: arrays or tables nested too deeply; allowed: a case file "
+                        "(its deepest nesting is 3)") from None
+    return raw
 
 
 def _parse_bands(raw: Any, where: str) -> dict[str, tuple[str, ...]]:

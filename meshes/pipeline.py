@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import json
+import os
 import time
 from collections.abc import Callable
 
+from meshes._child import run_in_child
 from meshes._session import gmsh_model
 from meshes.cache import MeshFiles, atomic_write_json, cache_key, cache_paths, make_cache_dir
 from meshes.fingerprint import mesh_fingerprint
@@ -60,19 +62,30 @@ def build_cached(*, kind: str, params: dict, name: str, out_dir, make: Callable,
         cached = True
     else:
         t0 = time.perf_counter()
-        with gmsh_model(name) as gmsh:
-            contact_curves, window, groups = make(gmsh)
-            points, tri, edges = extract_model(gmsh, contact_curves=contact_curves)
-            facets = {g: _facet_count(gmsh, tag) for g, (dim, tag) in groups.items() if dim == 1}
-            write_msh(gmsh, paths["msh"])
+
+        def build(pid: int) -> tuple[dict, dict]:
+            with gmsh_model(name) as gmsh:
+                contact_curves, window, groups = make(gmsh)
+                points, tri, edges = extract_model(gmsh, contact_curves=contact_curves)
+                facets = {g: _facet_count(gmsh, tag) for g, (dim, tag) in groups.items() if dim == 1}
+                write_msh(gmsh, paths["msh"])
+            st = mesh_quality(points, tri, edges, window)
+            if extra_stats is not None:
+                st.update(extra_stats(points, tri, edges))
+            fp = mesh_fingerprint(points=points, triangles=tri, facets=facets, body_size=body_size,
+                                  gmsh_input_sha256=input_sha, perturb=inputs.perturb,
+                                  geometry_source=geometry_source)
+            st["fingerprint"] = fp._asdict()
+            return st, groups
+
+        try:  # in a child process: a signal stops gmsh at once (see meshes._child)
+            stats, groups = run_in_child(build)
+        finally:
+            for tmp in paths["msh"].parent.glob(f".{paths['msh'].stem}.*.tmp.msh"):
+                if not _pid_alive(tmp.name.rsplit(".", 3)[-3]):  # left by a killed child
+                    tmp.unlink(missing_ok=True)
         t_mesh = time.perf_counter() - t0
-        stats = mesh_quality(points, tri, edges, window)
-        if extra_stats is not None:
-            stats.update(extra_stats(points, tri, edges))
-        fp = mesh_fingerprint(points=points, triangles=tri, facets=facets, body_size=body_size,
-                              gmsh_input_sha256=input_sha, perturb=inputs.perturb,
-                              geometry_source=geometry_source)
-        stats.update(kind=kind, key=key, params=params, mesh_time_s=t_mesh, fingerprint=fp._asdict(),
+        stats.update(kind=kind, key=key, params=params, mesh_time_s=t_mesh,
                      gmsh_input_rounding_margin=inputs.margin,
                      physical_groups={k: list(v) for k, v in groups.items()})
         if write_xdmf:
@@ -94,3 +107,16 @@ def _facet_count(gmsh, tag: int) -> int:
         _, etags, _ = gmsh.model.mesh.getElements(1, int(c))
         n += sum(len(t) for t in etags)
     return n
+
+
+def _pid_alive(pid: str) -> bool:
+    """Whether the process ``pid`` (a string from a file name) still runs (a non-number: treated as alive)."""
+    if not pid.isdigit():
+        return True
+    try:
+        os.kill(int(pid), 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True

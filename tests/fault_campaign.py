@@ -15,6 +15,13 @@ Scenarios (every run is the real CLI, ``workbench run CASE --ci``, in its own pr
    atomic writer); a baseline result, then the free space cut to several sizes and the case rerun. Each rerun must
    exit 1 with a named ``No space left on device`` line (or 0 if it fit), and the previous result must stay
    byte-identical.
+4. **Newton signals** (issue 23): a baseline result, then ``wedge --h-contact 0.001`` interrupted by SIGINT or
+   SIGTERM right after a Newton progress line (inside the next load step's SNES solve, which used to give a PETSc
+   traceback and exit 1). Each must exit 130 / 143 with one ``interrupted: ... during the Newton solve`` line, the
+   previous result byte-identical, no staging folder left.
+5. **SIGKILL** (issue 23): runs killed with SIGKILL at times spread over the run (nothing can clean up then);
+   the staging folders they leave are counted, then the next run must clear them (``stale``: any left after the
+   next run) and leave a complete result (``lost`` otherwise).
 
 Counted: corrupted files (a JSON that does not parse, an empty or headless CSV, a truncated result folder),
 lost previous results (a folder that is neither the previous one byte for byte nor a complete new one), unnamed
@@ -138,11 +145,90 @@ def scenario_signals(out: Path, n: int, seed: int = 15) -> dict:
         else:
             state = "CHANGED"
             lost.append(f"{case} after {sent} at {delay:.2f} s")
-        if code not in (0, 130) or not named(code, err):
+        if code not in (0, 130, 143) or not named(code, err):
             unnamed.append(f"{sent} at {delay:.2f} s: exit {code}: {err.strip()[-300:]}")
         events.append({"signals": sent, "at_s": round(delay, 2), "exit": code, "state": state})
     return {"runs": n, "run_duration_s": round(duration, 2), "events": events, "corrupted": corrupt, "lost": lost,
             "unnamed": unnamed, "leftovers": leftovers(out)}
+
+
+def _interrupt_after(argv: list[str], when: str, sig: int, extra: float) -> tuple[int, str, float]:
+    """Run the CLI, send ``sig`` ``extra`` s after the first stdout line containing ``when``."""
+    p = subprocess.Popen([*WB, *argv], cwd=ROOT, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    t_sig = None
+    for line in p.stdout:
+        if when in line:
+            time.sleep(extra)
+            p.send_signal(sig)
+            t_sig = time.perf_counter()
+            break
+    p.stdout.read()
+    err = p.stderr.read()
+    code = p.wait(timeout=900)
+    return code, err, (time.perf_counter() - t_sig) if t_sig else float("nan")
+
+
+def scenario_newton_signals(out: Path, n: int, seed: int = 23) -> dict:
+    rng = random.Random(seed)
+    case = "wedge"
+    p = run(case, out)
+    assert p.wait(timeout=900) == 0, p.stderr.read()
+    events, corrupt, lost, unnamed = [], [], [], []
+    for i in range(n):
+        before = snapshot(out / case)
+        sig = [signal.SIGINT, signal.SIGTERM][i % 2]
+        when = ["[theta=pi/20] first:", "[theta=pi/20] step:", "[theta=pi/5] first:"][i % 3]
+        extra = round(rng.uniform(0.0, 0.5), 2)
+        code, err, latency = _interrupt_after(["run", case, "--h-contact", "0.001", "--out", str(out)], when, sig,
+                                              extra)
+        line = (err.strip().splitlines() or [""])[-1]
+        inside = "during the Newton solve" in line
+        if snapshot(out / case) != before:
+            lost.append(f"{case} after {sig.name} at '{when}' + {extra} s")
+        if code != 128 + sig or not named(code, err) or len(err.strip().splitlines()) != 1:
+            unnamed.append(f"{sig.name} at '{when}' + {extra} s: exit {code}: {err.strip()[-300:]}")
+        events.append({"signal": sig.name, "after": when, "plus_s": extra, "exit": code,
+                       "in_newton": inside, "latency_s": round(latency, 2), "line": line[:90]})
+    return {"runs": n, "events": events, "corrupted": corrupt, "lost": lost, "unnamed": unnamed,
+            "stale": [], "leftovers": leftovers(out)}
+
+
+def scenario_sigkill(out: Path, n: int, seed: int = 9) -> dict:
+    rng = random.Random(seed)
+    case = "hertz_cylinder"
+    p = run(case, out)
+    assert p.wait(timeout=900) == 0, p.stderr.read()
+    t0 = time.perf_counter()
+    p = subprocess.Popen([*WB, "run", case, "--h-contact", "0.002", "--out", str(out)], cwd=ROOT, env=ENV,
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    p.wait(timeout=900)
+    duration = time.perf_counter() - t0
+    events, corrupt, lost, unnamed, stale = [], [], [], [], []
+    for _ in range(n):
+        # a fresh mesh size each time, so the kill can land in gmsh too
+        h = round(rng.uniform(0.0015, 0.003), 5)
+        delay = round(rng.uniform(0.2, 1.0) * duration, 2)
+        p = subprocess.Popen([*WB, "run", case, "--h-contact", str(h), "--out", str(out)], cwd=ROOT, env=ENV,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(delay)
+        killed = p.poll() is None
+        p.kill()
+        p.wait(timeout=60)
+        left = leftovers(out)
+        nxt = run(case, out)
+        code = nxt.wait(timeout=900)
+        err = nxt.stderr.read()
+        after = leftovers(out)
+        if code != 0 or not named(code, err):
+            unnamed.append(f"next run after SIGKILL at {delay} s: exit {code}: {err.strip()[-300:]}")
+        bad = corrupted(out / case)
+        if bad:
+            lost.append(f"{case} after SIGKILL at {delay} s + next run: {bad}")
+        stale += after
+        events.append({"h_contact": h, "kill_at_s": delay, "killed_mid_run": killed, "left_by_kill": len(left),
+                       "next_run_exit": code, "left_after_next_run": len(after)})
+    return {"runs": n, "run_duration_s": round(duration, 2), "events": events, "corrupted": corrupt, "lost": lost,
+            "unnamed": unnamed, "stale": stale, "leftovers": leftovers(out)}
 
 
 def _mount_tmpfs(path: Path, size: str) -> bool:
@@ -219,10 +305,12 @@ def simulate_enospc(argv: list[str]) -> int:
 
 
 def report(res: dict) -> str:
-    tot = {k: sum(len(s[k]) for s in res["scenarios"].values()) for k in ("corrupted", "lost", "unnamed")}
+    tot = {k: sum(len(s.get(k, [])) for s in res["scenarios"].values())
+           for k in ("corrupted", "lost", "unnamed", "stale")}
     lines = ["# Load and fault campaign", "",
              f"**{tot['corrupted']} corrupted files, {tot['lost']} lost previous results, {tot['unnamed']} unnamed "
-             f"failures** ({res['wall_s']:.0f} s on {os.cpu_count()} cores).", ""]
+             f"failures or tracebacks, {tot['stale']} stale staging folders after the next run** "
+             f"({res['wall_s']:.0f} s on {os.cpu_count()} cores).", ""]
     for name, s in res["scenarios"].items():
         lines += [f"## {name}", ""]
         for k, v in s.items():
@@ -254,6 +342,10 @@ def main(argv: list[str] | None = None) -> int:
                                                                              4 if args.quick else 12),
             "full disk": scenario_full_disk(work, [16, 64, 256, 1024] if args.quick else
                                             [4, 16, 64, 128, 256, 512, 1024, 2048]),
+            "Newton signals: SIGINT/SIGTERM inside the SNES solve": scenario_newton_signals(
+                work / "newton", 2 if args.quick else 6),
+            "SIGKILL mid-run: staging cleared by the next run": scenario_sigkill(work / "sigkill",
+                                                                                2 if args.quick else 6),
         }
     finally:
         shutil.rmtree(work, ignore_errors=True)
@@ -264,7 +356,7 @@ def main(argv: list[str] | None = None) -> int:
     (args.out / "report.md").write_text(text)
     print(text.splitlines()[2])
     print(f"-> {args.out / 'report.md'}")
-    bad = sum(len(s[k]) for s in scen.values() for k in ("corrupted", "lost", "unnamed"))
+    bad = sum(len(s.get(k, [])) for s in scen.values() for k in ("corrupted", "lost", "unnamed", "stale"))
     return 1 if bad else 0
 
 

@@ -18,7 +18,7 @@ from typing import Any
 
 from workbench.owned import check_dir, check_root_file, is_owned, make_dirs, mark, record_root_files
 
-__all__ = ["atomic_dir", "atomic_path", "write_json", "write_root_text", "write_text"]
+__all__ = ["atomic_dir", "atomic_path", "strict_json", "write_json", "write_root_text", "write_text"]
 
 
 @contextlib.contextmanager
@@ -62,8 +62,39 @@ def write_root_text(root: str | Path, name: str, text: str) -> Path:
 
 
 def write_json(path: str | Path, data: Any) -> None:
-    """Write ``data`` as indented JSON to ``path`` atomically."""
-    write_text(path, json.dumps(data, indent=2, default=_json_default) + "\n")
+    """Write ``data`` as indented, strict JSON to ``path`` atomically.
+
+    NaN and +-Infinity are not JSON: they are written as ``null``, and a dict gets a ``non_finite`` field naming
+    each such value (``{"errors.p_max": "NaN"}``), so strict parsers read every file the workbench writes.
+    """
+    found: dict[str, str] = {}
+    clean = strict_json(data, found=found)
+    if found and isinstance(clean, dict):
+        clean["non_finite"] = found
+    write_text(path, json.dumps(clean, indent=2, default=_json_default, allow_nan=False) + "\n")
+
+
+def strict_json(obj: Any, *, found: dict[str, str] | None = None, where: str = "") -> Any:
+    """``obj`` with every non-finite float replaced by None (recorded in ``found`` as dotted path -> text)."""
+    import math
+
+    import numpy as np
+
+    if isinstance(obj, np.ndarray):
+        obj = obj.tolist()
+    elif isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float):
+        if math.isfinite(obj):
+            return obj
+        if found is not None:
+            found[where or "."] = "NaN" if math.isnan(obj) else ("Infinity" if obj > 0 else "-Infinity")
+        return None
+    if isinstance(obj, dict):
+        return {k: strict_json(v, found=found, where=f"{where}.{k}" if where else str(k)) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [strict_json(v, found=found, where=f"{where}[{i}]") for i, v in enumerate(obj)]
+    return obj
 
 
 def _json_default(obj: Any) -> Any:
@@ -90,7 +121,8 @@ def atomic_dir(path: str | Path, *, kind: str = "case") -> Iterator[Path]:
     check_dir(path, kinds=(kind,))
     make_dirs(path.parent)
     _restore_interrupted_swap(path)
-    stage = Path(tempfile.mkdtemp(prefix=f".{path.name}.staging.", dir=path.parent))
+    _clear_stale_staging(path)
+    stage = Path(tempfile.mkdtemp(prefix=f".{path.name}.staging.{os.getpid()}.", dir=path.parent))
     os.chmod(stage, 0o777 & ~_umask())  # mkdtemp makes 0700; a results folder is an ordinary one (umask)
     try:
         mark(stage, kind=kind)
@@ -142,6 +174,16 @@ def _alive(pid: int) -> bool:
     except PermissionError:
         return True
     return True
+
+
+def _clear_stale_staging(path: Path) -> None:
+    """Remove the staging folders ``.<name>.staging.<pid>.*`` of runs that were killed (SIGKILL, power loss):
+    their process is gone, so nothing will ever finish them. A live process's staging folder is left alone."""
+    for st in path.parent.glob(f".{path.name}.staging.*"):
+        pid = st.name[len(f".{path.name}.staging."):].split(".", 1)[0]
+        if (st.is_dir() and not st.is_symlink() and pid.isdigit() and not _alive(int(pid))
+                and (is_owned(st) or not any(st.iterdir()))):  # only what the workbench made (marker, or empty)
+            shutil.rmtree(st, ignore_errors=True)
 
 
 def _restore_interrupted_swap(path: Path) -> None:

@@ -19,7 +19,8 @@ the working directory. A study's own options follow its name (``workbench conver
 Exit codes: 0 success; 1 a run failed or a tolerance was violated (or the disk filled: named, previous results
 intact); 2 bad input (case file, arguments or an unusable ``--out``, or a folder or file in the way that the
 workbench did not write: :mod:`workbench.owned`), reported as one line naming the field and the allowed range,
-before anything is written; 130 interrupted (SIGINT or SIGTERM: previous results intact).
+before anything is written; 130 interrupted by SIGINT, 143 by SIGTERM, at any stage (one line naming the stage;
+previous results intact, staging removed: :mod:`workbench.interrupt`).
 """
 
 from __future__ import annotations
@@ -60,14 +61,6 @@ def _one_line(message: str) -> str:
     """``message`` on one line, cut to MAX_MESSAGE characters."""
     text = " ".join(str(message).split())
     return text if len(text) <= MAX_MESSAGE else text[:MAX_MESSAGE - 3] + "..."
-
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM, raised like Ctrl-C so the same clean-up runs (staging removed, previous results intact)."""
-
-
-def _on_sigterm(signum, frame) -> None:
-    raise Terminated()
 
 
 def _study_out_options(argv: list[str]) -> list[tuple[str, str]]:
@@ -125,6 +118,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--h-contact", type=float, default=None, help="override h_c as a fraction of the half-width")
     r.add_argument("--ci", action="store_true", help="run at the case's ci_level")
     r.add_argument("--out", type=_folder, default=None, help="output folder (default: results/ of this checkout)")
+    r.add_argument("--dry-run", action="store_true",
+                   help="check everything a run checks before meshing (cases, sizes, memory), then stop")
     m = sub.add_parser("mesh", help="build the meshes of a case and print their statistics")
     m.add_argument("case", metavar="CASE")
     m.add_argument("--h-contact", type=float, default=None, help="h_c as a fraction of the half-width")
@@ -141,27 +136,35 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the CLI; returns the exit code (SIGTERM is handled like Ctrl-C while it runs: exit 130, the previous
-    results intact)."""
+    """Run the CLI; returns the exit code (SIGINT -> 130, SIGTERM -> 143 at any stage: one line, the previous
+    results intact; :mod:`workbench.interrupt`)."""
     import os
     import threading
+
+    from workbench import interrupt
 
     # PETSc would install its own SIGTERM/SIGINT handlers (an MPI_Abort, no clean-up): keep Python's.
     if "-no_signal_handler" not in os.environ.get("PETSC_OPTIONS", ""):
         os.environ["PETSC_OPTIONS"] = (os.environ.get("PETSC_OPTIONS", "") + " -no_signal_handler").strip()
     if threading.current_thread() is not threading.main_thread():
         return _main(argv)
-    previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    previous = interrupt.install()
+    interrupt.stage("start-up")
     try:
         return _main(argv)
-    except KeyboardInterrupt:
-        print("interrupted: nothing more written; previous results left intact", file=sys.stderr)
-        return 130
+    except BaseException as exc:  # noqa: BLE001 - after a signal, whatever native code made of it is an interrupt
+        signum = interrupt.received()
+        if signum is None and not isinstance(exc, KeyboardInterrupt):
+            raise
+        signum = signum or signal.SIGINT
+        print(interrupt.message(signum), file=sys.stderr)
+        return interrupt.exit_code(signum)
     finally:
-        signal.signal(signal.SIGTERM, previous)
         if argv is None:  # the program itself: its work is done, a signal now would only garble the exit code
             signal.signal(signal.SIGINT, signal.SIG_IGN)
             signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        else:
+            interrupt.restore(previous)
 
 
 def _main(argv: list[str] | None = None) -> int:
@@ -204,8 +207,13 @@ def _main(argv: list[str] | None = None) -> int:
                 print(f"{name:22s} runs={len(case.runs())}  compares: {preds}\n{'':22s} {case.description}")
             return 0
         if args.command == "validate":
+            from workbench.pipeline.preflight import preflight
+            from workbench.pipeline.size_estimate import check_case_fits
+
             for name in args.cases:
                 case = load_case(name)
+                preflight(case)  # what `run` checks before meshing, `validate` checks too
+                check_case_fits(case)
                 print(f"{case.path.name}: ok ({len(case.runs())} run(s))")
             return 0
         if args.command == "run":
@@ -213,12 +221,18 @@ def _main(argv: list[str] | None = None) -> int:
                 raise CaseError(f"--h-contact = {args.h_contact} is out of range; allowed: 0 < h_contact <= 1")
             cases = [load_case(name) for name in args.cases]  # validate all before running any
             from workbench.pipeline.preflight import preflight
+            from workbench.pipeline.size_estimate import check_case_fits
 
             for case in cases:
                 preflight(case)
+                check_case_fits(case, h_contact=args.h_contact, ci=args.ci)  # before anything is meshed
             for case in cases:
                 paths.case(case.name)  # inside the output folder (the case name is a slug: never fails)
             check_run_outputs(paths, cases)  # only the workbench's own folders are replaced (issue 23)
+            if args.dry_run:
+                for case in cases:
+                    print(f"{case.path.name}: would run {len(case.runs())} run(s)")
+                return 0
             from workbench.pipeline.run_case import run_case
 
             ok = True
@@ -263,6 +277,11 @@ def _mesh(args, paths, load_case) -> int:
     if args.h_contact is not None and not 0 < args.h_contact <= 1:
         raise CaseError(f"--h-contact = {args.h_contact} is out of range; allowed: 0 < h_contact <= 1")
     case = load_case(args.case)
+    from workbench.pipeline.size_estimate import check_run_fits
+
+    for run in case.runs(h_contact=args.h_contact):
+        check_run_fits(run, where=f"{case.path.name}: [{run.label}]",
+                       field="--h-contact" if args.h_contact is not None else "discretisation.h_contact")
     check_run_outputs(paths, [case])
     ensure_dir(paths.case(case.name), kind="case")
     ensure_dir(paths.mesh_cache, kind="mesh_cache")

@@ -19,11 +19,12 @@ def read_mesh(path: str | Path, comm):
     import gmsh
     from dolfinx.io import gmsh as gmsh_io
 
+    previous = signal.getsignal(signal.SIGINT)
     if not gmsh.isInitialized():
         gmsh.initialize(interruptible=False)
     gmsh.option.setNumber("General.Terminal", 0)
     data = gmsh_io.read_from_msh(str(path), comm, 0, gdim=2)
-    # gmsh.initialize() installs the default SIGINT action; restore Python's, so Ctrl-C raises
-    # KeyboardInterrupt and the case runner can clean its staging folder (previous results stay intact).
-    signal.signal(signal.SIGINT, signal.default_int_handler)
+    # gmsh.initialize() installs the default SIGINT action; restore the handler that was there (the command
+    # line's, workbench.interrupt), so Ctrl-C raises and the case runner cleans its staging folder.
+    signal.signal(signal.SIGINT, previous if previous is not None else signal.default_int_handler)
     return data

@@ -22,7 +22,8 @@ import time
 import traceback
 from pathlib import Path
 
-from cases.schema import Case, Run, label_folder
+from cases.schema import Case, CaseError, Run, label_folder
+from workbench import interrupt
 from workbench.atomic import atomic_dir, write_json, write_text
 from workbench.owned import ensure_dir, mark
 from workbench.paths import OutputError, OutputPaths
@@ -36,6 +37,7 @@ def _progress_printer(comm, log: list[str]):
     t0 = time.perf_counter()
 
     def progress(msg: str) -> None:
+        interrupt.check()  # a signal whose exception native code swallowed stops the run here
         line = f"[{time.perf_counter() - t0:7.1f} s] {msg}"
         log.append(line)
         if comm.rank == 0:
@@ -106,16 +108,23 @@ def run_one(run: Run, *, name: str, mesh_cache: Path, comm, progress=print, stat
     """Mesh, solve and compare one run through its scene (``solver_overrides``: extra solver keywords;
     ``frames``: a list that receives every converged step for the VTK time series)."""
     from workbench.mesh_io import read_mesh
+    from workbench.pipeline.size_estimate import check_run_fits
 
+    interrupt.check()  # a study that recorded a signal's PETSc.Error as a failed run stops at its next run
     scene = scene_for(run)
+    check_run_fits(run, where=f"{name} [{run.label}]", field="h_contact")  # studies too: refused before meshing
+    interrupt.stage(f"meshing [{run.label}] of {name}")
     mesh = scene.mesh(run, name=name, mesh_cache=mesh_cache, comm=comm, stats_dir=stats_dir)
     progress(f"[{run.label}] {mesh.summary}")
     mesh_data = read_mesh(mesh.files.msh, comm)
+    interrupt.stage(f"the Newton solve [{run.label}] of {name}")
     result = solve_run(run, mesh_data, scene.obstacle(run, mesh), scene.load_path(run, mesh),
                        case=f"{name}[{run.label}]", on_step=step_printer(progress, run.label), frames=frames,
                        **solver_overrides)
+    interrupt.check()
     for w in result.warnings:
         progress(f"[{run.label}] WARNING: {w}")
+    interrupt.stage(f"post-processing [{run.label}] of {name}")
     return scene.compare(run, result, mesh, progress=progress)
 
 
@@ -136,7 +145,6 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
     from mpi4py import MPI
 
     from fem.output import write_vtk
-    from fem.solver import ContactSolveError
     from workbench.pipeline.bands import band_checks
     from workbench.pipeline.budget import budget_table, case_error_budget, write_subsurface
     from workbench.pipeline.case_files import write_case_files
@@ -166,6 +174,7 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
             outcomes = []
             for run in case.runs(h_contact=h_contact):
                 frames: list = []
+                interrupt.check()
                 outcome = run_one(run, name=case.name, mesh_cache=paths.mesh_cache, comm=comm, progress=progress,
                                   frames=frames)
                 write_vtk(outcome.result, stage / "vtk" / label_folder(run.label), frames=frames,
@@ -191,6 +200,7 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
             if subsurface is not None:
                 metrics["subsurface"] = subsurface["summary"]
             metrics["mpi_processes"] = comm.size
+            interrupt.stage(f"writing the results of {case.name}")
             if comm.rank == 0:
                 write_case_files(outcomes, stage)
                 if subsurface is not None:
@@ -202,13 +212,20 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
                 write_json(stage / "metrics.json", metrics)
                 write_case_report(stage)  # from the saved metrics.json and series.json only
             comm.barrier()
-    except (ContactSolveError, ValueError) as exc:
+            interrupt.check()  # a signal during the last writes: the staging folder goes, the old results stay
+            interrupt.stage(f"replacing the results folder of {case.name}")
+    except KeyboardInterrupt:
+        raise  # the command line prints the one line and exits 130 / 143 (staging already removed)
+    except OSError:
+        raise  # e.g. ENOSPC: named by the command line
+    except CaseError:
+        raise  # bad input found late (a run that cannot fit): one line, exit 2
+    except Exception as exc:  # noqa: BLE001 - any failure writes logs/<case>.log (the README's promise)
+        if interrupt.received() is not None:  # e.g. petsc4py.PETSc.Error 101 made of the signal's exception
+            raise interrupt.Interrupted(interrupt.received()) from None
         _fail(case, paths, log, exc, comm)
         raise SystemExit(1) from None
-    except KeyboardInterrupt:
-        if comm.rank == 0:
-            print(f"interrupted: previous results of {case.name} left intact", file=sys.stderr)
-        raise SystemExit(130) from None
+    interrupt.stage(f"finishing {case.name}")
     return metrics
 
 
@@ -226,6 +243,9 @@ def _fail(case: Case, paths: OutputPaths, log: list[str], exc: BaseException, co
     path = ensure_dir(paths.logs, kind="logs") / f"{case.name}.log"
     text = "\n".join(log) + "\n\n" + "".join(traceback.format_exception(exc))
     write_text(path, text)
-    first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+    if not isinstance(exc, ValueError | RuntimeError):
+        first = f"{type(exc).__name__}: {first}"
+    first = first if len(first) <= 200 else first[:197] + "..."
     print(f"error: case {case.name} failed: {first} (log: {path}; previous results left intact)",
           file=sys.stderr)

@@ -175,6 +175,32 @@ class ConcaveMesh(NamedTuple):
     h_contact: float
 
 
+def _short(values: list) -> str:
+    text = repr(values)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def concave_a_est(run: Run, *, lcps=None) -> float:
+    """The smallest expected patch half-width (mm), a ~ sqrt(R delta) at the first step with an overlap (the mesh
+    is sized from it); ValueError if no step brings the particle into contact."""
+    from analytic.designs import design
+
+    ld = run.loading
+    des = design(run.geometry.design)
+    a_est = math.inf
+    for i, d in enumerate(ld.d):
+        lcp = lcps[i] if lcps is not None else _lcp_at(des, d)
+        for pr in lcp.pairs:
+            if _plausible_overlap(pr):
+                a_est = min(a_est, math.sqrt(pr.relative_radius * pr.delta))
+        if math.isfinite(a_est):
+            break
+    if not math.isfinite(a_est):
+        raise ValueError(f"{run.label}: loading.d = {list(ld.d)} never brings the particle into contact "
+                         "(no overlapping plausible LCP pair); allowed: displacements that reach the body")
+    return a_est
+
+
 def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None) -> ConcaveMesh:
     """The (cached) mesh of a concave run, refined where the LCP predicts contact over the whole path."""
     from analytic.designs import design
@@ -183,17 +209,7 @@ def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path
     ld, disc = run.loading, run.discretisation
     des = design(run.geometry.design)
     lcps = [_lcp_at(des, d) for d in ld.d]
-    # Mesh size from the smallest expected patch: a ~ sqrt(R delta) at the first step with an overlap.
-    a_est = math.inf
-    for lcp in lcps:
-        for pr in lcp.pairs:
-            if _plausible_overlap(pr):
-                a_est = min(a_est, math.sqrt(pr.relative_radius * pr.delta))
-        if math.isfinite(a_est):
-            break
-    if not math.isfinite(a_est):
-        raise ValueError(f"{name}: loading.d = {list(ld.d)} never brings the particle into contact "
-                         "(no overlapping plausible LCP pair); allowed: displacements that reach the body")
+    a_est = concave_a_est(run, lcps=lcps)
     h_c = disc.h_contact * a_est
     files = build_concave_mesh(design=des, h_contact=h_c, growth=disc.growth, out_dir=mesh_cache, name=name,
                                comm=comm, stats_dir=stats_dir)
@@ -230,6 +246,13 @@ class ConcaveScene:
         from cases import CaseError
 
         des = design(run.geometry.design)
+        # The body is |y_bottom| deep (20 mm): a particle pushed through half of it is no contact problem, and
+        # the LCP of d = 1e300 overflowed and ran for more than a minute.
+        d_max = 0.5 * abs(float(des.body_box[2]))
+        if max(run.loading.d) > d_max:
+            raise CaseError(f"{where}: variant {run.label!r}: loading.d = {_short(list(run.loading.d))} goes beyond "
+                            f"half the body's depth; allowed: 0 < d <= {d_max:g} mm (Table 1 of the paper: "
+                            f"{min(des.table1_d)} ... {max(des.table1_d)} mm)")
         if not any(_plausible_overlap(pr) for pr in _lcp_at(des, run.loading.d[-1]).pairs):
             raise CaseError(
                 f"{where}: variant {run.label!r}: loading.d = {list(run.loading.d)!r} never brings the "

@@ -978,6 +978,10 @@ def main(argv: list[str] | None = None) -> int:
                           mesh_cache=args.mesh_cache, predictor_free_active_set_update=args.active_set_update)
         if args.quick:
             cfg = cfg.quick()
+        from workbench.pipeline.size_estimate import check_levels_fit
+
+        check_levels_fit([cfg.case], (*cfg.our_levels, *cfg.mpi_levels), study="bench",
+                         field="our_levels / mpi_levels")  # before any mesh
         data = run_bench(cfg, progress=lambda s: print(f"[bench] {s}", flush=True))
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)

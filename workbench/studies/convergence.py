@@ -420,6 +420,9 @@ def main(argv: list[str] | None = None) -> int:
         if args.rewrite:
             data = json.loads((cfg.out_dir / "convergence.json").read_text())
         else:
+            from workbench.pipeline.size_estimate import check_levels_fit
+
+            check_levels_fit(cfg.cases, cfg.levels, study="convergence", field="--levels")  # before any mesh
             data = run_study(cfg, progress=lambda s: print(s, flush=True))
     except (ValueError, FileNotFoundError) as exc:  # includes cases.CaseError
         print(f"error: {exc}", file=sys.stderr)
