@@ -160,9 +160,9 @@ def _halfplane_materials(args: argparse.Namespace) -> dict[str, Any]:
         raise ValueError(f"beta = {bm.beta:.6g} out of range: the convective theory needs -0.5 <= beta <= 0.5 "
                          "(auxetic --nu1/--nu2 < 0 can exceed it)")
     lo, hi = materials.beta_range(nu1=args.nu1, nu2=args.nu2)
-    return {"materials": "indenter 1 on block 2 (plane strain)", "E1": bm.E1 if math.isfinite(bm.E1) else "inf", "nu1": bm.nu1, "E2": bm.E2,
-            "nu2": bm.nu2, "alpha": bm.alpha, "beta": bm.beta, "beta_range_for_these_nu": [lo, hi],
-            "E_star": bm.E_star}
+    return {"materials": "indenter 1 on block 2 (plane strain)", "E1": bm.E1 if math.isfinite(bm.E1) else "inf",
+            "nu1": bm.nu1, "E2": bm.E2, "nu2": bm.nu2, "alpha": bm.alpha, "beta": bm.beta,
+            "beta_range_for_these_nu": [lo, hi], "E_star": bm.E_star}
 
 
 def _cmd_halfplane(args: argparse.Namespace) -> dict[str, Any]:
