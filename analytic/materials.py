@@ -215,14 +215,13 @@ def bimaterial(*, E1: float, nu1: float, E2: float, nu2: float) -> Bimaterial:
     nu2 = validate_poisson(nu2, "nu2", incompressible=True)
     if math.isinf(E1) and math.isinf(E2):
         raise ValueError("E1, E2 = inf out of range: at least one body must be deformable (finite E)")
-    k1, k2 = 3.0 - 4.0 * nu1, 3.0 - 4.0 * nu2
-    if math.isinf(E1):
-        gam = 0.0
+    if math.isinf(E1):  # the rigid limits in the same closed form as beta_rigid_indenter (bit-identical)
+        d = Dundurs(alpha=-1.0, beta=-_beta_rigid(nu2))
     elif math.isinf(E2):
-        gam = math.inf
+        d = Dundurs(alpha=1.0, beta=_beta_rigid(nu1))
     else:
         gam = (E2 / (2.0 * (1.0 + nu2))) / (E1 / (2.0 * (1.0 + nu1)))
-    d = _dundurs(gam, k1, k2)
+        d = _dundurs(gam, 3.0 - 4.0 * nu1, 3.0 - 4.0 * nu2)
     E_star = 1.0 / _compliance_sum(E1, nu1, E2, nu2)
     return Bimaterial(E1, nu1, E2, nu2, d.alpha, d.beta, E_star)
 
@@ -234,7 +233,12 @@ def beta_range(*, nu1: float, nu2: float) -> tuple[float, float]:
     """
     nu1 = validate_poisson(nu1, "nu1", incompressible=True)
     nu2 = validate_poisson(nu2, "nu2", incompressible=True)
-    return -(1.0 - 2.0 * nu2) / (2.0 * (1.0 - nu2)), (1.0 - 2.0 * nu1) / (2.0 * (1.0 - nu1))
+    return -_beta_rigid(nu2), _beta_rigid(nu1)
+
+
+def _beta_rigid(nu: float) -> float:
+    """(1 - 2 nu)/(2 (1 - nu)) = (kappa - 1)/(kappa + 1) in plane strain: |beta| when the other body is rigid."""
+    return (1.0 - 2.0 * nu) / (2.0 * (1.0 - nu))
 
 
 def beta_rigid_indenter(nu2: float) -> float:
@@ -242,5 +246,4 @@ def beta_rigid_indenter(nu2: float) -> float:
 
     beta = -(1 - 2 nu2) / (2 (1 - nu2)); beta = -1/2 at nu2 = 0 (the extreme of C&H eq. 7), 0 at nu2 = 1/2.
     """
-    nu2 = validate_poisson(nu2, "nu2")
-    return -(1.0 - 2.0 * nu2) / (2.0 * (1.0 - nu2))
+    return -_beta_rigid(validate_poisson(nu2, "nu2"))
