@@ -116,6 +116,17 @@ def _cmd_convective(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
+E_WINDOW = (1e-6, 1e12)  # MPa: the moduli the two-material options accept (beyond it the solver over/underflows)
+
+
+def _modulus_window(value: float, name: str, *, rigid: bool = False) -> None:
+    """ValueError (one line) unless E_WINDOW[0] <= value <= E_WINDOW[1] MPa (``rigid``: the message offers inf)."""
+    lo, hi = E_WINDOW
+    if not lo <= value <= hi:
+        extra = " or inf (rigid)" if rigid else ""
+        raise ValueError(f"{name} = {value!r} out of range: need {lo:g} <= {name} <= {hi:g} (MPa){extra}")
+
+
 def _halfplane_materials(args: argparse.Namespace) -> dict[str, Any]:
     """The halfplane command's materials: E_star, alpha, beta (ValueError naming the option, one line).
 
@@ -142,7 +153,7 @@ def _halfplane_materials(args: argparse.Namespace) -> dict[str, Any]:
                 "beta_rigid_indenter": materials.beta_rigid_indenter(args.nu),
                 "E_star": materials.composite_modulus(args.E, args.nu)}
     if forms[2]:
-        materials.validate_positive(args.E_star, "--E-star", "MPa")
+        _modulus_window(args.E_star, "--E-star")
         return {"materials": "E* and beta given (--E-star, --beta)", "alpha": None, "beta": beta,
                 "E_star": float(args.E_star)}
     for name, value in zip(("--E1", "--nu1", "--E2", "--nu2"), pair, strict=True):
@@ -151,8 +162,9 @@ def _halfplane_materials(args: argparse.Namespace) -> dict[str, Any]:
     if args.beta is not None:
         raise ValueError("--beta is given with --E1 --nu1 --E2 --nu2: beta follows from the two materials; "
                          "give --beta with --E-star instead")
-    materials.validate_modulus(args.E1, "--E1", allow_inf=True)
-    materials.validate_modulus(args.E2, "--E2")
+    if args.E1 != math.inf:
+        _modulus_window(args.E1, "--E1", rigid=True)
+    _modulus_window(args.E2, "--E2")
     materials.validate_poisson(args.nu1, "--nu1", incompressible=True)
     materials.validate_poisson(args.nu2, "--nu2", incompressible=True)
     bm = materials.bimaterial(E1=args.E1, nu1=args.nu1, E2=args.E2, nu2=args.nu2)

@@ -180,6 +180,9 @@ def solve_halfplane(prof: Profile, *, P: float, E_star: float, beta: float = 0.0
         return 0.5 * math.pi * b * float(_coeffs(prof.slope(b * s))[1]) / A
 
     b0 = _root_b(classical_load, P, _guess(prof, P, E_star), upper)
+    if beta != 0.0 and prof.kind == "parabola" and not b0 < prof.R:  # as convective.parabola_profile: 0 < b0/R < 1
+        raise ValueError(f"P = {P!r} out of range: the convective parabola needs a classical half-width b0 < R "
+                         f"(b0/R = {b0 / prof.R:.6g} at this P, E* = {E_star:.6g} MPa, R = {prof.R:.6g} mm)")
     a = _coeffs(prof.slope(b0 * s))
     b, its = b0, 0
     if beta != 0.0:

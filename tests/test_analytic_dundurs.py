@@ -177,6 +177,13 @@ def test_first_order_closed_forms_have_the_same_sign_rule():
                 < convective.parabola_first_order_from_b0(0.1, -beta))
 
 
+def test_convective_parabola_refuses_b0_beyond_R():
+    P = math.pi * 1000.0 * 3.0**2 / 4.0  # classical b0 = 3 R: the iteration gave NaN before the check
+    with pytest.raises(ValueError, match=r"^P = .* out of range: the convective parabola needs .* b0 < R"):
+        halfplane.solve_halfplane(halfplane.profile("parabola", R=1.0), P=P, E_star=1000.0, beta=0.3)
+    assert halfplane.solve_halfplane(halfplane.profile("parabola", R=1.0), P=P, E_star=1000.0).half_width > 1.0
+
+
 @pytest.mark.parametrize("kind", ["parabola", "circle", "wedge"])
 def test_classical_theory_does_not_depend_on_beta(kind):
     prof = _hp_profile(kind)
@@ -256,6 +263,10 @@ PAIR = ["--E1", "2000", "--nu1", "0.3", "--E2", "1000", "--nu2", "0.3"]
     (["--E-star", "1000", "--beta", "0.6"], "--beta"),
     (["--E-star", "1000", "--beta", "nan"], "--beta"),
     (["--E", "100", "--nu", "0.3", "--beta", "-0.51"], "--beta"),
+    (["--E-star", "1e308"], "--E-star"),  # hung before the window
+    (["--E1", "1e-300", "--nu1", "0.3", "--E2", "1000", "--nu2", "0.3"], "--E1"),  # NaN before the window
+    (["--E1=-inf", "--nu1", "0.3", "--E2", "1000", "--nu2", "0.3"], "--E1"),
+    (["--E1", "1e-5", "--nu1", "0.3", "--E2", "1e3", "--nu2", "0.3"], "P"),  # b0/R = 1.7e3: no convective parabola
     (["--E", "100"], "--E, --nu"),
     ([], "materials"),
 ])
