@@ -135,10 +135,71 @@ def _cmd_convective(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
-def _cmd_halfplane(args: argparse.Namespace) -> dict[str, Any]:
-    from analytic import halfplane, materials, wedge
+E_WINDOW = (1e-6, 1e12)  # MPa: the moduli the two-material options accept (beyond it the solver over/underflows)
 
-    _body(args)
+
+def _modulus_window(value: float, name: str, *, rigid: bool = False) -> None:
+    """ValueError (one line) unless E_WINDOW[0] <= value <= E_WINDOW[1] MPa (``rigid``: the message offers inf)."""
+    lo, hi = E_WINDOW
+    if not lo <= value <= hi:
+        extra = " or inf (rigid)" if rigid else ""
+        raise ValueError(f"{name} = {value!r} out of range: need {lo:g} <= {name} <= {hi:g} (MPa){extra}")
+
+
+def _halfplane_materials(args: argparse.Namespace) -> dict[str, Any]:
+    """The halfplane command's materials: E_star, alpha, beta (ValueError naming the option, one line).
+
+    Three forms: ``--E --nu [--beta]`` (the old one: a rigid indenter on that block, beta as given, default 0),
+    ``--E1 --nu1 --E2 --nu2`` (indenter 1 on block 2, plane strain: alpha, beta, E* from
+    :func:`analytic.materials.bimaterial`), or ``--E-star [--beta]`` (E* and beta directly, alpha not known).
+    """
+    from analytic import materials
+
+    pair = (args.E1, args.nu1, args.E2, args.nu2)
+    forms = [args.E is not None or args.nu is not None, any(v is not None for v in pair), args.E_star is not None]
+    if sum(forms) != 1:
+        raise ValueError("materials out of range: give exactly one of --E with --nu (rigid indenter), "
+                         "--E1 --nu1 --E2 --nu2 (indenter 1 on block 2), or --E-star (with --beta)")
+    beta = 0.0 if args.beta is None else args.beta
+    if not (math.isfinite(beta) and -0.5 <= beta <= 0.5):
+        raise ValueError(f"--beta = {beta!r} out of range: need -0.5 <= --beta <= 0.5")
+    if forms[0]:
+        if args.E is None or args.nu is None:
+            raise ValueError("--E, --nu out of range: the rigid-indenter form needs both --E (MPa, 0 < --E < inf) "
+                             "and --nu (-1 < --nu < 0.5)")
+        _body(args)
+        return {"materials": "rigid indenter on the block (--E, --nu)", "alpha": -1.0, "beta": beta,
+                "beta_rigid_indenter": materials.beta_rigid_indenter(args.nu),
+                "E_star": materials.composite_modulus(args.E, args.nu)}
+    if forms[2]:
+        _modulus_window(args.E_star, "--E-star")
+        return {"materials": "E* and beta given (--E-star, --beta)", "alpha": None, "beta": beta,
+                "E_star": float(args.E_star)}
+    for name, value in zip(("--E1", "--nu1", "--E2", "--nu2"), pair, strict=True):
+        if value is None:
+            raise ValueError(f"{name} = None out of range: two materials need all of --E1 --nu1 --E2 --nu2")
+    if args.beta is not None:
+        raise ValueError("--beta is given with --E1 --nu1 --E2 --nu2: beta follows from the two materials; "
+                         "give --beta with --E-star instead")
+    if args.E1 != math.inf:
+        _modulus_window(args.E1, "--E1", rigid=True)
+    _modulus_window(args.E2, "--E2")
+    materials.validate_poisson(args.nu1, "--nu1", incompressible=True)
+    materials.validate_poisson(args.nu2, "--nu2", incompressible=True)
+    bm = materials.bimaterial(E1=args.E1, nu1=args.nu1, E2=args.E2, nu2=args.nu2)
+    if not -0.5 <= bm.beta <= 0.5:
+        raise ValueError(f"beta = {bm.beta:.6g} out of range: the convective theory needs -0.5 <= beta <= 0.5 "
+                         "(auxetic --nu1/--nu2 < 0 can exceed it)")
+    lo, hi = materials.beta_range(nu1=args.nu1, nu2=args.nu2)
+    return {"materials": "indenter 1 on block 2 (plane strain)", "E1": bm.E1 if math.isfinite(bm.E1) else "inf",
+            "nu1": bm.nu1, "E2": bm.E2, "nu2": bm.nu2, "alpha": bm.alpha, "beta": bm.beta,
+            "beta_range_for_these_nu": [lo, hi], "E_star": bm.E_star}
+
+
+def _cmd_halfplane(args: argparse.Namespace) -> dict[str, Any]:
+    from analytic import halfplane, wedge
+
+    mats = _halfplane_materials(args)
     if args.profile == "wedge":
         if args.R is not None:
             raise ValueError("--R is given with --profile wedge: the wedge takes --theta (0 < --theta < pi/2), not --R")
@@ -153,23 +214,22 @@ def _cmd_halfplane(args: argparse.Namespace) -> dict[str, Any]:
         prof = halfplane.profile(args.profile, R=args.R)
     if not (math.isfinite(args.P) and args.P > 0.0):
         raise ValueError(f"--P = {args.P!r} out of range: need --P > 0 (N/mm)")
-    if not (math.isfinite(args.beta) and -0.5 <= args.beta <= 0.5):
-        raise ValueError(f"--beta = {args.beta!r} out of range: need -0.5 <= --beta <= 0.5 (rigid indenter: <= 0)")
     if args.pressure is not None and not 2 <= args.pressure <= 100000:
         raise ValueError(f"--pressure = {args.pressure!r} out of range: need 2 <= --pressure <= 100000 (points)")
-    E_star = materials.composite_modulus(args.E, args.nu)
+    E_star = mats.pop("E_star")
     if prof.kind in ("circle", "parabola"):
         g = math.sqrt(4.0 * args.P / (math.pi * E_star * args.R))
         if not B_OVER_R[0] <= g < B_OVER_R[1]:
-            raise ValueError(f"--P = {args.P!r}, --E = {args.E!r}, --R = {args.R!r} give a classical half-width b/R = "
-                             f"{g:.3g}; allowed: {B_OVER_R[0]:g} <= b/R < {B_OVER_R[1]:g} (the half-plane theory's "
-                             "range, above round-off)")
-    sol = halfplane.solve_halfplane(prof, P=args.P, E_star=E_star, beta=args.beta)
+            raise ValueError(f"--P = {args.P!r}, --R = {args.R!r} and the moduli (E* = {E_star:.6g}) give a classical "
+                             f"half-width b/R = {g:.3g}; allowed: {B_OVER_R[0]:g} <= b/R < {B_OVER_R[1]:g} (the "
+                             "half-plane theory's range, above round-off)")
+    sol = halfplane.solve_halfplane(prof, P=args.P, E_star=E_star, beta=mats["beta"])
     out: dict[str, Any] = {
         "profile": prof.kind,
         "label": prof.label,
         "P": sol.P,
         "E_star": E_star,
+        **mats,
         "beta": sol.beta,
         "half_width": sol.half_width,
         "p_max": sol.p_max if math.isfinite(sol.p_max) else None,
@@ -264,16 +324,22 @@ def _build_parser() -> _Parser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_convective)
 
-    p = sub.add_parser("halfplane", help="rigid circle / parabola / wedge on a half-plane at a load, beta = 0 or not")
+    p = sub.add_parser("halfplane", help="circle / parabola / wedge on a half-plane at a load, one or two materials")
     p.add_argument("--profile", choices=("circle", "parabola", "wedge"), required=True)
     p.add_argument("--R", type=float, default=None, help="radius (mm): circle, parabola")
     p.add_argument("--theta", type=float, default=None, help="external wedge angle (rad): wedge")
     p.add_argument("--convention", choices=("paper", "exact"), default="exact",
                    help="wedge slope m = theta (paper) or tan(theta) (exact)")
-    p.add_argument("--E", type=float, required=True, help="Young's modulus of the body (MPa)")
-    p.add_argument("--nu", type=float, required=True, help="Poisson's ratio of the body")
+    p.add_argument("--E", type=float, default=None, help="Young's modulus of the block, rigid indenter (MPa)")
+    p.add_argument("--nu", type=float, default=None, help="Poisson's ratio of the block, rigid indenter")
+    p.add_argument("--E1", type=float, default=None, help="indenter (body 1) Young's modulus (MPa, inf = rigid)")
+    p.add_argument("--nu1", type=float, default=None, help="indenter (body 1) Poisson's ratio, -1 < nu1 <= 0.5")
+    p.add_argument("--E2", type=float, default=None, help="block (body 2) Young's modulus (MPa)")
+    p.add_argument("--nu2", type=float, default=None, help="block (body 2) Poisson's ratio, -1 < nu2 <= 0.5")
+    p.add_argument("--E-star", dest="E_star", type=float, default=None, help="composite modulus E* (MPa), with --beta")
     p.add_argument("--P", type=float, required=True, help="load per unit thickness (N/mm)")
-    p.add_argument("--beta", type=float, default=0.0, help="Dundurs beta (0: classical; convective otherwise)")
+    p.add_argument("--beta", type=float, default=None,
+                   help="Dundurs beta, -0.5..0.5, with --E/--nu or --E-star (default 0: classical)")
     p.add_argument("--pressure", type=int, default=None, metavar="N", help="also print p(x) at N points")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_halfplane)

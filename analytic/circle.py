@@ -14,6 +14,8 @@ at a given load the exact circle's half-width is SMALLER than Hertz's, by about 
 Pressure: with x = b cos(theta) and h'(b cos theta) = sum_k a_k T_k (Chebyshev series, DCT at Gauss-Chebyshev
 nodes), the bounded inversion is exact term by term, A p(b cos theta) = sum_k a_k sin(k theta), and
 P = (pi/2) b a_1 / A. h' is analytic on [-b, b] for b < R, so the series converges geometrically.
+Dissimilar materials enter through E* alone here (beta = 0); the exact circle at any Dundurs beta (convective)
+is :func:`analytic.halfplane.solve_halfplane` with ``profile("circle", R=R)``.
 """
 
 from __future__ import annotations

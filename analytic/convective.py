@@ -4,8 +4,11 @@ Re-derived here; the PDF's equations are garbled. Conventions (different from th
 
 * pressure p >= 0 in compression; load P = integral of p > 0 (the paper writes P = -int p, p <= 0);
 * h(x) >= 0 is the initial gap of a symmetric convex indenter profile (the paper's h is minus this);
-* A = 2/E* is the composite compliance (C&H eq. 2), beta the Dundurs constant (C&H eq. 6); for a rigid
-  indenter on a body with Poisson ratio nu2, beta = -(1 - 2 nu2)/(2 (1 - nu2)) (plane strain);
+* A = 2/E* is the composite compliance (C&H eq. 2), beta the Dundurs constant (C&H eq. 6), both of ANY two
+  materials (:func:`analytic.materials.bimaterial`: body 1 the indenter, body 2 the flat block, Gam = mu2/mu1);
+  for a rigid indenter on a body with Poisson ratio nu2, beta = -(1 - 2 nu2)/(2 (1 - nu2)) (plane strain).
+  beta takes either sign, -1/2 <= beta <= 1/2: beta < 0 (indenter the stiffer) widens the contact, b > b0;
+  beta > 0 (block the stiffer) narrows it, b < b0; beta = 0 is the classical problem (e.g. identical materials);
 * the load P is FIXED; b0 is the classical (beta = 0) half-width at that load; b is the half-width in
   material (undeformed) coordinates X of the flat elastic body.
 
@@ -476,7 +479,8 @@ def solve(
 
     Args:
         profile: From :func:`wedge_profile`, :func:`parabola_profile` or :func:`power_profile`.
-        beta: Dundurs beta, -0.5 <= beta <= 0.5 (rigid indenter: -(1 - 2 nu2)/(2 (1 - nu2)) <= 0).
+        beta: Dundurs beta, -0.5 <= beta <= 0.5, either sign (:func:`analytic.materials.bimaterial`; rigid
+            indenter: -(1 - 2 nu2)/(2 (1 - nu2)) <= 0).
         n_nodes: Gauss-Chebyshev nodes N (even, >= 64); error in b/b0 is O(N^-2).
         tol: Stop when b/b0 changes by less than this between iterations.
         max_iter: Iteration cap (RuntimeError beyond).

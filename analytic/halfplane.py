@@ -1,4 +1,8 @@
-"""Frictionless contact of a rigid symmetric profile on an elastic half-plane, any smooth profile, at a given load.
+"""Frictionless contact of a symmetric profile on an elastic half-plane, any smooth profile, at a given load.
+
+Two materials: the indenter (body 1, carries the profile, rigid or elastic) on the flat block (body 2) enter only
+through the composite modulus E* and Dundurs' beta (:func:`analytic.materials.bimaterial`, which states the sign
+convention); beta of either sign, -1/2 <= beta <= 1/2. The classical (beta = 0) half-width depends on E* alone.
 
 Classical (beta = 0) and convective (Ciavarella-Hills, beta != 0) theory for the profiles ``circle`` (the exact
 gap h = R - sqrt(R^2 - x^2), not Hertz's parabola), ``parabola`` (h = x^2/(2R): Hertz) and ``wedge`` (h = m|x|).
@@ -152,8 +156,10 @@ def solve_halfplane(prof: Profile, *, P: float, E_star: float, beta: float = 0.0
     Args:
         prof: From :func:`profile`.
         P: Load per unit thickness (N/mm), > 0.
-        E_star: Plane-strain modulus E/(1 - nu^2) of the body (rigid indenter), MPa.
-        beta: Dundurs beta, -0.5 <= beta <= 0.5 (rigid indenter: -(1 - 2 nu)/(2 (1 - nu)) <= 0); 0: classical.
+        E_star: Composite plane-strain modulus (MPa), 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (rigid indenter:
+            E2/(1 - nu2^2)); :func:`analytic.materials.bimaterial` gives it with beta.
+        beta: Dundurs beta, -0.5 <= beta <= 0.5, either sign (rigid indenter: -(1 - 2 nu)/(2 (1 - nu)) <= 0);
+            0: classical.
         n_nodes: Gauss-Chebyshev nodes (even, >= 64).
         tol, max_iter: Fixed-point stop (relative change of b) and cap (RuntimeError beyond).
 
@@ -174,6 +180,9 @@ def solve_halfplane(prof: Profile, *, P: float, E_star: float, beta: float = 0.0
         return 0.5 * math.pi * b * float(_coeffs(prof.slope(b * s))[1]) / A
 
     b0 = _root_b(classical_load, P, _guess(prof, P, E_star), upper)
+    if beta != 0.0 and prof.kind == "parabola" and not b0 < prof.R:  # as convective.parabola_profile: 0 < b0/R < 1
+        raise ValueError(f"P = {P!r} out of range: the convective parabola needs a classical half-width b0 < R "
+                         f"(b0/R = {b0 / prof.R:.6g} at this P, E* = {E_star:.6g} MPa, R = {prof.R:.6g} mm)")
     a = _coeffs(prof.slope(b0 * s))
     b, its = b0, 0
     if beta != 0.0:

@@ -12,6 +12,18 @@ Equations:
                                beta  = [Gam (k1 - 1) - (k2 - 1)] / [Gam (k1 + 1) + (k2 + 1)],
                                Gam = mu2/mu1 (mu = E / (2 (1 + nu)) the shear modulus)
     rigid indenter (Gam = 0)   alpha = -1, beta = -(k2 - 1)/(k2 + 1) = -(1 - 2 nu2)/(2 (1 - nu2)) (plane strain)
+
+Dundurs sign convention (Ciavarella & Hills eq. 6, Johnson's Contact Mechanics): body 1 is the INDENTER (the body
+that carries the profile), body 2 the flat block / half-plane, Gam = mu2/mu1. A rigid indenter (mu1 = inf) gives
+alpha = -1 and beta = -(1 - 2 nu2)/(2 (1 - nu2)) in [-1/2, 0] (C&H: "body 1 the more rigid, beta < 0"); a rigid
+block gives alpha = +1, beta = +(1 - 2 nu1)/(2 (1 - nu1)); exchanging the bodies changes the signs of both;
+identical materials give alpha = beta = 0.
+
+Admissible plane-strain values (:func:`bimaterial`, -1 < nu <= 1/2, so 1 <= kappa < 7): alpha runs over [-1, 1]
+and, at fixed nu1, nu2, beta increases monotonically with Gam (d beta/d Gam ~ 2 (k1 k2 - 1) >= 0) from
+-(1 - 2 nu2)/(2 (1 - nu2)) (rigid indenter) to +(1 - 2 nu1)/(2 (1 - nu1)) (rigid block) (:func:`beta_range`).
+For 0 <= nu <= 1/2 that keeps |beta| <= 1/2 and -1 <= alpha - 4 beta <= 1 (Dundurs' parallelogram);
+auxetic materials (nu < 0) reach |beta| up to 3/4, beyond the convective theory's -1/2 <= beta <= 1/2.
 """
 
 from __future__ import annotations
@@ -21,8 +33,11 @@ from typing import NamedTuple
 
 __all__ = [
     "validate_positive",
+    "Bimaterial",
     "Dundurs",
+    "beta_range",
     "beta_rigid_indenter",
+    "bimaterial",
     "compliance",
     "composite_modulus",
     "dundurs",
@@ -60,9 +75,13 @@ def validate_positive(value: float, name: str, unit: str) -> float:
     return value
 
 
-def validate_poisson(nu: float, name: str = "nu") -> float:
-    """Return ``nu`` as float or raise ``ValueError`` unless -1 < nu < 0.5."""
+def validate_poisson(nu: float, name: str = "nu", *, incompressible: bool = False) -> float:
+    """Return ``nu`` as float or raise ``ValueError`` unless -1 < nu < 0.5 (nu <= 0.5 if ``incompressible``)."""
     nu = float(nu)
+    if incompressible:
+        if not (-1.0 < nu <= 0.5):
+            raise ValueError(f"{name} = {nu!r} out of range: need -1 < {name} <= 0.5")
+        return nu
     if not (-1.0 < nu < 0.5):
         raise ValueError(f"{name} = {nu!r} out of range: need -1 < {name} < 0.5")
     return nu
@@ -88,13 +107,18 @@ def plane_strain_modulus(E: float, nu: float) -> float:
     return E / (1.0 - nu * nu)
 
 
+def _compliance_sum(E1: float, nu1: float, E2: float, nu2: float) -> float:
+    """(1 - nu1^2)/E1 + (1 - nu2^2)/E2 = 1/E* (1/MPa, plane strain), on checked values."""
+    return (1.0 - nu1 * nu1) / E1 + (1.0 - nu2 * nu2) / E2
+
+
 def _half_compliance(E1: float, nu1: float, E2: float, nu2: float) -> float:
     """(1 - nu1^2)/E1 + (1 - nu2^2)/E2 in 1/MPa (plane strain); E1 = inf gives a rigid body 1."""
     E1 = validate_modulus(E1, "E1", allow_inf=True)
     E2 = validate_modulus(E2, "E2", allow_inf=True)
     nu1 = validate_poisson(nu1, "nu1")
     nu2 = validate_poisson(nu2, "nu2")
-    c = (1.0 - nu1 * nu1) / E1 + (1.0 - nu2 * nu2) / E2
+    c = _compliance_sum(E1, nu1, E2, nu2)
     if c <= 0.0:
         raise ValueError("E1, E2 out of range: at least one body must be deformable (finite E)")
     return c
@@ -143,6 +167,13 @@ def dundurs(
     k1 = kolosov(validate_poisson(nu1, "nu1"), plane=plane)
     k2 = kolosov(validate_poisson(nu2, "nu2"), plane=plane)
     gam = 0.0 if math.isinf(E1) else (E2 / (2.0 * (1.0 + nu2))) / (E1 / (2.0 * (1.0 + nu1)))
+    return _dundurs(gam, k1, k2)
+
+
+def _dundurs(gam: float, k1: float, k2: float) -> Dundurs:
+    """(alpha, beta) from Gam = mu2/mu1 in [0, inf] and the Kolosov constants (C&H eq. 6)."""
+    if math.isinf(gam):  # rigid body 2: the limit Gam -> inf
+        return Dundurs(alpha=1.0, beta=(k1 - 1.0) / (k1 + 1.0))
     den = gam * (k1 + 1.0) + (k2 + 1.0)
     return Dundurs(
         alpha=(gam * (k1 + 1.0) - (k2 + 1.0)) / den,
@@ -150,10 +181,69 @@ def dundurs(
     )
 
 
+class Bimaterial(NamedTuple):
+    """Two bodies in plane strain: 1 the indenter (carries the profile), 2 the flat block (see the module).
+
+    Attributes:
+        E1, nu1: Indenter's Young's modulus (MPa, ``inf`` = rigid) and Poisson's ratio.
+        E2, nu2: Block's Young's modulus (MPa, ``inf`` = rigid) and Poisson's ratio.
+        alpha, beta: Dundurs' constants (Gam = mu2/mu1; rigid indenter: alpha = -1, beta <= 0).
+        E_star: Composite plane-strain modulus (MPa), 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2.
+    """
+
+    E1: float
+    nu1: float
+    E2: float
+    nu2: float
+    alpha: float
+    beta: float
+    E_star: float
+
+
+def bimaterial(*, E1: float, nu1: float, E2: float, nu2: float) -> Bimaterial:
+    """Dundurs' alpha, beta and the composite modulus E* of indenter 1 on block 2 (plane strain).
+
+    E = ``inf`` makes that body rigid (not both); -1 < nu <= 1/2 (nu = 1/2: incompressible, kappa = 1).
+    Convention and admissible ranges: see the module docstring (body 1 = indenter, Gam = mu2/mu1).
+
+    Raises:
+        ValueError: one line naming the field (E1, nu1, E2, nu2) and its range.
+    """
+    E1 = validate_modulus(E1, "E1", allow_inf=True)
+    E2 = validate_modulus(E2, "E2", allow_inf=True)
+    nu1 = validate_poisson(nu1, "nu1", incompressible=True)
+    nu2 = validate_poisson(nu2, "nu2", incompressible=True)
+    if math.isinf(E1) and math.isinf(E2):
+        raise ValueError("E1, E2 = inf out of range: at least one body must be deformable (finite E)")
+    if math.isinf(E1):  # the rigid limits in the same closed form as beta_rigid_indenter (bit-identical)
+        d = Dundurs(alpha=-1.0, beta=-_beta_rigid(nu2))
+    elif math.isinf(E2):
+        d = Dundurs(alpha=1.0, beta=_beta_rigid(nu1))
+    else:
+        gam = (E2 / (2.0 * (1.0 + nu2))) / (E1 / (2.0 * (1.0 + nu1)))
+        d = _dundurs(gam, 3.0 - 4.0 * nu1, 3.0 - 4.0 * nu2)
+    E_star = 1.0 / _compliance_sum(E1, nu1, E2, nu2)
+    return Bimaterial(E1, nu1, E2, nu2, d.alpha, d.beta, E_star)
+
+
+def beta_range(*, nu1: float, nu2: float) -> tuple[float, float]:
+    """The plane-strain beta interval reachable with these Poisson ratios as E1/E2 runs over (0, inf].
+
+    (-(1 - 2 nu2)/(2 (1 - nu2)), (1 - 2 nu1)/(2 (1 - nu1))): rigid indenter to rigid block (module docstring).
+    """
+    nu1 = validate_poisson(nu1, "nu1", incompressible=True)
+    nu2 = validate_poisson(nu2, "nu2", incompressible=True)
+    return -_beta_rigid(nu2), _beta_rigid(nu1)
+
+
+def _beta_rigid(nu: float) -> float:
+    """(1 - 2 nu)/(2 (1 - nu)) = (kappa - 1)/(kappa + 1) in plane strain: |beta| when the other body is rigid."""
+    return (1.0 - 2.0 * nu) / (2.0 * (1.0 - nu))
+
+
 def beta_rigid_indenter(nu2: float) -> float:
     """Dundurs beta for a rigid indenter on a body with Poisson ratio nu2 (plane strain).
 
     beta = -(1 - 2 nu2) / (2 (1 - nu2)); beta = -1/2 at nu2 = 0 (the extreme of C&H eq. 7), 0 at nu2 = 1/2.
     """
-    nu2 = validate_poisson(nu2, "nu2")
-    return -(1.0 - 2.0 * nu2) / (2.0 * (1.0 - nu2))
+    return -_beta_rigid(validate_poisson(nu2, "nu2"))
