@@ -51,12 +51,14 @@ def test_all_pass_says_so(tmp_path):
 def test_ci_report_opens_with_the_count_and_the_failing_case(tmp_path, monkeypatch, capsys):
     import subprocess
 
+    from workbench.owned import make_dirs
     from workbench.paths import OutputPaths
     from workbench.pipeline import ci
 
     names = case_names()
+    make_dirs(tmp_path / "ci", kind="ci")  # the workbench's own folders (an unmarked one is refused: issue 23)
     for i, n in enumerate(names):
-        (tmp_path / "ci" / n).mkdir(parents=True)
+        make_dirs(tmp_path / "ci" / n, kind="case")
         m = _metrics(n, passed=i != 0)
         (tmp_path / "ci" / n / "metrics.json").write_text(json.dumps(m))
     monkeypatch.setattr(ci.subprocess, "run", lambda cmd, **kw: subprocess.CompletedProcess(
