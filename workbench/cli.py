@@ -40,6 +40,8 @@ STUDIES = {
     "bench": "workbench.studies.bench",
     "convective-table": "workbench.studies.convective_table",
     "validity": "workbench.studies.validity",
+    # external codes (issue 26): own options too
+    "score": "workbench.external.score",
 }
 
 
