@@ -42,6 +42,8 @@ STUDIES = {
     "validity": "workbench.studies.validity",
     # external codes (issue 26): own options too
     "score": "workbench.external.score",
+    "export": "workbench.external.export",
+    "external": "workbench.external.ccx",
 }
 
 
