@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["ExternalResult", "ResultError", "read_csv_result", "POSITION", "PRESSURE", "LOAD", "SIZE"]
+__all__ = ["ExternalResult", "ResultError", "read_csv_result", "make_result", "POSITION", "PRESSURE", "LOAD", "SIZE"]
 
 POSITION = ("x_mm", "s_mm", "coordinate_mm", "x")
 PRESSURE = ("p_MPa", "p_fem_MPa", "pressure_MPa", "p")
@@ -121,8 +121,13 @@ def read_csv_result(path: str | Path) -> ExternalResult:
     lcol, hcol = _pick(header, LOAD), _pick(header, SIZE)
     load = _constant(col[lcol], what=lcol, where=where) if lcol else None
     h = _constant(col[hcol], what=hcol, where=where) if hcol else None
+    return make_result(where, x, p, load=load, h=h)
+
+
+def make_result(where: str, x: np.ndarray, p: np.ndarray, *, load: float | None, h: float | None) -> ExternalResult:
+    """Sort by x and mirror a half model (samples all at x >= 0) to the full body."""
     order = np.argsort(x, kind="stable")
-    x, p = x[order], p[order]
+    x, p = np.asarray(x, dtype=float)[order], np.asarray(p, dtype=float)[order]
     tol = 1e-12 * max(1.0, float(np.max(np.abs(x))))
     half = bool(x[0] >= -tol)
     if half:
