@@ -44,6 +44,8 @@ class ExternalResult(NamedTuple):
         load: Full-body load per unit thickness from the file (N/mm), or None.
         h: Element size on the contact surface from the file (mm), or None.
         half: The file held a half model (x >= 0), mirrored here.
+        configuration: ``"reference"`` (x is the material position; csv) or ``"current"`` (x = X + u, where
+            the code's pressure is force per deformed length: CalculiX's CPRESS).
     """
 
     path: str
@@ -52,6 +54,7 @@ class ExternalResult(NamedTuple):
     load: float | None
     h: float | None
     half: bool
+    configuration: str = "reference"
 
 
 def _pick(header: list[str], names: tuple[str, ...]) -> str | None:
@@ -124,7 +127,8 @@ def read_csv_result(path: str | Path) -> ExternalResult:
     return make_result(where, x, p, load=load, h=h)
 
 
-def make_result(where: str, x: np.ndarray, p: np.ndarray, *, load: float | None, h: float | None) -> ExternalResult:
+def make_result(where: str, x: np.ndarray, p: np.ndarray, *, load: float | None, h: float | None,
+                configuration: str = "reference") -> ExternalResult:
     """Sort by x and mirror a half model (samples all at x >= 0) to the full body."""
     order = np.argsort(x, kind="stable")
     x, p = np.asarray(x, dtype=float)[order], np.asarray(p, dtype=float)[order]
@@ -134,7 +138,7 @@ def make_result(where: str, x: np.ndarray, p: np.ndarray, *, load: float | None,
         keep = x > tol
         x = np.concatenate([-x[keep][::-1], x])
         p = np.concatenate([p[keep][::-1], p])
-    return ExternalResult(where, x, p, load, h, half)
+    return ExternalResult(where, x, p, load, h, half, configuration)
 
 
 def positive(value: float, *, what: str) -> float:

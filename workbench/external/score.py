@@ -83,7 +83,8 @@ def level_measures(res: ExternalResult, *, geometry, material, h: float | None =
                          p_ref=th.p_ref),
         "load_balance": (P_int - P) / P,
     }
-    return {"file": res.path, "half_model": res.half, "samples": int(x.size), "h": h_val, "h_source": h_source,
+    return {"file": res.path, "half_model": res.half, "configuration": res.configuration,
+            "samples": int(x.size), "h": h_val, "h_source": h_source,
             "P": P, "P_source": "file" if res.load is not None else "integral", "P_integral": P_int,
             "p_max": main.p_max, "half_width": main.half_width, "half_width_moment": hw_m, "center": main.center,
             "patches": len(patches),
@@ -165,7 +166,9 @@ def _report_md(score: dict) -> str:
         lines.append(f"| {Path(lv['file']).name} | {fmt(lv['h'])} | {fmt(lv['P'], 8)} | {fmt(lv['p_max'], 8)} | "
                      f"{fmt(lv['half_width'], 8)} | {fmt(lv['half_width_moment'], 8)} | {e['p_max']:+.3%} | "
                      f"{e['half_width']:+.3%} | {e['half_width_moment']:+.3%} | {e['rms']:.3%} |")
-    lines += ["", f"Level size h: {score['levels'][0]['h_source']}. Theory ({score['theory']}) at each level's load "
+    lines += ["", f"Level size h: {score['levels'][0]['h_source']}. "
+              f"Positions: {score['levels'][0]['configuration']} configuration. "
+              f"Theory ({score['theory']}) at each level's load "
               f"P ({score['levels'][0]['P_source']}).", ""]
     st = score.get("grid_study")
     if st:
