@@ -11,9 +11,12 @@ separated by blanks: ``-1.06194E-05-2.2E+03``).
 The contact surface is the block's top, y = 0 in the reference configuration (the case's geometry): the nodes
 with |Y| <= 1e-9 (body size); where two nodes coincide (the slave and the master surface touching at the
 first contact point) the larger CPRESS is kept. CalculiX's CPRESS is a force per DEFORMED area (measured on
-hertz_cylinder, h_c = a/40: its integral over the reference positions is 1.1 % above the reaction force, over
-the current positions X + u1 0.06 %), so when the file has a DISP block the positions are the current ones
-(``configuration = "current"``), the workbench's convention for finite-strain runs. Units: mm, MPa.
+hertz_cylinder, h_c = a/40: its integral over the reference positions X is 1.1 % above the reaction force, over
+the current positions X + u1 0.06 % off). The scorer's convention is the reference configuration (as the
+csv's), so with a DISP block in the file the pressure is turned into force per reference length,
+``p = CPRESS d(X + u1)/dX`` (the stretch of the surface from the nodal u1, ``np.gradient``: 0.988 at the
+centre of hertz_cylinder; the integral then matches the reaction to 0.06 %); ``configuration =
+"current"`` keeps CPRESS at the current positions instead. Units: mm, MPa.
 """
 
 from __future__ import annotations
@@ -106,9 +109,9 @@ def read_frd(path: str | Path) -> FrdData:
 
 
 def surface_pressure(data: FrdData, *, where: str, top_y: float = 0.0,
-                     current: bool = False) -> tuple[np.ndarray, np.ndarray]:
-    """(x, CPRESS) of the nodes on the block top Y = ``top_y`` (``x`` = X, or X + u1 with ``current``),
-    coincident nodes merged by their largest pressure."""
+                     configuration: str = "reference") -> tuple[np.ndarray, np.ndarray]:
+    """(x, p) of the nodes on the block top Y = ``top_y``, coincident nodes merged by their largest CPRESS:
+    ``"reference"``: x = X, p = CPRESS d(X + u1)/dX; ``"current"``: x = X + u1, p = CPRESS."""
     if "CONTACT" not in data.blocks:
         raise ResultError(f"{where}: no CONTACT block; allowed: a .frd written with *CONTACT FILE CSTR")
     comps, ids, vals = data.blocks["CONTACT"]
@@ -121,26 +124,32 @@ def surface_pressure(data: FrdData, *, where: str, top_y: float = 0.0,
         raise ResultError(f"{where}: no node on the contact surface y = {top_y:g} mm; the surface does not "
                           "match the case (block top at y = 0)")
     x = data.coords[on_top, 0].copy()
-    if current:
+    u1 = np.zeros_like(x)
+    if "DISP" in data.blocks:
         dcomps, dids, dvals = data.blocks["DISP"]
-        u1 = dict(zip(dids.tolist(), dvals[:, 0].tolist(), strict=True))
-        x += np.array([u1.get(int(k), 0.0) for k in data.nodes[on_top]])
+        u = dict(zip(dids.tolist(), dvals[:, 0].tolist(), strict=True))
+        u1 = np.array([u.get(int(k), 0.0) for k in data.nodes[on_top]])
     p = np.array([cp.get(int(k), 0.0) for k in data.nodes[on_top]])
     order = np.lexsort((-p, x))
-    x, p = x[order], p[order]
+    x, p, u1 = x[order], p[order], u1[order]
     first = np.ones(x.size, dtype=bool)
     first[1:] = np.diff(x) > 1e-12 * scale
-    return x[first], p[first]
+    x, p, u1 = x[first], p[first], u1[first]
+    if configuration == "current":
+        return x + u1, p
+    if x.size >= 2 and np.any(u1):
+        p = p * np.gradient(x + u1, x)  # force per reference length
+    return x, p
 
 
-def read_frd_result(path: str | Path, *, load: float | None = None, h: float | None = None) -> ExternalResult:
+def read_frd_result(path: str | Path, *, load: float | None = None, h: float | None = None,
+                    configuration: str = "reference") -> ExternalResult:
     """One level's contact pressure from a CalculiX ``.frd`` (``load``: the full-body load if known)."""
     data = read_frd(path)
-    current = "DISP" in data.blocks
-    x, p = surface_pressure(data, where=str(path), current=current)
+    x, p = surface_pressure(data, where=str(path), configuration=configuration)
     if not np.any(p > 0):
         raise ResultError(f"{path}: no positive CPRESS on the contact surface (no contact)")
     if x.size < 2:
         raise ResultError(f"{path}: {x.size} node(s) on the contact surface; allowed: at least 2")
     return make_result(str(path), x, np.clip(p, 0.0, None), load=load, h=h,
-                       configuration="current" if current else "reference")
+                       configuration=configuration)
