@@ -12,6 +12,8 @@ Per level (:func:`level_measures`; every measure from :mod:`measures.contact`, t
 * ``errors``: signed relative errors of ``p_max``, ``half_width``, ``half_width_moment`` against the case's
   classical theory at the level's load ``P`` (the block scenes' :func:`workbench.scenes.block_theory.block_theory`),
   and ``rms`` = RMS(p - p_theory)/p0 over the patch (:func:`measures.contact.rms_error`, as the FEM's rms);
+* frd results (:mod:`workbench.external.frd`): the nodes on the block top, CPRESS turned into force per
+  reference length (``--configuration reference``, default) or kept at the current positions (``current``);
 * ``h``: the level's element size on the contact surface: ``--h`` or the file's ``h_mm`` column, else
   ESTIMATED as the median sample spacing inside the patch times the samples per element (``--samples-per-element``,
   default 1: nodal values); ``h_source`` says which.
@@ -232,16 +234,18 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--format", choices=("csv", "frd"), default="csv")
     p.add_argument("--h", type=float, nargs="+", default=None, help="element size on the contact surface per RESULT")
     p.add_argument("--samples-per-element", type=int, default=1)
+    p.add_argument("--configuration", choices=("reference", "current"), default="reference",
+                   help="frd: positions X with CPRESS per reference length (default), or X + u with CPRESS as written")
     p.add_argument("--out", default=None, help="output folder (default: results/ of this checkout)")
     return p
 
 
-def read_results(paths: list[str], *, fmt: str, case_name: str | None = None) -> list[ExternalResult]:
+def read_results(paths: list[str], *, fmt: str, configuration: str = "reference") -> list[ExternalResult]:
     """The RESULT files of one ``--format``."""
     if fmt == "frd":
         from workbench.external.frd import read_frd_result
 
-        return [read_frd_result(p) for p in paths]
+        return [read_frd_result(p, configuration=configuration) for p in paths]
     return [read_csv_result(p) for p in paths]
 
 
@@ -259,7 +263,7 @@ def main(argv: list[str] | None = None) -> int:
                 if not (math.isfinite(v) and v > 0):
                     raise ScoreError(f"--h {v!r}; allowed: finite sizes > 0 (mm)")
         root = default_paths(args.out).root if args.out is None else check_output_folder(args.out)
-        results = read_results(args.results, fmt=args.format, case_name=args.case)
+        results = read_results(args.results, fmt=args.format, configuration=args.configuration)
         score = score_levels(args.case, results, h=args.h, samples_per_element=args.samples_per_element)
     except (ResultError, ScoreError, CaseError, OutputError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
