@@ -121,7 +121,7 @@ def test_own_pressure_csv_reproduces_the_case_numbers(tmp_path):
         for r in rows[1:]:
             w.writerow([*r, repr(m["P"])])
     for f in (tmp_path / "run" / "hertz_cylinder" / "pressure.csv", with_load):
-        assert score_main(["hertz_cylinder", str(f), "--out", str(tmp_path / "s")]) == 0
+        assert score_main(["hertz_cylinder", str(f), "--out", str(tmp_path / "s"), "--fem", str(f)]) == 0
         lv = json.loads((tmp_path / "s" / "score_hertz_cylinder" / "score.json").read_text())["levels"][0]
         assert lv["p_max"] == pytest.approx(m["p_max"], rel=1e-9)
         assert lv["half_width"] == pytest.approx(m["patch_half_width"], rel=1e-9)

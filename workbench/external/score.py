@@ -186,7 +186,7 @@ def _report_md(score: dict) -> str:
     return "\n".join(lines)
 
 
-def _plot(score: dict, results: list[ExternalResult], path: Path) -> None:
+def _plot(score: dict, results: list[ExternalResult], path: Path, fem: ExternalResult | None = None) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -202,6 +202,8 @@ def _plot(score: dict, results: list[ExternalResult], path: Path) -> None:
     th = BlockTheory(t["kind"], t["P"], t["E_star"], t["half_width"], t["p0"], R=t["R"])
     xx = np.linspace(-1.3 * th.half_width, 1.3 * th.half_width, 801)
     ax.plot(xx, th.pressure(xx), "k--", lw=1.2, label=f"{t['kind']} at P = {t['P']:.6g} N/mm")
+    if fem is not None:
+        ax.plot(fem.x, fem.p, "m:", lw=1.4, label=f"workbench FEM ({Path(fem.path).name})")
     ax.set_xlim(-1.5 * th.half_width, 1.5 * th.half_width)
     ax.set_xlabel("x (mm, reference)")
     ax.set_ylabel("contact pressure (MPa)")
@@ -211,7 +213,7 @@ def _plot(score: dict, results: list[ExternalResult], path: Path) -> None:
     plt.close(fig)
 
 
-def write_score(score: dict, results: list[ExternalResult], folder: Path) -> None:
+def write_score(score: dict, results: list[ExternalResult], folder: Path, *, fem: ExternalResult | None = None) -> None:
     """``score.json``, ``report.md``, ``report.html`` and ``pressure.png`` into ``folder`` (staged: a failure
     leaves the previous folder intact)."""
     from workbench.atomic import atomic_dir, write_json, write_text
@@ -222,7 +224,7 @@ def write_score(score: dict, results: list[ExternalResult], folder: Path) -> Non
         md = _report_md(score)
         write_text(stage / "report.md", md)
         write_text(stage / "report.html", markdown_to_html(md, title=f"score {score['case']}"))
-        _plot(score, results, stage / "pressure.png")
+        _plot(score, results, stage / "pressure.png", fem)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -236,6 +238,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--samples-per-element", type=int, default=1)
     p.add_argument("--configuration", choices=("reference", "current"), default="reference",
                    help="frd: positions X with CPRESS per reference length (default), or X + u with CPRESS as written")
+    p.add_argument("--fem", default=None, metavar="CSV",
+                   help="the workbench's own pressure.csv of the case, drawn beside the external pressure")
     p.add_argument("--out", default=None, help="output folder (default: results/ of this checkout)")
     return p
 
@@ -265,11 +269,14 @@ def main(argv: list[str] | None = None) -> int:
         root = default_paths(args.out).root if args.out is None else check_output_folder(args.out)
         results = read_results(args.results, fmt=args.format, configuration=args.configuration)
         score = score_levels(args.case, results, h=args.h, samples_per_element=args.samples_per_element)
+        fem = read_csv_result(args.fem) if args.fem else None
+        if fem is not None:
+            score["fem"] = fem.path
     except (ResultError, ScoreError, CaseError, OutputError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     folder = Path(root) / f"score_{score['case']}"
-    write_score(score, results, folder)
+    write_score(score, results, folder, fem=fem)
     print(f"score {score['case']}: {len(results)} level(s) -> {folder}")
     print(score["verdict"])
     return 0
