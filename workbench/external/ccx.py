@@ -4,7 +4,8 @@ Levels: the case's ``levels`` (h_c / a) from its ``ci_level`` downwards, ``N`` o
 ``<out>/external_ccx_<case>/h<H>/`` holds the exported deck and CalculiX's files (``.frd``, ``.dat``, ``.sta``,
 ``ccx.log``); the load is the rigid band's reaction (the ``.dat``'s last ``total force`` of set CYL, doubled for a
 half model); the level size h is the exported h_c (exact, ``h_source`` "export level"). The score of all
-levels goes to ``<out>/external_ccx_<case>/score/`` (:mod:`workbench.external.score`). Without ``ccx`` on
+levels goes to ``<out>/external_ccx_<case>/score/`` (:mod:`workbench.external.score`), with the workbench's own
+``<out>/<case>/pressure.csv`` drawn beside it when a ``workbench run`` left one there. Without ``ccx`` on
 the PATH: one line, exit 2, nothing written (``make external`` installs Debian's ``calculix-ccx``).
 """
 
@@ -72,8 +73,8 @@ def main(argv: list[str] | None = None) -> int:
     from workbench.atomic import atomic_dir
     from workbench.external.export import export_case
     from workbench.external.frd import read_frd_result
-    from workbench.external.results import ResultError
-    from workbench.external.score import ScoreError, score_levels, write_score
+    from workbench.external.results import ResultError, read_csv_result
+    from workbench.external.score import ScoreError, level_measures, score_levels, write_score
     from workbench.paths import OutputError, check_output_folder, default_paths
     from workbench.scenes.block_theory import block_theory
 
@@ -112,7 +113,11 @@ def main(argv: list[str] | None = None) -> int:
             score = score_levels(case.name, results)
             for lvl in score["levels"]:
                 lvl["h_source"] = "export level (h_c of the exported mesh)"
-            write_score(score, results, stage / "score")
+            own = Path(root) / case.name / "pressure.csv"  # the workbench's own run in the same --out, if any
+            fem = read_csv_result(own) if own.is_file() else None
+            if fem is not None:
+                score["fem_level"] = level_measures(fem, geometry=run.geometry, material=run.material)
+            write_score(score, results, stage / "score", fem=fem)
     except (CcxError, ResultError, ScoreError, subprocess.TimeoutExpired) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2

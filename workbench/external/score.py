@@ -187,6 +187,8 @@ def _report_md(score: dict) -> str:
 
 
 def _plot(score: dict, results: list[ExternalResult], path: Path, fem: ExternalResult | None = None) -> None:
+    """Left: the external pressure of every level and the theory at the finest level's load (MPa, mm). Right:
+    every curve over its own theory at its own load (p/p0 against x/a), the workbench's FEM too."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -194,20 +196,27 @@ def _plot(score: dict, results: list[ExternalResult], path: Path, fem: ExternalR
 
     from workbench.scenes.block_theory import BlockTheory
 
-    fig, ax = plt.subplots(figsize=(6.5, 4.2))
-    for lv, r in zip(score["levels"], results, strict=True):
-        ax.plot(r.x, r.p, ".-", ms=3, lw=0.8, label=f"{Path(lv['file']).name} (h = {lv['h']:.3g} mm)")
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11.0, 4.2))
+    curves = [(r, lv, f"{Path(lv['file']).name} (h = {lv['h']:.3g} mm)", ".-") for lv, r in
+              zip(score["levels"], results, strict=True)]
+    for r, _lv, label, style in curves:
+        ax.plot(r.x, r.p, style, ms=3, lw=0.8, label=label)
     fine = min(score["levels"], key=lambda lv: lv["h"])
     t = fine["theory"]
     th = BlockTheory(t["kind"], t["P"], t["E_star"], t["half_width"], t["p0"], R=t["R"])
     xx = np.linspace(-1.3 * th.half_width, 1.3 * th.half_width, 801)
     ax.plot(xx, th.pressure(xx), "k--", lw=1.2, label=f"{t['kind']} at P = {t['P']:.6g} N/mm")
-    if fem is not None:
-        ax.plot(fem.x, fem.p, "m:", lw=1.4, label=f"workbench FEM ({Path(fem.path).name})")
     ax.set_xlim(-1.5 * th.half_width, 1.5 * th.half_width)
-    ax.set_xlabel("x (mm, reference)")
-    ax.set_ylabel("contact pressure (MPa)")
+    ax.set(xlabel="x (mm, reference)", ylabel="contact pressure (MPa)", title="external result")
     ax.legend(fontsize=7)
+    if fem is not None and "fem_level" in score:
+        curves.append((fem, score["fem_level"], f"workbench FEM ({Path(fem.path).name})", "m:"))
+    for r, lv, label, style in curves:
+        bx.plot(r.x / lv["theory"]["half_width"], r.p / lv["theory"]["p0"], style, ms=3, lw=0.9, label=label)
+    bx.plot(xx / th.half_width, th.pressure(xx) / th.p_ref, "k--", lw=1.2, label=t["kind"])
+    bx.set_xlim(-1.5, 1.5)
+    bx.set(xlabel="x / a (theory at each curve's own load)", ylabel="p / p0", title="each at its own load")
+    bx.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -271,7 +280,10 @@ def main(argv: list[str] | None = None) -> int:
         score = score_levels(args.case, results, h=args.h, samples_per_element=args.samples_per_element)
         fem = read_csv_result(args.fem) if args.fem else None
         if fem is not None:
-            score["fem"] = fem.path
+            from cases import load_case
+
+            run = load_case(args.case).runs()[0]
+            score["fem_level"] = level_measures(fem, geometry=run.geometry, material=run.material)
     except (ResultError, ScoreError, CaseError, OutputError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
