@@ -94,6 +94,7 @@ def test_exact_hertz_is_within_band_and_half_model_mirrors(tmp_path):
     ("x_mm,p_MPa\n0,-1\n1,2\n", "negative pressure"),
     ("x_mm,p_MPa\n0,1\n1\n", "number of fields"),
     ("", "empty"),
+    ("x_mm,p_MPa\n0,1\n50,2\n", "does not match the case"),
 ])
 def test_bad_file_one_line_exit_2_nothing_written(tmp_path, capsys, content, problem):
     f = tmp_path / "bad.csv"

@@ -95,6 +95,21 @@ def level_measures(res: ExternalResult, *, geometry, material, h: float | None =
             "errors": errors}
 
 
+def _check_surface(results: list[ExternalResult], run) -> None:
+    """ResultError when a result's positions leave the case's contact surface (the block top, |x| <= W/2)."""
+    from workbench.scenes.block_theory import block_theory
+
+    ld = run.loading
+    target = (block_theory(run.geometry, run.material, P=ld.P) if ld.P is not None
+              else block_theory(run.geometry, run.material, half_width=ld.half_width))
+    half_w = 0.5 * run.geometry.width_factor * target.half_width
+    for r in results:
+        far = float(np.max(np.abs(r.x)))
+        if far > half_w * (1.0 + 1e-6):
+            raise ResultError(f"{r.path}: positions reach |x| = {far:.6g} mm, beyond the case's block top "
+                              f"(|x| <= W/2 = {half_w:.6g} mm): the surface does not match the case")
+
+
 def _study(levels: list[dict]) -> dict:
     """Observed order, GCI and extrapolation of the three finest levels (ratios to the theory at each load)."""
     from workbench.error_budget import grid_study
@@ -146,6 +161,7 @@ def score_levels(case_name: str, results: list[ExternalResult], *, h: list[float
     run = case.runs()[0]
     if run.geometry.scene != "block":
         raise ScoreError(f"case {case.name}: scene {run.geometry.scene!r} cannot be scored yet; allowed: block scenes")
+    _check_surface(results, run)
     if h is not None and len(h) != len(results):
         raise ScoreError(f"--h: {len(h)} sizes for {len(results)} RESULT files; allowed: one per file")
     levels = [level_measures(r, geometry=run.geometry, material=run.material,
