@@ -69,6 +69,10 @@ def test_three_levels_extrapolate_the_known_offset(tmp_path):
     assert st["outside_band"] and "obstacle" in score["verdict"] and "-0.500%" in score["verdict"]
     for name in ("report.md", "report.html", "pressure.png"):
         assert (tmp_path / "score_hertz_cylinder" / name).stat().st_size > 0
+    from workbench.reports.external_summary import scored_markdown
+
+    rows = [ln for ln in scored_markdown(tmp_path) if ln.startswith("| [score_hertz_cylinder]")]
+    assert len(rows) == 1 and "0.99500" in rows[0] and "obstacle traction" in rows[0]
 
 
 def test_exact_hertz_is_within_band_and_half_model_mirrors(tmp_path):
