@@ -113,7 +113,8 @@ def test_bad_file_one_line_exit_2_nothing_written(tmp_path, capsys, content, pro
 def test_own_pressure_csv_reproduces_the_case_numbers(tmp_path):
     """The FEM's pressure.csv (hertz_cylinder --ci) scored as a csv: p_max and half-width to 1e-9 (the csv has 10
     significant digits); P to 1e-12 once the run's load is a column (pressure.csv has no load: its trapezoid
-    integral differs from the FEM's virtual-work P by ~2e-4, reported as P_integral)."""
+    integral differs from the FEM's virtual-work P by ~2e-4, reported as P_integral). The run's
+    contact_surface.csv (weights and pressure argument included): everything to 1e-9 with no load column."""
     run = subprocess.run([sys.executable, "-m", "workbench", "run", "hertz_cylinder", "--ci", "--out",
                           str(tmp_path / "run")], env=ENV, capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr[-2000:]
@@ -133,3 +134,13 @@ def test_own_pressure_csv_reproduces_the_case_numbers(tmp_path):
         assert lv["P_integral"] == pytest.approx(m["P_pressure"], rel=5e-4)
     assert lv["P"] == pytest.approx(m["P"], rel=1e-12)
     assert lv["errors"]["rms"] == pytest.approx(m["errors"]["rms"], rel=1e-6)
+    # the run's full-precision samples (vtk/<run>/contact_surface.csv: X_mm, p_MPa, q_MPa, weight_mm; a half
+    # model) with no load column: every number of the case to 1e-9 (measured: 0 for p_max, half-width and the
+    # pressure integral; the virtual-work P is 1.1e-12 from the integral)
+    own = tmp_path / "run" / "hertz_cylinder" / "vtk" / "base" / "contact_surface.csv"
+    assert score_main(["hertz_cylinder", str(own), "--out", str(tmp_path / "s2")]) == 0
+    lv = json.loads((tmp_path / "s2" / "score_hertz_cylinder" / "score.json").read_text())["levels"][0]
+    assert lv["half_model"] and lv["P_source"] == "integral"
+    for key, mk in (("P", "P"), ("P_integral", "P_pressure"), ("p_max", "p_max"), ("half_width", "patch_half_width")):
+        assert lv[key] == pytest.approx(m[mk], rel=1e-9), key
+    assert lv["errors"]["rms"] == pytest.approx(m["errors"]["rms"], rel=1e-9)

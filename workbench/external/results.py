@@ -7,6 +7,8 @@ A csv result has a header naming its columns (any order, extra columns ignored):
 * the contact pressure, MPa, compression positive: ``p_MPa`` (or ``p_fem_MPa``, ``pressure_MPa``, ``p``);
 * optionally the load per unit thickness of the full body, N/mm: ``P_N_per_mm`` (or ``P``), the same on every row;
 * optionally the level's element size on the contact surface, mm: ``h_mm`` (or ``h``), the same on every row;
+* optionally ``weight_mm``: each sample's quadrature weight (mm; else trapezoid weights), and ``q_MPa``: the
+  pressure argument (p = [q]_+; else q = p), as the workbench's own ``vtk/<run>/contact_surface.csv`` has them;
 * optionally ``run``: a file with several runs (the workbench's own ``pressure.csv``) must hold exactly one.
 
 Samples all at x >= 0 are a half model with its symmetry plane at x = 0: they are mirrored to the full body
@@ -24,10 +26,13 @@ import numpy as np
 
 __all__ = ["ExternalResult", "ResultError", "read_csv_result", "make_result", "POSITION", "PRESSURE", "LOAD", "SIZE"]
 
-POSITION = ("x_mm", "s_mm", "coordinate_mm", "x")
+POSITION = ("X_mm", "s_mm", "x_mm", "coordinate_mm", "x")  # X_mm first: the workbench's contact_surface.csv
+# has both X_mm (reference) and x_mm (current)
 PRESSURE = ("p_MPa", "p_fem_MPa", "pressure_MPa", "p")
 LOAD = ("P_N_per_mm", "P")
 SIZE = ("h_mm", "h")
+WEIGHT = ("weight_mm",)
+ARGUMENT = ("q_MPa",)
 
 
 class ResultError(ValueError):
@@ -44,6 +49,7 @@ class ExternalResult(NamedTuple):
         load: Full-body load per unit thickness from the file (N/mm), or None.
         h: Element size on the contact surface from the file (mm), or None.
         half: The file held a half model (x >= 0), mirrored here.
+        weight, q: (n,) quadrature weights (mm) and pressure argument (MPa) when the file gives them.
         configuration: ``"reference"`` (x is the material position; csv) or ``"current"`` (x = X + u, where
             the code's pressure is force per deformed length: CalculiX's CPRESS).
     """
@@ -55,6 +61,8 @@ class ExternalResult(NamedTuple):
     h: float | None
     half: bool
     configuration: str = "reference"
+    weight: np.ndarray | None = None
+    q: np.ndarray | None = None
 
 
 def _pick(header: list[str], names: tuple[str, ...]) -> str | None:
@@ -124,21 +132,37 @@ def read_csv_result(path: str | Path) -> ExternalResult:
     lcol, hcol = _pick(header, LOAD), _pick(header, SIZE)
     load = _constant(col[lcol], what=lcol, where=where) if lcol else None
     h = _constant(col[hcol], what=hcol, where=where) if hcol else None
-    return make_result(where, x, p, load=load, h=h)
+    extra = {}
+    for key, names in (("weight", WEIGHT), ("q", ARGUMENT)):
+        name = _pick(header, names)
+        if name:
+            try:
+                arr = np.array([float(v) for v in col[name]])
+            except ValueError as exc:
+                raise ResultError(f"{where}: a {name} value is not a number ({exc})") from None
+            if not np.all(np.isfinite(arr)) or (key == "weight" and arr.min() < 0):
+                raise ResultError(f"{where}: column {name} has NaN, infinite or negative values; allowed: finite"
+                                  + (" >= 0" if key == "weight" else ""))
+            extra[key] = arr
+    return make_result(where, x, p, load=load, h=h, **extra)
 
 
 def make_result(where: str, x: np.ndarray, p: np.ndarray, *, load: float | None, h: float | None,
-                configuration: str = "reference") -> ExternalResult:
-    """Sort by x and mirror a half model (samples all at x >= 0) to the full body."""
+                configuration: str = "reference", weight: np.ndarray | None = None,
+                q: np.ndarray | None = None) -> ExternalResult:
+    """Sort by x and mirror a half model (samples all at x >= 0) to the full body (a sample at x = 0 once,
+    weights and arguments mirrored with it)."""
     order = np.argsort(x, kind="stable")
-    x, p = np.asarray(x, dtype=float)[order], np.asarray(p, dtype=float)[order]
+    x = np.asarray(x, dtype=float)[order]
+    arrays = [np.asarray(a, dtype=float)[order] if a is not None else None for a in (p, weight, q)]
     tol = 1e-12 * max(1.0, float(np.max(np.abs(x))))
     half = bool(x[0] >= -tol)
     if half:
         keep = x > tol
         x = np.concatenate([-x[keep][::-1], x])
-        p = np.concatenate([p[keep][::-1], p])
-    return ExternalResult(where, x, p, load, h, half, configuration)
+        arrays = [np.concatenate([a[keep][::-1], a]) if a is not None else None for a in arrays]
+    p, weight, q = arrays
+    return ExternalResult(where, x, p, load, h, half, configuration, weight, q)
 
 
 def positive(value: float, *, what: str) -> float:

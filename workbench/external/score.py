@@ -4,7 +4,8 @@ pressure, one RESULT per mesh level, against the case's theory, with the workben
 Per level (:func:`level_measures`; every measure from :mod:`measures.contact`, the code the FEM pipeline uses):
 
 * ``P``: the file's load column if it has one (the external load), else ``P_integral``;
-* ``P_integral``: the trapezoid integral of the pressure over the samples (N/mm);
+* ``P_integral``: the integral of the pressure over the samples (N/mm): the file's ``weight_mm`` quadrature
+  weights, else the trapezoid rule; the edges use the file's ``q_MPa`` pressure argument, else q = p;
 * ``p_max``: the largest sampled pressure of the main patch (MPa);
 * ``half_width``: the edge fit (square-root edge model through the two outermost active samples, else the
   linear zero crossing; :func:`measures.contact.contact_edges`) of the main patch, half its width (mm);
@@ -47,9 +48,9 @@ class ScoreError(ValueError):
     """Bad input to the scorer (one line)."""
 
 
-def _samples(x: np.ndarray, p: np.ndarray, w: np.ndarray) -> SurfaceSamples:
+def _samples(x: np.ndarray, p: np.ndarray, w: np.ndarray, q: np.ndarray) -> SurfaceSamples:
     z = np.zeros_like(x)
-    return SurfaceSamples(s=x, X=np.column_stack([x, z]), x=np.column_stack([x, z]), p=p, q=p, sigma_nn=p,
+    return SurfaceSamples(s=x, X=np.column_stack([x, z]), x=np.column_stack([x, z]), p=p, q=q, sigma_nn=p,
                           gap=z, weight=w)
 
 
@@ -59,8 +60,9 @@ def level_measures(res: ExternalResult, *, geometry, material, h: float | None =
     from workbench.scenes.block_theory import block_theory
 
     x, p = res.x, res.p
-    w = trapezoid_weights(x)
-    patches = find_patches(_samples(x, p, w))
+    w = trapezoid_weights(x) if res.weight is None else res.weight
+    q = p if res.q is None else res.q
+    patches = find_patches(_samples(x, p, w, q))
     if not patches:
         raise ResultError(f"{res.path}: no contact patch (no positive pressure between two samples)")
     main = max(patches, key=lambda pt: pt.P)
