@@ -144,3 +144,13 @@ def test_own_pressure_csv_reproduces_the_case_numbers(tmp_path):
     for key, mk in (("P", "P"), ("P_integral", "P_pressure"), ("p_max", "p_max"), ("half_width", "patch_half_width")):
         assert lv[key] == pytest.approx(m[mk], rel=1e-9), key
     assert lv["errors"]["rms"] == pytest.approx(m["errors"]["rms"], rel=1e-9)
+    # the run's VTK contact surface (.pvd -> its last .vtp, zlib-compressed binary; P from its FieldData)
+    pvd = own.with_name("contact_surface.pvd")
+    assert score_main(["hertz_cylinder", str(pvd), "--format", "vtu", "--out", str(tmp_path / "s3")]) == 0
+    lv = json.loads((tmp_path / "s3" / "score_hertz_cylinder" / "score.json").read_text())["levels"][0]
+    for key, mk in (("P", "P"), ("p_max", "p_max"), ("half_width", "patch_half_width")):
+        assert lv[key] == pytest.approx(m[mk], rel=1e-12), key
+    bad = tmp_path / "truncated.vtp"
+    bad.write_text(own.with_name("contact_surface_0001.vtp").read_text()[:3000])
+    assert score_main(["hertz_cylinder", str(bad), "--format", "vtu", "--out", str(tmp_path / "s4")]) == 2
+    assert not (tmp_path / "s4").exists()

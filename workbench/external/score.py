@@ -13,6 +13,7 @@ Per level (:func:`level_measures`; every measure from :mod:`measures.contact`, t
 * ``errors``: signed relative errors of ``p_max``, ``half_width``, ``half_width_moment`` against the case's
   classical theory at the level's load ``P`` (the block scenes' :func:`workbench.scenes.block_theory.block_theory`),
   and ``rms`` = RMS(p - p_theory)/p0 over the patch (:func:`measures.contact.rms_error`, as the FEM's rms);
+* vtu/vtp/pvd results (:mod:`workbench.external.vtk_xml`): the point field ``--field`` on the block top;
 * frd results (:mod:`workbench.external.frd`): the nodes on the block top, CPRESS turned into force per
   reference length (``--configuration reference``, default) or kept at the current positions (``current``);
 * ``h``: the level's element size on the contact surface: ``--h`` or the file's ``h_mm`` column, else
@@ -260,7 +261,8 @@ def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog="workbench score", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("case", metavar="CASE")
     p.add_argument("results", nargs="+", metavar="RESULT", help="one file per mesh level")
-    p.add_argument("--format", choices=("csv", "frd"), default="csv")
+    p.add_argument("--format", choices=("csv", "frd", "vtu"), default="csv")
+    p.add_argument("--field", default="p_MPa", help="vtu/vtp/pvd: the point field holding the contact pressure")
     p.add_argument("--h", type=float, nargs="+", default=None, help="element size on the contact surface per RESULT")
     p.add_argument("--samples-per-element", type=int, default=1)
     p.add_argument("--configuration", choices=("reference", "current"), default="reference",
@@ -271,8 +273,13 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
-def read_results(paths: list[str], *, fmt: str, configuration: str = "reference") -> list[ExternalResult]:
+def read_results(paths: list[str], *, fmt: str, configuration: str = "reference",
+                 field: str = "p_MPa") -> list[ExternalResult]:
     """The RESULT files of one ``--format``."""
+    if fmt == "vtu":
+        from workbench.external.vtk_xml import read_vtk_result
+
+        return [read_vtk_result(p, field=field) for p in paths]
     if fmt == "frd":
         from workbench.external.frd import read_frd_result
 
@@ -294,7 +301,7 @@ def main(argv: list[str] | None = None) -> int:
                 if not (math.isfinite(v) and v > 0):
                     raise ScoreError(f"--h {v!r}; allowed: finite sizes > 0 (mm)")
         root = default_paths(args.out).root if args.out is None else check_output_folder(args.out)
-        results = read_results(args.results, fmt=args.format, configuration=args.configuration)
+        results = read_results(args.results, fmt=args.format, configuration=args.configuration, field=args.field)
         score = score_levels(args.case, results, h=args.h, samples_per_element=args.samples_per_element)
         fem = read_csv_result(args.fem) if args.fem else None
         if fem is not None:
