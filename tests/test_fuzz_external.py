@@ -86,3 +86,42 @@ def test_truncated_frd_is_one_line_exit_2(tmp_path_factory, cut, junk):
     rc, err, out = _score(tmp, f, "--format", "frd")
     assert rc == 2 and one_error_line(err) and str(f) in err, err
     assert not out.exists() or not any(out.iterdir())
+
+
+VTP = """<?xml version="1.0"?>
+<VTKFile type="PolyData" version="1.0" byte_order="LittleEndian" header_type="UInt64">
+<PolyData>
+<FieldData>
+<DataArray type="Float64" Name="P_N_per_mm" NumberOfComponents="1" NumberOfTuples="1" format="ascii">4500</DataArray>
+</FieldData>
+<Piece NumberOfPoints="3" NumberOfVerts="0" NumberOfLines="0" NumberOfStrips="0" NumberOfPolys="0">
+<PointData>
+<DataArray type="Float64" Name="p_MPa" NumberOfComponents="1" format="ascii">5000 3000 0</DataArray>
+</PointData>
+<Points>
+<DataArray type="Float64" Name="Points" NumberOfComponents="3" format="ascii">0 0 0 0.1 0 0 0.2 0 0</DataArray>
+</Points>
+</Piece>
+</PolyData>
+</VTKFile>
+"""
+
+
+def test_small_vtp_is_read(tmp_path):
+    f = tmp_path / "r.vtp"
+    f.write_text(VTP)
+    rc, err, out = _score(tmp_path, f, "--format", "vtu")
+    assert rc == 0, err
+
+
+@examples(60)
+@given(cut=st.integers(min_value=0, max_value=len(VTP) - 30), junk=st.sampled_from(["", "x", "<", "nan", "-1 "]))
+def test_damaged_vtp_is_exit_0_or_one_line_exit_2(tmp_path_factory, cut, junk):
+    tmp = tmp_path_factory.mktemp("fz")
+    f = tmp / "r.vtp"
+    f.write_text(VTP[:cut] + junk + VTP[cut:] if junk and cut % 2 else VTP[:cut] + junk)
+    rc, err, out = _score(tmp, f, "--format", "vtu")
+    assert rc in (0, 2)
+    if rc == 2:
+        assert one_error_line(err) and str(f) in err, err
+        assert not out.exists() or not any(out.iterdir())
