@@ -65,6 +65,13 @@ def test_export_bad_level_one_line_exit_2(tmp_path, capsys):
     assert not (tmp_path / "o").exists()
 
 
+def test_export_of_an_unsupported_scene_writes_nothing(tmp_path, capsys):
+    assert export_main(["wedge", "--format", "inp", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "circle" in err
+    assert not (tmp_path / "o").exists()
+
+
 def test_external_without_ccx_one_line_exit_2(tmp_path):
     env = {**ENV, "PATH": str(Path(sys.executable).parent)}
     proc = subprocess.run([sys.executable, "-m", "workbench", "external", "ccx", "hertz_cylinder", "--out",

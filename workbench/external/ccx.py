@@ -71,7 +71,7 @@ def main(argv: list[str] | None = None) -> int:
     """``workbench external ccx`` (exit 0 scored, 2 bad input or ccx missing/failed)."""
     from cases import CaseError, load_case
     from workbench.atomic import atomic_dir
-    from workbench.external.export import export_case
+    from workbench.external.export import ExportError, export_case, supported
     from workbench.external.frd import read_frd_result
     from workbench.external.results import ResultError, read_csv_result
     from workbench.external.score import ScoreError, level_measures, score_levels, write_score
@@ -83,13 +83,14 @@ def main(argv: list[str] | None = None) -> int:
         exe = ccx_executable()
         root = default_paths(None).root if args.out is None else check_output_folder(args.out)
         case = load_case(args.case)
+        supported(case)
         disc = case.runs()[0].discretisation
         start = disc.ci_level or disc.h_contact
         levels = [lv for lv in sorted(disc.levels, reverse=True) if lv <= start][:args.levels]
         if not 1 <= args.levels <= len(levels) or len(levels) < args.levels:
             raise CcxError(f"--levels {args.levels}; allowed: 1 to {len(levels)} (the case's levels from "
                            f"ci_level {start:g} down)")
-    except (CcxError, CaseError, OutputError) as exc:
+    except (CcxError, CaseError, OutputError, ExportError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     folder = Path(root) / f"external_ccx_{case.name}"
@@ -118,7 +119,7 @@ def main(argv: list[str] | None = None) -> int:
             if fem is not None:
                 score["fem_level"] = level_measures(fem, geometry=run.geometry, material=run.material)
             write_score(score, results, stage / "score", fem=fem)
-    except (CcxError, ResultError, ScoreError, subprocess.TimeoutExpired) as exc:
+    except (CcxError, ResultError, ScoreError, ExportError, subprocess.TimeoutExpired) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     print(f"external ccx {case.name}: {len(levels)} level(s) -> {folder}")

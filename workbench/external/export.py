@@ -21,7 +21,7 @@ import shutil
 import sys
 from pathlib import Path
 
-__all__ = ["export_case", "main", "ExportError", "level_of"]
+__all__ = ["export_case", "main", "ExportError", "level_of", "supported"]
 
 
 class ExportError(ValueError):
@@ -36,6 +36,14 @@ def level_of(case, h_contact: float | None) -> float:
         return h_contact
     d = case.runs()[0].discretisation
     return d.ci_level if d.ci_level else d.h_contact
+
+
+def supported(case) -> None:
+    """ExportError unless the case is a block under a circle (the scene the deck models)."""
+    g = case.runs()[0].geometry
+    if g.scene != "block" or getattr(g, "indenter", None) != "circle":
+        raise ExportError(f"case {case.name}: scene {g.scene!r} indenter {getattr(g, 'indenter', None)!r}; "
+                          "allowed: block scenes with a circle indenter")
 
 
 def description(case, run, theory, *, level: float, mesh_stats: dict) -> dict:
@@ -76,9 +84,7 @@ def export_case(case_name: str, *, fmt: str, h_contact: float | None, folder: Pa
     level = level_of(case, h_contact)
     run = case.runs(h_contact=level)[0]
     g = run.geometry
-    if g.scene != "block" or g.indenter != "circle":
-        raise ExportError(f"case {case.name}: scene {g.scene!r} indenter {getattr(g, 'indenter', None)!r}; "
-                          "allowed: block scenes with a circle indenter")
+    supported(case)
     files, theory = block_mesh(run, name=f"export_{case.name}", mesh_cache=mesh_cache, comm=None, write_xdmf=False)
     stem = f"{case.name}_h{level:g}"
     out = []
@@ -126,8 +132,9 @@ def main(argv: list[str] | None = None) -> int:
         root = default_paths(None).root if args.out is None else check_output_folder(args.out)
         from cases import load_case
 
-        load_case(args.case)
-        level_of(load_case(args.case), args.h_contact)
+        case = load_case(args.case)
+        level_of(case, args.h_contact)
+        supported(case)
     except (ExportError, CaseError, OutputError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
