@@ -39,7 +39,7 @@ done; exit 1
 endef
 
 .PHONY: help setup test run ci lint clean collect-alone mutations convergence stability validity bench report list example check-numbers fuzz faults $(CASES)
-.PHONY: viz-check save-baseline save-numbers emulate
+.PHONY: viz-check external save-baseline save-numbers emulate
 
 # Exit codes: the workbench exits 1 on a tolerance FAIL (results written) and 2 on bad input (nothing written).
 # GNU make itself always exits 2 when a recipe fails, so the recipe names the workbench's own code on the last
@@ -62,6 +62,7 @@ help:
 	@echo "make emulate      rerun the CI cases as another machine would (mesh, MUMPS ordering, numpy SIMD); LEVEL=run for make run"
 	@echo "make example     examples/hertz_contact.py"
 	@echo "make viz-check    installs Debian's paraview + xvfb if missing, runs the VTK and view.py checks in pvpython"
+	@echo "make external     installs Debian's calculix-ccx if missing, runs CalculiX on hertz_cylinder at 3 levels and scores it"
 	@echo "make fuzz         property-based fuzzing of case files and the command line (many examples)"
 	@echo "make faults       concurrent runs, SIGINT/SIGTERM during writes, a full disk -> results/faults/report.md"
 	@echo "make mutations    each mutation of tools/mutations.py must make the tests fail (names the catching test)"
@@ -171,6 +172,15 @@ viz-check: setup
 	   || { echo "error: could not install paraview and xvfb with apt-get" >&2; exit 2; }; fi
 	@$(MAKE) --no-print-directory run
 	WORKBENCH_VIZ_RESULTS=$(CURDIR)/results $(PY) -m pytest -q -rs tests/test_paraview.py tests/test_pages.py
+
+# issue 26: CalculiX end to end (export -> ccx -> score) -> results/external_ccx_hertz_cylinder/score/report.md
+external: setup
+	@if ! command -v ccx >/dev/null; then \
+	   echo "installing Debian's calculix-ccx (apt-get)"; \
+	   $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq calculix-ccx \
+	   || { echo "error: could not install calculix-ccx with apt-get" >&2; exit 2; }; fi
+	$(WB) external ccx hertz_cylinder --levels 3 --out results; $(call explain_exit,external)
+	$(PY) -m pytest -q -rs tests/test_external_ccx.py
 
 clean:
 	rm -rf results .pytest_cache .ruff_cache

@@ -10,14 +10,14 @@ from pathlib import Path
 import grimp
 import pytest
 
-from workbench.cli import STUDIES
+from workbench.cli import EXTERNAL, STUDIES
 from workbench.paths import DEFAULT_ROOT, default_paths
 from workbench.scenes import SCENES, register_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 BIN = Path(sys.executable).parent
-PACKAGES = ("analytic", "cases", "meshes", "fem", "workbench")
-SUBCOMMANDS = ("list", "validate", "run", "mesh", "report", "ci", *STUDIES)
+PACKAGES = ("analytic", "measures", "cases", "meshes", "fem", "workbench")
+SUBCOMMANDS = ("list", "validate", "run", "mesh", "report", "ci", *STUDIES, *EXTERNAL)
 
 
 def test_layer_contract_holds():
@@ -92,7 +92,7 @@ def test_console_command_lists_every_subcommand(tmp_path):
     assert proc.returncode == 0, proc.stderr
     for name in SUBCOMMANDS:
         assert name in proc.stdout, name
-    for name in STUDIES:  # each study's own options are reachable through the one command
+    for name in (*STUDIES, *EXTERNAL):  # each study's own options are reachable through the one command
         proc = subprocess.run([str(exe), name, "--help"], cwd=tmp_path, capture_output=True, text=True,
                               timeout=120)
         assert proc.returncode == 0, (name, proc.stderr[-2000:])

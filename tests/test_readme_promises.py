@@ -90,7 +90,7 @@ def _sandbox(tmp_path: Path, cases: list[tuple[str, float]]) -> Path:
     whose .venv is a symlink to this checkout's venv."""
     box = tmp_path / "box"
     box.mkdir()
-    for d in ("analytic", "cases", "meshes", "fem", "workbench"):
+    for d in ("analytic", "measures", "cases", "meshes", "fem", "workbench"):
         shutil.copytree(ROOT / d, box / d, ignore=shutil.ignore_patterns("__pycache__", "*.toml"))
     for f in ("Makefile", "requirements.txt", "pyproject.toml"):
         shutil.copy2(ROOT / f, box / f)

@@ -12,6 +12,10 @@ Subcommands:
     bench                study: performance (``<out>/bench/``)
     convective-table     b/b0 of the convective theory against the paper's figures (``<out>/analytic/``)
     validity             study: where the half-plane theories hold, model by model (``<out>/validity/``)
+    score CASE RESULT... an external code's pressures (csv|frd, one file per mesh level) against the case's
+                         theory with the workbench's measures (``<out>/score_<case>/``)
+    export CASE          the case as a benchmark: --format msh|json|inp (``<out>/export_<case>/``)
+    external ccx CASE    export, run CalculiX on each level, score (``<out>/external_ccx_<case>/``)
 
 ``<out>`` is ``--out`` (default: ``results/`` of this checkout, or ``$WORKBENCH_RESULTS``); nothing depends on
 the working directory. A study's own options follow its name (``workbench convergence --help``).
@@ -34,7 +38,7 @@ from pathlib import Path
 from workbench.owned import check_dir, check_run_outputs, ensure_dir
 from workbench.paths import check_output_folder, default_paths
 
-__all__ = ["main", "STUDIES"]
+__all__ = ["main", "STUDIES", "EXTERNAL"]
 
 # subcommand -> module with ``main(argv) -> int`` (the study's own options follow the subcommand)
 STUDIES = {
@@ -44,6 +48,13 @@ STUDIES = {
     "convective-table": "workbench.studies.convective_table",
     "validity": "workbench.studies.validity",
 }
+# external codes (issue 26): subcommand -> module with ``main(argv) -> int``, own options too
+EXTERNAL = {
+    "score": "workbench.external.score",
+    "export": "workbench.external.export",
+    "external": "workbench.external.ccx",
+}
+OWN_OPTIONS = {**STUDIES, **EXTERNAL}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -129,8 +140,9 @@ def _parser() -> argparse.ArgumentParser:
     rep.add_argument("--out", type=_folder, default=None)
     c = sub.add_parser("ci", help="run every case at its coarsest level and check tolerances")
     c.add_argument("--out", type=_folder, default=None)
-    for name, module in STUDIES.items():
-        st = sub.add_parser(name, help=f"study ({module}); its options follow", add_help=False)
+    for name, module in OWN_OPTIONS.items():
+        kind = "external code" if name in EXTERNAL else "study"
+        st = sub.add_parser(name, help=f"{kind} ({module}); its options follow", add_help=False)
         st.add_argument("study_args", nargs=argparse.REMAINDER)
     return p
 
@@ -178,14 +190,15 @@ def _main(argv: list[str] | None = None) -> int:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return 2
 
-    if argv and argv[0] in STUDIES:  # the study parses its own options (``workbench convergence --help``)
+    if argv and argv[0] in OWN_OPTIONS:  # the study parses its own options (``workbench convergence --help``)
         try:
             for opt, folder in _study_out_options(argv[1:]):
                 if not folder.strip():
                     raise CaseError(f"{opt}: an empty folder name is not allowed; allowed: a folder path")
                 check_output_folder(folder, option=opt)
-            _check_study_folders(argv[0], dict(_study_out_options(argv[1:])))
-            return int(importlib.import_module(STUDIES[argv[0]]).main(argv[1:]) or 0)
+            if argv[0] in STUDIES:  # an external-code command writes through atomic_dir (owned folders only)
+                _check_study_folders(argv[0], dict(_study_out_options(argv[1:])))
+            return int(importlib.import_module(OWN_OPTIONS[argv[0]]).main(argv[1:]) or 0)
         except CaseError as exc:
             print(f"error: {_one_line(exc)}", file=sys.stderr)
             return 2

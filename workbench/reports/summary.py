@@ -167,6 +167,7 @@ def trust_markdown(results: Path) -> list[str]:
 
 def summary_markdown(results: Path) -> str:
     """The summary report as Markdown."""
+    from workbench.reports.external_summary import scored_markdown
     from workbench.reports.paper_claims import claims_markdown
 
     metrics = load_metrics(results)
@@ -206,6 +207,7 @@ def summary_markdown(results: Path) -> str:
                   "Table 1 as printed (its symmetric P is one patch's load, see the claims table). Its geometry and "
                   "body size are not published, and in 2D the load at a given indentation "
                   "depends on the whole body, so only the trend (close-to-conformal stiffer) is comparable.", ""]
+    lines += scored_markdown(results)
     lines += _budget_markdown(metrics)
     lines += [""] + trust_markdown(results)
     lines += ["", claims_markdown(results), ""]

@@ -99,8 +99,11 @@ def _stress_based_line(sb: dict, cmp: BlockComparison) -> str:
             f"compared too: {stress} against {cmp.theory.kind} (contact-law pressure: {law})")
 
 
-def block_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None):
+def block_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None,
+               write_xdmf: bool = True):
     """The (cached) mesh of a block run, sized from the classical estimate of its contact half-width.
+
+    ``write_xdmf=False`` writes the gmsh ``.msh`` only (no dolfinx: ``workbench export``).
 
     Returns:
         ``(MeshFiles, BlockTheory)``: the mesh files and the classical prediction at the target load.
@@ -115,7 +118,7 @@ def block_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path |
         h_contact=disc.h_contact * a0, growth=disc.growth, half_model=g.half_model,
         apex_refinement=g.indenter == "wedge",
         out_dir=mesh_cache, name=f"{name}_{run.label}".replace("/", "_").replace("=", "_"),
-        stats_dir=stats_dir, comm=comm,
+        stats_dir=stats_dir, comm=comm, write_xdmf=write_xdmf,
     )
     return files, target
 

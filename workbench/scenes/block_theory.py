@@ -15,7 +15,6 @@ Error measures (all relative, dimensionless):
 
 from __future__ import annotations
 
-import math
 from typing import NamedTuple
 
 import numpy as np
@@ -23,6 +22,7 @@ import numpy as np
 from analytic import hertz as hz
 from analytic import materials, wedge
 from analytic.circle import CircleContact, circle_contact, circle_pressure
+from measures.contact import rms_error
 
 __all__ = [
     "BlockTheory",
@@ -86,21 +86,6 @@ def block_theory(geometry, material, *, P: float | None = None, half_width: floa
         b = wedge.wedge_half_width(P, m, E_star)
         return BlockTheory("wedge", float(P), E_star, b, float(P) / (2.0 * b), m=m)
     raise ValueError(f"geometry.indenter = {geometry.indenter!r} has no half-plane prediction")
-
-
-def rms_error(x: np.ndarray, p: np.ndarray, p_th: np.ndarray, *, center: float, half_width: float,
-              p_ref: float) -> float:
-    """sqrt(mean over the sampled patch region of (p - p_th)^2) / p_ref (trapezoidal mean in x).
-
-    Non-finite theory values (the wedge apex) are dropped.
-    """
-    order = np.argsort(x)
-    x, p, p_th = x[order], p[order], p_th[order]
-    keep = (np.abs(x - center) <= 1.05 * half_width) & np.isfinite(p_th)
-    x, d2 = x[keep], (p[keep] - p_th[keep]) ** 2
-    if x.size < 2 or x[-1] <= x[0]:
-        return math.nan
-    return float(math.sqrt(np.trapezoid(d2, x) / (x[-1] - x[0])) / p_ref)
 
 
 def compare_block(*, x: np.ndarray, p: np.ndarray, P: float, P_pressure: float, half_width_fem: float,

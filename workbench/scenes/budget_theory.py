@@ -17,22 +17,9 @@ import math
 import numpy as np
 
 from analytic.circle import circle_pressure
+from measures.contact import moment_half_width
 
 __all__ = ["moment_half_width", "circle_moment_half_width", "curve_moment_half_width"]
-
-
-def moment_half_width(x: np.ndarray, p: np.ndarray, weight: np.ndarray, *, center: float | None = None) -> float:
-    """sqrt(M2/M0) of the sampled pressure ``p`` (MPa) at ``x`` (mm) with quadrature ``weight`` (mm).
-
-    A half model (samples x >= 0, symmetric about x = 0) passes ``center=0.0``: M2/M0 of the half is that of
-    the full body. Otherwise the centroid c = M1/M0 is used.
-    """
-    w = np.asarray(weight) * np.asarray(p)
-    M0 = float(np.sum(w))
-    if not M0 > 0:
-        return math.nan
-    c = float(np.sum(w * x)) / M0 if center is None else center
-    return math.sqrt(float(np.sum(w * (x - c) ** 2)) / M0)
 
 
 def circle_moment_half_width(*, b: float, R: float, E_star: float, n: int = 4000) -> float:

@@ -1,0 +1,319 @@
+"""``workbench score CASE RESULT... [--format csv] [--h H...] [--out DIR]``: an external code's contact
+pressure, one RESULT per mesh level, against the case's theory, with the workbench's own definitions.
+
+Per level (:func:`level_measures`; every measure from :mod:`measures.contact`, the code the FEM pipeline uses):
+
+* ``P``: the file's load column if it has one (the external load), else ``P_integral``;
+* ``P_integral``: the integral of the pressure over the samples (N/mm): the file's ``weight_mm`` quadrature
+  weights, else the trapezoid rule; the edges use the file's ``q_MPa`` pressure argument, else q = p;
+* ``p_max``: the largest sampled pressure of the main patch (MPa);
+* ``half_width``: the edge fit (square-root edge model through the two outermost active samples, else the
+  linear zero crossing; :func:`measures.contact.contact_edges`) of the main patch, half its width (mm);
+* ``half_width_moment``: ``2 sqrt(M2/M0)`` of the pressure (trapezoid weights; = a for a Hertz pressure), mm;
+* ``errors``: signed relative errors of ``p_max``, ``half_width``, ``half_width_moment`` against the case's
+  classical theory at the level's load ``P`` (the block scenes' :func:`workbench.scenes.block_theory.block_theory`),
+  and ``rms`` = RMS(p - p_theory)/p0 over the patch (:func:`measures.contact.rms_error`, as the FEM's rms);
+* vtu/vtp/pvd results (:mod:`workbench.external.vtk_xml`): the point field ``--field`` on the block top;
+* frd results (:mod:`workbench.external.frd`): the nodes on the block top, CPRESS turned into force per
+  reference length (``--configuration reference``, default) or kept at the current positions (``current``);
+* ``h``: the level's element size on the contact surface: ``--h`` or the file's ``h_mm`` column, else
+  ESTIMATED as the median sample spacing inside the patch times the samples per element (``--samples-per-element``,
+  default 1: nodal values); ``h_source`` says which.
+
+With three or more levels the three finest go through :func:`workbench.error_budget.grid_study` for the ratios
+``p_max/p0``, ``half_width_moment/a`` (formal order 2) and ``half_width/a`` (1.5): observed order, GCI band,
+extrapolated value. The verdict splits the extrapolated difference from the theory into the discretisation band
+and a remainder. Output (only inside ``--out``): ``<out>/score_<case>/`` with ``score.json``, ``report.md``,
+``report.html``, ``pressure.png``. Bad input: one line naming the file or option, exit 2, nothing written.
+This module imports no dolfinx (the score needs no solve). Units: mm, N/mm, MPa.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from measures.contact import SurfaceSamples, find_patches, moment_half_width, rms_error, trapezoid_weights
+from workbench.external.results import ExternalResult, ResultError, read_csv_result
+
+__all__ = ["level_measures", "score_levels", "write_score", "main", "ScoreError"]
+
+FORMAL = {"p_max": 2.0, "half_width_moment": 2.0, "half_width": 1.5}
+
+
+class ScoreError(ValueError):
+    """Bad input to the scorer (one line)."""
+
+
+def _samples(x: np.ndarray, p: np.ndarray, w: np.ndarray, q: np.ndarray) -> SurfaceSamples:
+    z = np.zeros_like(x)
+    return SurfaceSamples(s=x, X=np.column_stack([x, z]), x=np.column_stack([x, z]), p=p, q=q, sigma_nn=p,
+                          gap=z, weight=w)
+
+
+def level_measures(res: ExternalResult, *, geometry, material, h: float | None = None,
+                   samples_per_element: int = 1) -> dict:
+    """The measures of one level against the case's theory at the level's load (see the module docstring)."""
+    from workbench.scenes.block_theory import block_theory
+
+    x, p = res.x, res.p
+    w = trapezoid_weights(x) if res.weight is None else res.weight
+    q = p if res.q is None else res.q
+    patches = find_patches(_samples(x, p, w, q))
+    if not patches:
+        raise ResultError(f"{res.path}: no contact patch (no positive pressure between two samples)")
+    main = max(patches, key=lambda pt: pt.P)
+    P_int = float(np.sum(w * p))
+    P = res.load if res.load is not None else P_int
+    th = block_theory(geometry, material, P=P)
+    inside = np.abs(x - main.center) <= main.half_width
+    if h is not None:
+        h_val, h_source = h, "option --h"
+    elif res.h is not None:
+        h_val, h_source = res.h, "column h_mm"
+    else:
+        dx = np.diff(x[inside])
+        h_val = float(np.median(dx)) * samples_per_element if dx.size else math.nan
+        h_source = f"estimated: median sample spacing in the patch x {samples_per_element} sample(s) per element"
+    hw_m = 2.0 * moment_half_width(x, p, w)
+    errors = {
+        "p_max": (main.p_max - th.p_ref) / th.p_ref if th.kind == "hertz" else math.nan,
+        "half_width": (main.half_width - th.half_width) / th.half_width,
+        "half_width_moment": (hw_m - th.half_width) / th.half_width if th.kind == "hertz" else math.nan,
+        "rms": rms_error(x, p, th.pressure(x), center=0.0, half_width=max(main.half_width, th.half_width),
+                         p_ref=th.p_ref),
+        "load_balance": (P_int - P) / P,
+    }
+    return {"file": res.path, "half_model": res.half, "configuration": res.configuration,
+            "samples": int(x.size), "h": h_val, "h_source": h_source,
+            "P": P, "P_source": "file" if res.load is not None else "integral", "P_integral": P_int,
+            "p_max": main.p_max, "half_width": main.half_width, "half_width_moment": hw_m, "center": main.center,
+            "patches": len(patches),
+            "theory": {"kind": th.kind, "P": th.P, "p0": th.p_ref, "half_width": th.half_width,
+                       "E_star": th.E_star, "R": th.R},
+            "errors": errors}
+
+
+def _check_surface(results: list[ExternalResult], run) -> None:
+    """ResultError when a result's positions leave the case's contact surface (the block top, |x| <= W/2)."""
+    from workbench.scenes.block_theory import block_theory
+
+    ld = run.loading
+    target = (block_theory(run.geometry, run.material, P=ld.P) if ld.P is not None
+              else block_theory(run.geometry, run.material, half_width=ld.half_width))
+    half_w = 0.5 * run.geometry.width_factor * target.half_width
+    for r in results:
+        far = float(np.max(np.abs(r.x)))
+        if far > half_w * (1.0 + 1e-6):
+            raise ResultError(f"{r.path}: positions reach |x| = {far:.6g} mm, beyond the case's block top "
+                              f"(|x| <= W/2 = {half_w:.6g} mm): the surface does not match the case")
+
+
+def _study(levels: list[dict]) -> dict:
+    """Observed order, GCI and extrapolation of the three finest levels (ratios to the theory at each load)."""
+    from workbench.error_budget import grid_study
+
+    fine = sorted(levels, key=lambda lv: lv["h"])[:3]
+    hs = tuple(lv["h"] for lv in fine)
+    if len(set(hs)) < 3 or not all(math.isfinite(v) and v > 0 for v in hs):
+        raise ScoreError(f"the three finest levels need three different sizes h > 0, got {hs}; give --h")
+    out = {"h": list(hs)}
+    for key, ref in (("p_max", "p0"), ("half_width_moment", "half_width"), ("half_width", "half_width")):
+        f = tuple(lv[key] / lv["theory"][ref] for lv in fine)
+        if not all(math.isfinite(v) for v in f):
+            continue
+        gs = grid_study(hs, f, expected_order=FORMAL[key], reference=1.0, formal_order=FORMAL[key])
+        deviation = gs.extrapolated - 1.0
+        band = gs.gci * abs(gs.fine)
+        out[key] = gs._asdict() | {"ratios": list(f), "deviation": deviation, "band": band,
+                                    "remainder": (math.copysign(abs(deviation) - band, deviation)
+                                                  if abs(deviation) > band else 0.0),
+                                    "outside_band": bool(abs(deviation) > band)}
+    return out
+
+
+def verdict(study: dict | None, kind: str) -> str:
+    """One paragraph: the extrapolated peak against the theory, split into the discretisation band and the rest."""
+    if study is None or "p_max" not in study:
+        return "fewer than three levels: no extrapolation (give three or more RESULT files, one per mesh level)"
+    s = study["p_max"]
+    dev, band = s["deviation"], s["band"]
+    text = (f"extrapolated p_max/p0 = {s['extrapolated']:.6f} ({dev:+.3%} from {kind}); discretisation band "
+            f"(GCI) +-{band:.3%}, observed order {s['observed_order']:.3g} ({s['status']}). ")
+    if not s["outside_band"]:
+        return text + "The difference is within the discretisation band: consistent with the theory."
+    text += f"The remainder {s['remainder']:+.3%} is outside the band: not discretisation but a modelling difference."
+    if kind == "hertz" and -0.006 <= dev <= -0.004:
+        text += (" A peak 0.4-0.6 % below Hertz at this load is what the workbench measures for the traction along"
+                 " the obstacle's normal with the convective (deformed-normal) gap (-0.47 % on hertz_cylinder,"
+                 " issue 26): consistent with the obstacle-traction / deformed-normal idealisation, as penalty"
+                 " surface-to-surface codes (CalculiX) make it.")
+    return text
+
+
+def score_levels(case_name: str, results: list[ExternalResult], *, h: list[float] | None = None,
+                 samples_per_element: int = 1) -> dict:
+    """The score of a case's external results (``score.json``'s content)."""
+    from cases import load_case
+
+    case = load_case(case_name)
+    run = case.runs()[0]
+    if run.geometry.scene != "block":
+        raise ScoreError(f"case {case.name}: scene {run.geometry.scene!r} cannot be scored yet; allowed: block scenes")
+    _check_surface(results, run)
+    if h is not None and len(h) != len(results):
+        raise ScoreError(f"--h: {len(h)} sizes for {len(results)} RESULT files; allowed: one per file")
+    levels = [level_measures(r, geometry=run.geometry, material=run.material,
+                             h=None if h is None else h[i], samples_per_element=samples_per_element)
+              for i, r in enumerate(results)]
+    study = _study(levels) if len(levels) >= 3 else None
+    kind = levels[0]["theory"]["kind"]
+    return {"case": case.name, "theory": kind, "units": {"length": "mm", "load": "N/mm", "pressure": "MPa"},
+            "levels": levels, "grid_study": study, "verdict": verdict(study, kind)}
+
+
+def _report_md(score: dict) -> str:
+    from workbench.reports.markdown import fmt
+
+    lines = [f"# External result scored against `{score['case']}`", "", f"**Verdict.** {score['verdict']}", "",
+             "| file | h (mm) | P (N/mm) | p_max (MPa) | a edge (mm) | a moment (mm) | p_max err | a err | "
+             "a_mom err | RMS/p0 |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for lv in score["levels"]:
+        e = lv["errors"]
+        lines.append(f"| {Path(lv['file']).name} | {fmt(lv['h'])} | {fmt(lv['P'], 8)} | {fmt(lv['p_max'], 8)} | "
+                     f"{fmt(lv['half_width'], 8)} | {fmt(lv['half_width_moment'], 8)} | {e['p_max']:+.3%} | "
+                     f"{e['half_width']:+.3%} | {e['half_width_moment']:+.3%} | {e['rms']:.3%} |")
+    lines += ["", f"Level size h: {score['levels'][0]['h_source']}. "
+              f"Positions: {score['levels'][0]['configuration']} configuration. "
+              f"Theory ({score['theory']}) at each level's load "
+              f"P ({score['levels'][0]['P_source']}).", ""]
+    st = score.get("grid_study")
+    if st:
+        lines += ["## Grid study (three finest levels)", "",
+                  "| measure / theory | fine | extrapolated | observed order | GCI band | status |",
+                  "|---|---|---|---|---|---|"]
+        for key in ("p_max", "half_width_moment", "half_width"):
+            if key in st:
+                s = st[key]
+                lines.append(f"| {key} | {s['fine']:.6f} | {s['extrapolated']:.6f} | {fmt(s['observed_order'], 3)} | "
+                             f"{s['band']:.3%} | {s['status']} |")
+    lines += ["", "![pressure](pressure.png)", ""]
+    return "\n".join(lines)
+
+
+def _plot(score: dict, results: list[ExternalResult], path: Path, fem: ExternalResult | None = None) -> None:
+    """Left: the external pressure of every level and the theory at the finest level's load (MPa, mm). Right:
+    every curve over its own theory at its own load (p/p0 against x/a), the workbench's FEM too."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from workbench.scenes.block_theory import BlockTheory
+
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11.0, 4.2))
+    curves = [(r, lv, f"{Path(lv['file']).name} (h = {lv['h']:.3g} mm)", ".-") for lv, r in
+              zip(score["levels"], results, strict=True)]
+    for r, _lv, label, style in curves:
+        ax.plot(r.x, r.p, style, ms=3, lw=0.8, label=label)
+    fine = min(score["levels"], key=lambda lv: lv["h"])
+    t = fine["theory"]
+    th = BlockTheory(t["kind"], t["P"], t["E_star"], t["half_width"], t["p0"], R=t["R"])
+    xx = np.linspace(-1.3 * th.half_width, 1.3 * th.half_width, 801)
+    ax.plot(xx, th.pressure(xx), "k--", lw=1.2, label=f"{t['kind']} at P = {t['P']:.6g} N/mm")
+    ax.set_xlim(-1.5 * th.half_width, 1.5 * th.half_width)
+    ax.set(xlabel="x (mm, reference)", ylabel="contact pressure (MPa)", title="external result")
+    ax.legend(fontsize=7)
+    if fem is not None and "fem_level" in score:
+        curves.append((fem, score["fem_level"], f"workbench FEM ({Path(fem.path).name})", "m:"))
+    for r, lv, label, style in curves:
+        bx.plot(r.x / lv["theory"]["half_width"], r.p / lv["theory"]["p0"], style, ms=3, lw=0.9, label=label)
+    bx.plot(xx / th.half_width, th.pressure(xx) / th.p_ref, "k--", lw=1.2, label=t["kind"])
+    bx.set_xlim(-1.5, 1.5)
+    bx.set(xlabel="x / a (theory at each curve's own load)", ylabel="p / p0", title="each at its own load")
+    bx.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def write_score(score: dict, results: list[ExternalResult], folder: Path, *, fem: ExternalResult | None = None) -> None:
+    """``score.json``, ``report.md``, ``report.html`` and ``pressure.png`` into ``folder`` (staged: a failure
+    leaves the previous folder intact)."""
+    from workbench.atomic import atomic_dir, write_json, write_text
+    from workbench.reports.markdown import markdown_to_html
+
+    with atomic_dir(folder) as stage:
+        write_json(stage / "score.json", score)
+        md = _report_md(score)
+        write_text(stage / "report.md", md)
+        write_text(stage / "report.html", markdown_to_html(md, title=f"score {score['case']}"))
+        _plot(score, results, stage / "pressure.png", fem)
+
+
+def _parser() -> argparse.ArgumentParser:
+    from workbench.cli import _Parser
+
+    p = _Parser(prog="workbench score", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("case", metavar="CASE")
+    p.add_argument("results", nargs="+", metavar="RESULT", help="one file per mesh level")
+    p.add_argument("--format", choices=("csv", "frd", "vtu"), default="csv")
+    p.add_argument("--field", default="p_MPa", help="vtu/vtp/pvd: the point field holding the contact pressure")
+    p.add_argument("--h", type=float, nargs="+", default=None, help="element size on the contact surface per RESULT")
+    p.add_argument("--samples-per-element", type=int, default=1)
+    p.add_argument("--configuration", choices=("reference", "current"), default="reference",
+                   help="frd: positions X with CPRESS per reference length (default), or X + u with CPRESS as written")
+    p.add_argument("--fem", default=None, metavar="CSV",
+                   help="the workbench's own pressure.csv of the case, drawn beside the external pressure")
+    p.add_argument("--out", default=None, help="output folder (default: results/ of this checkout)")
+    return p
+
+
+def read_results(paths: list[str], *, fmt: str, configuration: str = "reference",
+                 field: str = "p_MPa") -> list[ExternalResult]:
+    """The RESULT files of one ``--format``."""
+    if fmt == "vtu":
+        from workbench.external.vtk_xml import read_vtk_result
+
+        return [read_vtk_result(p, field=field) for p in paths]
+    if fmt == "frd":
+        from workbench.external.frd import read_frd_result
+
+        return [read_frd_result(p, configuration=configuration) for p in paths]
+    return [read_csv_result(p) for p in paths]
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``workbench score`` (exit 0 written, 2 bad input)."""
+    from cases import CaseError
+    from workbench.paths import OutputError, check_output_folder, default_paths
+
+    args = _parser().parse_args(argv)
+    try:
+        if args.samples_per_element < 1:
+            raise ScoreError(f"--samples-per-element = {args.samples_per_element}; allowed: >= 1")
+        if args.h is not None:
+            for v in args.h:
+                if not (math.isfinite(v) and v > 0):
+                    raise ScoreError(f"--h {v!r}; allowed: finite sizes > 0 (mm)")
+        root = default_paths(args.out).root if args.out is None else check_output_folder(args.out)
+        results = read_results(args.results, fmt=args.format, configuration=args.configuration, field=args.field)
+        score = score_levels(args.case, results, h=args.h, samples_per_element=args.samples_per_element)
+        fem = read_csv_result(args.fem) if args.fem else None
+        if fem is not None:
+            from cases import load_case
+
+            run = load_case(args.case).runs()[0]
+            score["fem_level"] = level_measures(fem, geometry=run.geometry, material=run.material)
+    except (ResultError, ScoreError, CaseError, OutputError) as exc:
+        print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    folder = Path(root) / f"score_{score['case']}"
+    write_score(score, results, folder, fem=fem)
+    print(f"score {score['case']}: {len(results)} level(s) -> {folder}")
+    print(score["verdict"])
+    return 0
