@@ -142,6 +142,8 @@ _RULES: tuple[tuple[str, str, str], ...] = (
     (r"(^|/)errors/load_balance$", "roundoff", ""),
     (r"/newton_iterations/\d+$", "iterations", ""),
     (r"/ndofs$", "mesh", ""),
+    # the perturbation amplitude is the emulation's own setting (make emulate sets it), not a result
+    (r"/mesh_fingerprint/perturb$", "excluded", ""),
     (r"/mesh_fingerprint/", "mesh", ""),
     (r"^errors/(fit_rms|patch_size|rms_convective)$", "mesh_sensitive", ""),
     (r"/superposition_best_rms_over_p0$", "mesh_sensitive", ""),
