@@ -154,3 +154,15 @@ def test_own_pressure_csv_reproduces_the_case_numbers(tmp_path):
     bad.write_text(own.with_name("contact_surface_0001.vtp").read_text()[:3000])
     assert score_main(["hertz_cylinder", str(bad), "--format", "vtu", "--out", str(tmp_path / "s4")]) == 2
     assert not (tmp_path / "s4").exists()
+
+
+@pytest.mark.parametrize("levels", ["0", "9"])
+def test_external_ccx_levels_out_of_range_one_line_exit_2(tmp_path, levels):
+    """``--levels`` outside 1..(the case's levels from ci_level down) is refused with the true range (it said
+    "allowed: 1 to 0" for 0), before ccx is looked for or anything is written."""
+    proc = subprocess.run([sys.executable, "-m", "workbench", "external", "ccx", "hertz_cylinder", "--levels", levels,
+                           "--out", str(tmp_path / "out")], capture_output=True, text=True, env=ENV, timeout=120)
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.strip().splitlines() == [f"error: --levels {levels}; allowed: 1 to 4 (the case's levels from "
+                                                "ci_level 0.1 down)"]
+    assert not (tmp_path / "out").exists()

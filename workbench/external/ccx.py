@@ -80,19 +80,20 @@ def main(argv: list[str] | None = None) -> int:
 
     args = _parser().parse_args(argv)
     try:
-        exe = ccx_executable()
         root = default_paths(None).root if args.out is None else check_output_folder(args.out)
         case = load_case(args.case)
         supported(case)
         disc = case.runs()[0].discretisation
         start = disc.ci_level or disc.h_contact
-        levels = [lv for lv in sorted(disc.levels, reverse=True) if lv <= start][:args.levels]
-        if not 1 <= args.levels <= len(levels) or len(levels) < args.levels:
-            raise CcxError(f"--levels {args.levels}; allowed: 1 to {len(levels)} (the case's levels from "
+        available = [lv for lv in sorted(disc.levels, reverse=True) if lv <= start]
+        if not 1 <= args.levels <= len(available):
+            raise CcxError(f"--levels {args.levels}; allowed: 1 to {len(available)} (the case's levels from "
                            f"ci_level {start:g} down)")
+        exe = ccx_executable()  # after the arguments: a bad value is named even where ccx is missing
     except (CcxError, CaseError, OutputError, ExportError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
+    levels = available[:args.levels]
     folder = Path(root) / f"external_ccx_{case.name}"
     try:
         with atomic_dir(folder) as stage:
