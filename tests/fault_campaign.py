@@ -34,6 +34,7 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
+import math
 import os
 import random
 import shutil
@@ -43,6 +44,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+from signal_support import interrupt_at
 
 ROOT = Path(__file__).resolve().parents[1]
 WB = [sys.executable, "-m", "workbench"]
@@ -154,18 +157,9 @@ def scenario_signals(out: Path, n: int, seed: int = 15) -> dict:
 
 def _interrupt_after(argv: list[str], when: str, sig: int, extra: float) -> tuple[int, str, float]:
     """Run the CLI, send ``sig`` ``extra`` s after the first stdout line containing ``when``."""
-    p = subprocess.Popen([*WB, *argv], cwd=ROOT, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    t_sig = None
-    for line in p.stdout:
-        if when in line:
-            time.sleep(extra)
-            p.send_signal(sig)
-            t_sig = time.perf_counter()
-            break
-    p.stdout.read()
-    err = p.stderr.read()
-    code = p.wait(timeout=900)
-    return code, err, (time.perf_counter() - t_sig) if t_sig else float("nan")
+    code, err, secs = interrupt_at(argv, when=when, sig=sig, delay=extra, cwd=ROOT, env=ENV, timeout=math.inf,
+                                   wait=900)
+    return code, err, float("nan") if secs is None else secs
 
 
 def scenario_newton_signals(out: Path, n: int, seed: int = 23) -> dict:

@@ -18,8 +18,9 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
+
+from signal_support import interrupt_at
 
 ROOT = Path(__file__).resolve().parents[1]
 ENV = os.environ | {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "PYTHONPATH": str(ROOT)}
@@ -37,22 +38,9 @@ def _leftovers(out: Path) -> list[str]:
 def _interrupt(argv: list[str], *, when: str, sig: int, delay: float = 0.0, timeout: float = 300):
     """Run the CLI, send ``sig`` ``delay`` s after the first stdout line containing ``when``; return
     (exit code, stderr, seconds from the signal to the exit)."""
-    p = subprocess.Popen([sys.executable, "-m", "workbench", *argv], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True, env=ENV, cwd=ROOT)
-    t_sig = None
-    deadline = time.monotonic() + timeout
-    for line in p.stdout:
-        if when in line:
-            time.sleep(delay)
-            p.send_signal(sig)
-            t_sig = time.monotonic()
-            break
-        assert time.monotonic() < deadline
-    p.stdout.read()
-    err = p.stderr.read()
-    code = p.wait(timeout=60)
-    assert t_sig is not None, f"never saw {when!r}: {err[-2000:]}"
-    return code, err, time.monotonic() - t_sig
+    code, err, secs = interrupt_at(argv, when=when, sig=sig, delay=delay, cwd=ROOT, env=ENV, timeout=timeout)
+    assert secs is not None, f"never saw {when!r} within {timeout} s: {err[-2000:]}"
+    return code, err, secs
 
 
 def _assert_interrupted(code, err, secs, sig, stage_words):
