@@ -19,6 +19,7 @@ import pytest
 from pages import raw_markdown
 
 from cases import case_names
+from cases.schema import label_folder
 from workbench.pipeline.key_numbers import key_numbers, load_saved
 from workbench.pipeline.number_classes import compare_portable
 
@@ -53,7 +54,7 @@ def test_case_runs_at_ci_level(name, tmp_path):
     # what users look at (issue 14): a VTK time step per converged solve, view.py, pyvista renders in the report,
     # an HTML page without raw Markdown
     for run in m["runs"]:
-        label = "".join(c if c.isalnum() or c in "-_." else "_" for c in run["label"])
+        label = label_folder(run["label"])  # the folder the workbench writes (cases.schema)
         frames = json.loads((out / "vtk" / label / "frames.json").read_text())
         assert len(frames["steps"]) == len(run["load_steps"]), label
         assert (out / "vtk" / label / "body.pvd").is_file() and (out / "vtk" / label / "contact_surface.pvd").is_file()
