@@ -1,0 +1,190 @@
+"""Pairing of two meshed contact surfaces in 2D (numpy only): mortar segments and node-to-segment points.
+
+Units mm. Both surfaces are chains of straight facets (the meshes have affine triangles). The *slave* surface
+carries the integration; every slave point ``X_s`` is paired with the master point ``X_m`` where the ray
+``X_s + s nu_s`` along the slave facet's outward unit normal ``nu_s`` meets a master facet. The signed distance
+``g0 = (X_m - X_s) . nu_s`` is the initial gap (> 0 open, < 0 overlap). With ``small`` kinematics the pairing is
+made once, in the reference configuration, and the gap of a displacement u is
+
+    g(u) = g0 + (u_m(X_m) - u_s(X_s)) . nu_s                                  (mm, > 0 open)
+
+Two pairings (:class:`PairedPoints`, one row per point):
+
+* **mortar** (segment-to-segment, :func:`mortar_points`): each slave facet is cut at the projections of the
+  master facet ends into segments, each segment paired with one master facet; ``n_gauss`` Gauss points per
+  segment. A product of a slave and a master polynomial of degree p is integrated exactly with
+  ``n_gauss = p + 1``; that is what makes the contact patch test pass on non-matching meshes.
+* **node-to-segment** (:func:`node_points`): one point per slave facet node (P1: the two ends, P2: also the
+  midpoint) with the nodal weight ``int_facet N_i ds`` of that facet (P1: L/2, L/2; P2: L/6, 2L/3, L/6). The
+  gap is collocated at the nodes and the force of node i goes to the master nodes by the master shape
+  functions at its projection, which is not the consistent load of a uniform pressure on a non-matching
+  master mesh: node-to-segment fails the patch test (Taylor and Papadopoulos 1991).
+
+A master facet is a candidate for a slave facet only if the two face each other
+(``nu_s . nu_m < -FACING_COS``); where several candidates cover a slave sub-interval the nearest one (smallest
+``|g0|``) is taken.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["FACING_COS", "SurfaceGeometry", "PairedPoints", "mortar_points", "node_points", "gauss_legendre_01",
+           "facet_node_params"]
+
+# A master facet faces a slave facet when the angle between nu_s and -nu_m is below acos(FACING_COS) = 78.5 deg.
+FACING_COS = 0.2
+_EPS = 1e-12  # relative length below which a segment is dropped (facet-parameter units)
+
+
+class SurfaceGeometry(NamedTuple):
+    """The straight facets of one contact surface (n facets; mm).
+
+    Attributes:
+        a, b: (n, 2) facet end points (reference configuration).
+        normal: (n, 2) outward unit normal of the body.
+        cell: (n,) index of the cell that owns the facet (local to the mesh).
+    """
+
+    a: np.ndarray
+    b: np.ndarray
+    normal: np.ndarray
+    cell: np.ndarray
+
+    @property
+    def length(self) -> np.ndarray:
+        return np.linalg.norm(self.b - self.a, axis=1)
+
+
+class PairedPoints(NamedTuple):
+    """Paired slave/master points (one row each; mm).
+
+    Attributes:
+        slave_facet, master_facet: (n,) facet indices into the slave and master :class:`SurfaceGeometry`.
+        X_s, X_m: (n, 2) slave and master points (reference configuration).
+        normal: (n, 2) slave outward unit normal ``nu_s`` at the point.
+        weight: (n,) integration weight (mm): Gauss weight times segment length (mortar) or the nodal weight
+            ``int N_i ds`` on its facet (node-to-segment).
+        g0: (n,) initial gap ``(X_m - X_s) . nu_s`` (mm).
+    """
+
+    slave_facet: np.ndarray
+    master_facet: np.ndarray
+    X_s: np.ndarray
+    X_m: np.ndarray
+    normal: np.ndarray
+    weight: np.ndarray
+    g0: np.ndarray
+
+
+def gauss_legendre_01(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre points and weights on [0, 1] (weights sum to 1)."""
+    x, w = np.polynomial.legendre.leggauss(int(n))
+    return 0.5 * (x + 1.0), 0.5 * w
+
+
+def facet_node_params(degree: int) -> tuple[np.ndarray, np.ndarray]:
+    """Parameters in [0, 1] of the Lagrange nodes on a facet and their weights ``int_0^1 N_i dt``."""
+    if degree == 1:
+        return np.array([0.0, 1.0]), np.array([0.5, 0.5])
+    if degree == 2:
+        return np.array([0.0, 0.5, 1.0]), np.array([1.0, 4.0, 1.0]) / 6.0
+    raise ValueError(f"degree must be 1 or 2 for meshed contact surfaces, got {degree}")
+
+
+def _ray_hits(X: np.ndarray, nu: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For rays ``X + s nu`` and segments ``a + r (b - a)`` (broadcast): (s, r); nan where parallel."""
+    e = b - a
+    det = nu[..., 0] * (-e[..., 1]) - nu[..., 1] * (-e[..., 0])
+    rhs = a - X
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = (rhs[..., 0] * (-e[..., 1]) - rhs[..., 1] * (-e[..., 0])) / det
+        r = (nu[..., 0] * rhs[..., 1] - nu[..., 1] * rhs[..., 0]) / det
+    return s, r
+
+
+def _candidates(slave: SurfaceGeometry, master: SurfaceGeometry, k: int) -> np.ndarray:
+    """Indices of the master facets that face slave facet k."""
+    facing = slave.normal[k] @ master.normal.T < -FACING_COS
+    return np.flatnonzero(facing)
+
+
+def _project_params(slave: SurfaceGeometry, k: int, P: np.ndarray) -> np.ndarray:
+    """Parameters t in the slave facet k of the projections of points P (along the slave normal)."""
+    a, b = slave.a[k], slave.b[k]
+    e = b - a
+    return (P - a) @ e / (e @ e)
+
+
+def mortar_points(slave: SurfaceGeometry, master: SurfaceGeometry, *, n_gauss: int) -> PairedPoints:
+    """Mortar segments of every slave facet and ``n_gauss`` Gauss points on each (module docstring)."""
+    tg, wg = gauss_legendre_01(n_gauss)
+    rows = []
+    for k in range(slave.a.shape[0]):
+        cand = _candidates(slave, master, k)
+        if cand.size == 0:
+            continue
+        ta = _project_params(slave, k, master.a[cand])
+        tb = _project_params(slave, k, master.b[cand])
+        lo, hi = np.minimum(ta, tb), np.maximum(ta, tb)
+        keep = (hi > _EPS) & (lo < 1.0 - _EPS)
+        cand, lo, hi = cand[keep], lo[keep], hi[keep]
+        if cand.size == 0:
+            continue
+        cuts = np.unique(np.clip(np.concatenate([[0.0, 1.0], lo, hi]), 0.0, 1.0))
+        L = np.linalg.norm(slave.b[k] - slave.a[k])
+        nu = slave.normal[k]
+        for t0, t1 in zip(cuts[:-1], cuts[1:], strict=True):
+            if t1 - t0 <= _EPS:
+                continue
+            mid = 0.5 * (t0 + t1)
+            cover = (lo <= mid) & (mid <= hi)
+            if not cover.any():
+                continue
+            Xmid = slave.a[k] + mid * (slave.b[k] - slave.a[k])
+            s, _ = _ray_hits(Xmid, nu, master.a[cand[cover]], master.b[cand[cover]])
+            j = cand[cover][int(np.nanargmin(np.abs(s)))]
+            t = t0 + (t1 - t0) * tg
+            X = slave.a[k] + t[:, None] * (slave.b[k] - slave.a[k])
+            s, r = _ray_hits(X, nu, master.a[j], master.b[j])
+            Xm = master.a[j] + r[:, None] * (master.b[j] - master.a[j])
+            rows.append((np.full(t.size, k), np.full(t.size, j), X, Xm, np.tile(nu, (t.size, 1)),
+                         (t1 - t0) * L * wg, s))
+    return _stack(rows)
+
+
+def node_points(slave: SurfaceGeometry, master: SurfaceGeometry, *, degree: int) -> PairedPoints:
+    """Node-to-segment points: the Lagrange nodes of every slave facet with their nodal weights, each paired
+    with the nearest facing master facet its normal ray hits (module docstring)."""
+    tn, wn = facet_node_params(degree)
+    rows = []
+    for k in range(slave.a.shape[0]):
+        cand = _candidates(slave, master, k)
+        if cand.size == 0:
+            continue
+        L = np.linalg.norm(slave.b[k] - slave.a[k])
+        nu = slave.normal[k]
+        for t, w in zip(tn, wn, strict=True):
+            X = slave.a[k] + t * (slave.b[k] - slave.a[k])
+            s, r = _ray_hits(X, nu, master.a[cand], master.b[cand])
+            ok = (r >= -1e-9) & (r <= 1.0 + 1e-9) & np.isfinite(s)
+            if not ok.any():
+                continue
+            i = np.flatnonzero(ok)[int(np.argmin(np.abs(s[ok])))]
+            j, rr = cand[i], float(np.clip(r[i], 0.0, 1.0))
+            Xm = master.a[j] + rr * (master.b[j] - master.a[j])
+            rows.append((np.array([k]), np.array([j]), X[None, :], Xm[None, :], nu[None, :], np.array([w * L]),
+                         np.array([s[i]])))
+    return _stack(rows)
+
+
+def _stack(rows) -> PairedPoints:
+    if not rows:
+        z = np.zeros(0)
+        return PairedPoints(z.astype(int), z.astype(int), np.zeros((0, 2)), np.zeros((0, 2)), np.zeros((0, 2)), z, z)
+    cols = list(zip(*rows, strict=True))
+    return PairedPoints(np.concatenate(cols[0]).astype(np.int64), np.concatenate(cols[1]).astype(np.int64),
+                        np.vstack(cols[2]), np.vstack(cols[3]), np.vstack(cols[4]), np.concatenate(cols[5]),
+                        np.concatenate(cols[6]))

@@ -1,0 +1,486 @@
+"""Frictionless contact of two elastic bodies on non-matching meshes (plane strain, small strain; dolfinx 0.11).
+
+Units mm, N, MPa; loads P per unit thickness (N/mm). Both bodies live in one dolfinx mesh as two cell groups
+that share no node (each its own gmsh surface, meshed with its own sizes, so the contact surfaces do not
+match). One vector Lagrange space V (degree 1 or 2) holds both bodies' displacements; the materials are cell
+constants (each body its E and nu).
+
+Weak form: find u with the supports such that for every admissible v
+
+    F(u; v) = int_O1+O2 sigma(u) : eps(v) dx  +  F_c(u; v) = 0 ,      F_c = -(D v) . p(g~(u))
+
+with the weighted gaps ``g~ = (G0 + D u) / W`` of the slave surface's nodes (:mod:`fem.two_body.weighted_gap`,
+pairing by :mod:`fem.two_body.geometry`, fixed in the reference configuration: ``small`` kinematics) and the
+nodal contact law ``p`` (:mod:`fem.two_body.laws`: penalty or augmented Lagrangian).
+
+Assembly (what a dolfinx form cannot express: the contact couples dofs of both bodies across non-matching
+facets): the bulk stiffness K is a dolfinx form; its sparsity pattern is extended by the paired slave-master
+node blocks (``SparsityPattern.insert``), the PETSc matrix is created from it
+(``dolfinx.cpp.la.petsc.create_matrix``), K is assembled into it once with the supports' rows and columns set to
+the identity, and every Newton iteration copies it and adds the contact Jacobian ``D^T diag(-dp/dg~ / W) D``
+(supports' rows and columns left out). The residual is ``K0 u - D^T p`` (K0: K without supports) with the
+support rows ``u_i - u_i^prescribed``. The Jacobian is exact (a test compares it with finite differences).
+
+Loading: the ``driven`` facet group (e.g. the top of the upper body) is moved by ``d`` along ``direction``
+(displacement control; the load stepper's force control drives d). Measured load P: the support reaction of the
+driven group along ``direction`` (N/mm, full body for a half model); ``P_pressure``: the resultant of the
+contact forces on the other body along ``direction``; the two agree up to the residual.
+
+This object offers the interface :class:`fem.stepping.LoadStepper` drives (the rigid obstacle's
+:class:`fem.problem.ContactProblem` offers the same), so load steps, cut-backs, force control and the
+prescribed-active-set predictor are the same code for both kinds of contact partner.
+
+Serial only: the pairing needs both surfaces on one process (refused on more, in one line).
+"""
+
+from __future__ import annotations
+
+import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
+
+import itertools
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import dolfinx
+import dolfinx.fem.petsc
+import numpy as np
+import scipy.sparse as sp
+import ufl
+from petsc4py import PETSc
+
+from analytic import materials
+from fem.linear_solver import configure as configure_linear_solver
+from fem.linear_solver import snes_options
+from fem.options import ContactOptions
+from fem.postprocess import SurfaceSamples, contact_edges, oscillation_warnings, resolution_warnings
+from fem.two_body.geometry import mortar_points, node_points
+from fem.two_body.laws import law_for
+from fem.two_body.surfaces import cell_data, surface_of_group
+from fem.two_body.weighted_gap import WeightedGap, assemble_weighted_gap
+
+__all__ = ["Body", "MeshedPartner", "TwoBodySetup", "TwoBodyProblem", "PAIRINGS"]
+
+PAIRINGS = ("mortar", "node_to_segment")
+_COMPONENTS = {"clamped": (0, 1), "roller_x": (0,), "roller_y": (1,), "free": ()}
+_counter = itertools.count()
+
+
+@dataclass(frozen=True, kw_only=True)
+class Body:
+    """One elastic body: its cell physical group, Young's modulus E (MPa) and Poisson's ratio nu."""
+
+    name: str
+    E: float
+    nu: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class TwoBodySetup:
+    """What the two-body problem needs beyond :class:`fem.options.ContactOptions`.
+
+    Attributes:
+        bodies: the two bodies (cell groups of the mesh).
+        slave, master: facet groups of the two contact surfaces; the slave side carries the integration.
+        driven: facet group moved by d along ``direction`` (components ``driven_components``; the others free).
+        driven_body: name of the body that owns ``driven`` (the load is measured on it).
+        pairing: ``"mortar"`` (segment-to-segment) or ``"node_to_segment"``.
+        direction: unit loading direction (default (0, -1)).
+    """
+
+    bodies: tuple[Body, Body]
+    slave: str
+    master: str
+    driven: str
+    driven_body: str
+    driven_components: tuple[int, ...] = (0, 1)
+    pairing: str = "mortar"
+    direction: tuple[float, float] = (0.0, -1.0)
+
+    def combined_modulus(self) -> float:
+        """E* (MPa): ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` (:mod:`analytic.materials`)."""
+        b1, b2 = self.bodies
+        return 1.0 / (1.0 / materials.plane_strain_modulus(b1.E, b1.nu)
+                      + 1.0 / materials.plane_strain_modulus(b2.E, b2.nu))
+
+
+class MeshedPartner(NamedTuple):
+    """The deformable contact partner as the load stepper sees it (the rigid obstacle's counterpart): a loading
+    direction and no analytic Hertz predictor."""
+
+    direction: tuple[float, float]
+    analytic: bool = False
+
+
+class TwoBodyForms(NamedTuple):
+    """The load stepper's view of the forms: no gap data to refresh per iteration."""
+
+    update: None = None
+
+
+class _Value:
+    """A mutable scalar with ``.value`` (the rigid problem's dolfinx Constant d has the same interface)."""
+
+    def __init__(self, value: float = 0.0):
+        self.value = value
+
+
+class TwoBodyProblem:
+    """Two elastic bodies in frictionless contact (module docstring).
+
+    Attributes (main ones):
+        u: displacement Function of both bodies (mm).  d: the driven displacement (``d.value``, mm).
+        gap: the :class:`fem.two_body.weighted_gap.WeightedGap`.  method: the contact law.
+        snes: the PETSc SNES; A: the Jacobian matrix (extended sparsity); K0: stiffness without supports.
+    """
+
+    def __init__(self, mesh_data, setup: TwoBodySetup, options: ContactOptions):
+        self.options = opts = options
+        self.setup = setup
+        self.mesh_data, self.mesh = mesh_data, mesh_data.mesh
+        self.comm = self.mesh.comm
+        _check(setup, opts, mesh_data)
+        self.obstacle = MeshedPartner(direction=tuple(float(c) for c in setup.direction))
+        self.forms = TwoBodyForms()
+        self.lame = None
+        self.ph = None
+        self.E_star = setup.combined_modulus()
+        self.mult = 2.0 if opts.symmetric_half else 1.0
+        self.d = _Value(0.0)
+        self.prefix = opts.petsc_prefix or f"fem_two_body_{next(_counter)}_"
+        self.method_rule = None
+        self.qdeg = opts.degree
+        self._build_space()
+        self._build_pairing()
+        self._build_supports()
+        self._build_matrices()
+        self._build_solver()
+
+    # -- construction ---------------------------------------------------------------------------------------
+    def _build_space(self) -> None:
+        opts, mesh, md = self.options, self.mesh, self.mesh_data
+        self.V = dolfinx.fem.functionspace(mesh, ("Lagrange", opts.degree, (2,)))
+        self.u = dolfinx.fem.Function(self.V, name="displacement")
+        Q = dolfinx.fem.functionspace(mesh, ("DG", 0))
+        self.E_fun, self.nu_fun = dolfinx.fem.Function(Q, name="E"), dolfinx.fem.Function(Q, name="nu")
+        self.body_nodes = {}
+        for body in self.setup.bodies:
+            cells = md.cell_tags.find(md.physical_groups[body.name].tag)
+            self.E_fun.x.array[cells] = body.E
+            self.nu_fun.x.array[cells] = body.nu
+            self.body_nodes[body.name] = np.unique(self.V.dofmap.list[cells])
+        E, nu = self.E_fun, self.nu_fun
+        lmbda, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+        du, v = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
+
+        def eps(w):
+            return ufl.sym(ufl.grad(w))
+
+        self.stress = lmbda * ufl.tr(eps(self.u)) * ufl.Identity(2) + 2 * mu * eps(self.u)
+        sig = lmbda * ufl.tr(eps(du)) * ufl.Identity(2) + 2 * mu * eps(du)
+        self.a_form = dolfinx.fem.form(ufl.inner(sig, eps(v)) * ufl.dx)
+        self.n_u = self.u.x.array.size
+
+    def _build_pairing(self) -> None:
+        opts, st = self.options, self.setup
+        self.slave_geom = surface_of_group(self.mesh_data, st.slave)
+        self.master_geom = surface_of_group(self.mesh_data, st.master)
+        if st.pairing == "mortar":
+            pts = mortar_points(self.slave_geom, self.master_geom, n_gauss=opts.degree + 1)
+        else:
+            pts = node_points(self.slave_geom, self.master_geom, degree=opts.degree)
+        self.points = pts
+        self.gap: WeightedGap = assemble_weighted_gap(
+            pts, slave=self.slave_geom, slave_cells=cell_data(self.V, self.slave_geom),
+            master_cells=cell_data(self.V, self.master_geom), n_dofs=self.n_u, degree=opts.degree)
+        if self.gap.nodes.size == 0:
+            raise ValueError(f"the contact surfaces {st.slave!r} and {st.master!r} do not face each other")
+        h = float(np.min(self.slave_geom.length))
+        kappa = opts.kappa0 * self.E_star / h
+        self.method = law_for(opts.method)(kappa=kappa, n_nodes=self.gap.nodes.size, X1=self.gap.X[:, 0],
+                                           uzawa_rtol=opts.uzawa_rtol, uzawa_max_it=opts.uzawa_max_it)
+
+    def _build_supports(self) -> None:
+        """Supports (unrolled dof indices, prescribed value per unit d) and the driven group."""
+        opts, st, fdim = self.options, self.setup, self.mesh.topology.dim - 1
+        supports = dict(opts.supports) if opts.supports is not None else {"clamped": "clamped"}
+        if opts.supports is None and opts.symmetric_half:
+            supports["symmetry"] = "roller_x"
+        self.supports = supports
+        dofs, per_d = [], []
+        for name, kind in list(supports.items()) + [(st.driven, "driven")]:
+            facets = self.mesh_data.facet_tags.find(self.mesh_data.physical_groups[name].tag)
+            comps = st.driven_components if kind == "driven" else _COMPONENTS[kind]
+            for c in comps:
+                nodes = dolfinx.fem.locate_dofs_topological(self.V, fdim, facets)
+                dofs.append(2 * nodes + c)
+                per_d.append(np.full(nodes.size, st.direction[c] if kind == "driven" else 0.0))
+        all_dofs = np.concatenate(dofs)
+        all_per_d = np.concatenate(per_d)
+        self.bc_dofs, first = np.unique(all_dofs, return_index=True)
+        self.bc_per_d = all_per_d[first]  # a dof both supported and driven keeps its first (support) entry
+        self.free = np.ones(self.n_u, dtype=bool)
+        self.free[self.bc_dofs] = False
+        driven_facets = self.mesh_data.facet_tags.find(self.mesh_data.physical_groups[st.driven].tag)
+        nodes = dolfinx.fem.locate_dofs_topological(self.V, fdim, driven_facets)
+        self.reaction_dir = np.zeros(self.n_u)
+        for c in range(2):
+            self.reaction_dir[2 * nodes + c] = st.direction[c]
+        other = next(b.name for b in st.bodies if b.name != st.driven_body)
+        self.other_dir = np.zeros(self.n_u)
+        for c in range(2):
+            self.other_dir[2 * self.body_nodes[other] + c] = st.direction[c]
+
+    def _build_matrices(self) -> None:
+        """K0 (no supports), and the Jacobian pattern: K's plus the contact node blocks."""
+        self.K0 = dolfinx.fem.petsc.assemble_matrix(self.a_form)
+        self.K0.assemble()
+        pattern = dolfinx.fem.create_sparsity_pattern(self.a_form)
+        D = self.gap.D.tocsr()
+        for i in range(D.shape[0]):
+            blocks = np.unique(D.indices[D.indptr[i]:D.indptr[i + 1]] // 2).astype(np.int32)
+            pattern.insert(blocks, blocks)
+        pattern.finalize()
+        self.K_bc = dolfinx.cpp.la.petsc.create_matrix(self.comm, pattern)
+        # explicit zeros at every contact block, so that assembly keeps them in the pattern
+        Dabs = abs(D)
+        self.K_bc.zeroEntries()
+        _add_csr(self.K_bc, (Dabs.T @ Dabs).tocsr(), scale=0.0)
+        dolfinx.fem.petsc.assemble_matrix(self.K_bc, self.a_form)
+        self.K_bc.assemble()
+        self.K_bc.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
+        self.K_bc.zeroRowsColumns(self.bc_dofs.astype(np.int32), diag=1.0)
+        self.A = self.K_bc.duplicate(copy=True)
+        self.b = self.A.createVecLeft()
+        self.x = self.A.createVecRight()
+
+    def _build_solver(self) -> None:
+        opts = self.options
+        x_all = self.mesh.geometry.x
+        L = float(np.max(np.ptp(x_all[:, :2], axis=0)))
+        E_max = max(b.E for b in self.setup.bodies)
+        petsc = {"snes_type": "newtonls", "snes_linesearch_type": "basic", **snes_options(opts.linear_solver),
+                 "snes_rtol": opts.snes_rtol, "snes_atol": 1e-13 * E_max * L, "snes_stol": 0.0,
+                 "snes_max_it": opts.max_it, **(opts.petsc_options or {})}
+        self.snes = PETSc.SNES().create(self.comm)
+        self.snes.setOptionsPrefix(self.prefix)
+        o = PETSc.Options()
+        for k, v in petsc.items():
+            o[f"{self.prefix}{k}"] = v
+        self.snes.setFunction(self._residual, self.b)
+        self.snes.setJacobian(self._jacobian, self.A, self.A)
+        self.snes.setFromOptions()
+        configure_linear_solver(self.snes, self.A, self.V, opts.linear_solver)
+        for k in petsc:
+            o.delValue(f"{self.prefix}{k}")
+
+    # -- residual and Jacobian -----------------------------------------------------------------------------
+    def _take(self, x) -> np.ndarray:
+        arr = x.getArray(readonly=True)
+        self.u.x.array[:] = arr
+        return arr
+
+    def contact_residual(self, u: np.ndarray) -> np.ndarray:
+        """``F_c = -D^T p`` (N/mm per dof) of the dof array u."""
+        p, _ = self.method.pressure(self.gap.gap(u))
+        return -(self.gap.D.T @ p)
+
+    def contact_jacobian(self, u: np.ndarray) -> sp.csr_matrix:
+        """``dF_c/du = D^T diag(-dp/dg~ / W) D`` (exact; sparse, all dofs)."""
+        _, dp = self.method.pressure(self.gap.gap(u))
+        D = self.gap.D
+        return (D.T @ sp.diags(-dp / self.gap.W) @ D).tocsr()
+
+    def _residual(self, snes, x, b) -> None:
+        arr = self._take(x)
+        self.K0.mult(x, b)
+        out = b.getArray()
+        out += self.contact_residual(arr)
+        out[self.bc_dofs] = arr[self.bc_dofs] - self.d.value * self.bc_per_d
+
+    def _jacobian(self, snes, x, J, P) -> None:
+        arr = self._take(x)
+        self.K_bc.copy(J, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+        Jc = self.contact_jacobian(arr)
+        Jc = sp.diags(self.free.astype(float)) @ Jc @ sp.diags(self.free.astype(float))
+        Jc = Jc.tocsr()
+        Jc.eliminate_zeros()
+        J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
+        _add_csr(J, Jc)
+        J.assemble()
+
+    # -- state ----------------------------------------------------------------------------------------------
+    @property
+    def ndofs(self) -> int:
+        return self.V.dofmap.index_map.size_global * 2
+
+    def get_state(self) -> np.ndarray:
+        return np.concatenate([self.u.x.array, self.method.state()])
+
+    def set_state(self, arr: np.ndarray, rest: np.ndarray | None = None) -> None:
+        n = self.n_u
+        self.u.x.array[:] = arr[:n]
+        src = arr if arr.size > n else rest
+        if src is not None and src.size > n:
+            self.method.set_state(src[n:])
+
+    def measure(self) -> tuple[float, float]:
+        """(P, P_pressure) in N/mm, full body (module docstring)."""
+        u = self.u.x.array
+        self.x.setArray(u)
+        r = self.K0.createVecLeft()
+        self.K0.mult(self.x, r)
+        rc = self.contact_residual(u)
+        P = self.mult * float(np.dot(r.getArray() + rc, self.reaction_dir))
+        Pp = self.mult * float(np.dot(-rc, self.other_dir))
+        r.destroy()
+        return P, Pp
+
+    # -- surface --------------------------------------------------------------------------------------------
+    def sample(self, degree: int | None = None, rule=None) -> SurfaceSamples:
+        """Samples at the slave contact nodes (where the law holds), sorted by X1."""
+        g = self.gap.gap(self.u.x.array)
+        q = self.method.argument(g)
+        p, _ = self.method.pressure(g)
+        X = self.gap.X
+        nodes = self.gap.nodes
+        ux = self.u.x.array.reshape(-1, 2)[nodes]
+        order = np.argsort(X[:, 0], kind="stable")
+        return SurfaceSamples(s=X[order, 0], X=X[order], x=(X + ux)[order], p=p[order], q=q[order],
+                              sigma_nn=np.full(order.size, np.nan), gap=g[order], weight=self.gap.W[order])
+
+    def contact_zones(self) -> tuple[tuple[float, float], ...]:
+        smp = self.sample()
+        return tuple(((-np.inf if i == 0 else left), right) for left, right, i, _ in contact_edges(smp.s, smp.q))
+
+    def contact_zone(self):
+        runs = self.contact_zones()
+        return runs[0] if len(runs) == 1 else None
+
+    def quality_warnings(self, smp: SurfaceSamples, d_now: float) -> list[str]:
+        opts = self.options
+        out = resolution_warnings(smp, quadrature_degree=opts.degree, half=opts.symmetric_half,
+                                  min_facets_across=opts.min_facets_across, points_per_facet=opts.degree)
+        return out + oscillation_warnings(smp)
+
+    # -- solves ---------------------------------------------------------------------------------------------
+    @contextmanager
+    def max_iterations(self, n: int):
+        self.snes.setTolerances(max_it=n)
+        try:
+            yield
+        finally:
+            self.snes.setTolerances(max_it=self.options.max_it)
+
+    def newton(self, *, force_iteration: bool = False) -> tuple[int, int]:
+        """One SNES solve from the current state: (converged reason, iterations)."""
+        u = self.u.x.array
+        u[self.bc_dofs] = self.d.value * self.bc_per_d
+        self.x.setArray(u)
+        self.snes.setForceIteration(bool(force_iteration))
+        try:
+            self.snes.solve(None, self.x)
+        finally:
+            self.snes.setForceIteration(False)
+        self.u.x.array[:] = self.x.getArray(readonly=True)
+        return self.snes.getConvergedReason(), self.snes.getIterationNumber()
+
+    @contextmanager
+    def prescribed_active_set(self, zones):
+        self.method.zones = tuple(zones)
+        try:
+            yield
+        finally:
+            self.method.zones = None
+
+    def predictor_iteration(self, zones) -> None:
+        with self.prescribed_active_set(zones), self.max_iterations(1):
+            self.newton()
+
+    def solve_once(self, d_value: float, state: np.ndarray, *, rest=None, zone=None) -> tuple[int, int, dict]:
+        """Solve at driven displacement ``d_value`` (mm) from ``state`` (as the rigid problem's)."""
+        self.d.value = d_value
+        self.set_state(state, rest)
+        pre = 0
+        if zone is not None:
+            self.predictor_iteration(zone)
+            pre = 1
+        scale = lambda: float(np.max(np.abs(self.u.x.array), initial=0.0))  # noqa: E731
+        reason, its, extra = self.method.solve(self.newton, gap=lambda: self.gap.gap(self.u.x.array), scale=scale)
+        return reason, its + pre, extra
+
+    def tangent(self, state: np.ndarray, d0: float):
+        """Tangent ``t = du/dd`` of the converged state for its active set and ``dP/dd`` (as the rigid
+        problem's: ``J t = -dF/dd`` with the factors the last Newton solve left in the KSP)."""
+        self.set_state(state)
+        u = self.u.x.array.copy()
+        p_now, dp = self.method.pressure(self.gap.gap(u))
+        rhs = np.zeros(self.n_u)
+        rhs[self.bc_dofs] = self.bc_per_d  # dF/dd = -bc_per_d at the support rows
+        f, t = self.x.duplicate(), self.x.duplicate()
+        try:
+            f.setArray(rhs)
+            self.snes.getKSP().solve(f, t)
+            t_arr = t.getArray(readonly=True).copy()
+        finally:
+            f.destroy()
+            t.destroy()
+        self.u.x.array[:] = t_arr
+        # P is linear in u for a fixed active set: dP/dd is the reaction of t with the linearised contact law
+        self.x.setArray(t_arr)
+        r = self.K0.createVecLeft()
+        self.K0.mult(self.x, r)
+        D = self.gap.D
+        rc = D.T @ (dp * (D @ t_arr) / self.gap.W)  # -D^T dp/dg~ dg~/dd
+        dP = self.mult * float(np.dot(r.getArray() - rc, self.reaction_dir))
+        r.destroy()
+        self.set_state(state)
+        if not (np.all(np.isfinite(t_arr)) and np.isfinite(dP) and dP > 0):
+            return None
+        return t_arr, dP
+
+    def destroy(self) -> None:
+        for obj in (self.snes, self.A, self.K_bc, self.K0, self.b, self.x):
+            obj.destroy()
+
+
+def _add_csr(M, C: sp.csr_matrix, *, scale: float = 1.0) -> None:
+    """Add the scipy CSR matrix ``scale C`` to the PETSc matrix M (same global numbering: serial)."""
+    for i in np.flatnonzero(np.diff(C.indptr)):
+        lo, hi = C.indptr[i], C.indptr[i + 1]
+        M.setValues(int(i), C.indices[lo:hi].astype(np.int32), scale * C.data[lo:hi], addv=PETSc.InsertMode.ADD)
+
+
+def _check(setup: TwoBodySetup, opts: ContactOptions, mesh_data) -> None:
+    """The combinations the two-body problem supports (ValueError naming the option)."""
+    if mesh_data.mesh.comm.size > 1:
+        raise ValueError("two-body contact runs on one process (the pairing needs both surfaces there); "
+                         "run it without mpiexec")
+    if opts.kinematics != "small":
+        raise ValueError(f"kinematics={opts.kinematics!r} is not available for two elastic bodies yet; "
+                         "use kinematics='small' (the pairing is fixed in the reference configuration)")
+    if opts.degree not in (1, 2):
+        raise ValueError(f"degree must be 1 or 2 for two elastic bodies, got {opts.degree}")
+    if opts.mixed:
+        raise ValueError("formulation='mixed' is not available for two elastic bodies; use 'displacement'")
+    if opts.material_model != "linear":
+        raise ValueError(f"material_model={opts.material_model!r} needs kinematics='finite', which two elastic "
+                         "bodies do not support yet")
+    if setup.pairing not in PAIRINGS:
+        raise ValueError(f"pairing must be one of {PAIRINGS}, got {setup.pairing!r}")
+    if len(setup.bodies) != 2 or setup.bodies[0].name == setup.bodies[1].name:
+        raise ValueError("two-body contact needs exactly two bodies with different names")
+    groups = mesh_data.physical_groups
+    for b in setup.bodies:
+        if b.name not in groups:
+            raise ValueError(f"body {b.name!r} is not a physical group of the mesh; known: {sorted(groups)}")
+        materials.validate_modulus(b.E, f"bodies[{b.name!r}].E")
+        materials.validate_poisson(b.nu, f"bodies[{b.name!r}].nu")
+    for g in (setup.slave, setup.master, setup.driven):
+        if g not in groups:
+            raise ValueError(f"facet group {g!r} is not a physical group of the mesh; known: {sorted(groups)}")
+    if setup.driven_body not in {b.name for b in setup.bodies}:
+        raise ValueError(f"driven_body must name one of the bodies, got {setup.driven_body!r}")
+    if opts.supports and "halfplane" in opts.supports.values():
+        raise ValueError("supports 'halfplane' is not available for two elastic bodies")
+    law_for(opts.method)

@@ -1,0 +1,177 @@
+"""Two elastic bodies in one mesh, meshed independently (non-matching contact surfaces): linear triangles.
+
+Each body is its own gmsh surface with its own points and curves, so the two contact surfaces share no node
+and their nodes fall where each body's own sizes put them. Units mm.
+
+Builders:
+
+* :func:`build_stacked_blocks`: the contact patch test. A lower block ``[0, W] x [-H1, 0]`` under an upper block
+  ``[0, W] x [0, H2]``, element sizes ``h_lower`` and ``h_upper`` (their ratio should not be rational with a small
+  denominator: the nodes of the interface must not coincide).
+* :func:`build_cylinder_on_block`: an elastic half disk of radius R (the lower half of the circle centred at
+  ``(0, R)``, flat top at ``y = R``) on a block ``[-W/2, W/2] x [-H, 0]``; size ``h_contact`` on both contact
+  surfaces where ``|x| <= a (1 + margin)``, growing away (as :mod:`meshes.block`), with another size on the disk
+  (``disk_size_ratio``) so that the surfaces do not match. The disk's arc is split at angles off its lowest
+  point, so no geometric point sits at the first-contact point.
+
+Physical groups (names are the contract): cells ``lower`` and ``upper``; facets ``contact_lower`` (top of the
+lower block), ``contact_upper`` (the upper body's surface that faces it), ``clamped`` (bottom of the lower
+block), ``driven`` (top of the upper body), ``symmetry`` (x = 0 edges of both blocks: stacked blocks only),
+``sides``.
+"""
+
+from __future__ import annotations
+
+import math
+
+from meshes.cache import DEFAULT_CACHE_DIR, MeshFiles
+from meshes.pipeline import build_cached
+from meshes.portable import GmshInputs
+from meshes.sizing import apply_background, growth_field, validate_common
+
+__all__ = ["build_stacked_blocks", "build_cylinder_on_block", "ARC_SPLIT_DEG"]
+
+# The disk's arc is split at these angles (degrees from the lowest point, left and right): not symmetric, so the
+# central arc's nodes do not fall on x = 0 where the block's might.
+ARC_SPLIT_DEG = (23.0, 29.0)
+
+
+def _positive(**vals) -> None:
+    for arg, val in vals.items():
+        if not (val > 0.0 and math.isfinite(val)):
+            raise ValueError(f"{arg} must be > 0 (mm), got {val}")
+
+
+def build_stacked_blocks(*, width: float, height_lower: float, height_upper: float, h_lower: float,
+                         h_upper: float, out_dir=DEFAULT_CACHE_DIR, name: str = "stacked_blocks",
+                         write_xdmf: bool = False, stats_dir=None, comm=None) -> MeshFiles:
+    """The patch-test mesh (module docstring): two blocks of width W, uniform sizes h_lower and h_upper."""
+    _positive(width=width, height_lower=height_lower, height_upper=height_upper, h_lower=h_lower,
+              h_upper=h_upper)
+    if abs(h_lower - h_upper) <= 1e-9 * max(h_lower, h_upper):
+        raise ValueError("h_lower and h_upper must differ (the patch test needs non-matching meshes)")
+    gi = GmshInputs(scale=max(width, height_lower, height_upper))
+    W, H1, H2 = gi.length(width), gi.length(height_lower), gi.length(height_upper)
+    h1, h2 = gi.size(h_lower), gi.size(h_upper)
+    params = dict(width=W, height_lower=H1, height_upper=H2, h_lower=h1, h_upper=h2)
+
+    def make(gmsh):
+        geo = gmsh.model.geo
+
+        def block(y0, y1, h):
+            p = [geo.addPoint(0.0, y0, 0.0, h), geo.addPoint(W, y0, 0.0, h), geo.addPoint(W, y1, 0.0, h),
+                 geo.addPoint(0.0, y1, 0.0, h)]
+            lines = [geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]  # bottom, right, top, left
+            return lines, geo.addPlaneSurface([geo.addCurveLoop(lines)])
+
+        (lb, lr, lt, ll), low = block(-H1, 0.0, h1)
+        (ub, ur, ut, ul), up = block(0.0, H2, h2)
+        geo.synchronize()
+        pg = gmsh.model.addPhysicalGroup
+        groups = {"contact_lower": (1, pg(1, [lt], name="contact_lower")),
+                  "contact_upper": (1, pg(1, [ub], name="contact_upper")),
+                  "clamped": (1, pg(1, [lb], name="clamped")),
+                  "driven": (1, pg(1, [ut], name="driven")),
+                  "symmetry": (1, pg(1, [ll, ul], name="symmetry")),
+                  "sides": (1, pg(1, [lr, ur], name="sides")),
+                  "lower": (2, pg(2, [low], name="lower")),
+                  "upper": (2, pg(2, [up], name="upper"))}
+        for opt, val in (("Mesh.Algorithm", 6), ("Mesh.ElementOrder", 1), ("General.NumThreads", 1),
+                         ("Mesh.MaxNumThreads1D", 1), ("Mesh.MaxNumThreads2D", 1), ("Mesh.RandomSeed", 1),
+                         ("Mesh.RandomFactor", 1e-9), ("Mesh.MeshSizeFromCurvature", 0)):
+            gmsh.option.setNumber(opt, val)
+        gmsh.model.mesh.generate(2)
+
+        def window(mid):
+            return mid[:, 0] >= -1.0
+
+        return [lt], window, groups
+
+    return build_cached(kind="stacked_blocks", params=params, name=name, out_dir=out_dir, make=make, inputs=gi,
+                        body_size=gi.scale, geometry_source="parameters", write_xdmf=write_xdmf,
+                        stats_dir=stats_dir, comm=comm)
+
+
+def build_cylinder_on_block(*, radius: float, width: float, height: float, contact_half_width: float,
+                            h_contact: float, disk_size_ratio: float = 0.77, h_far: float | None = None,
+                            growth: float = 1.3, margin: float = 0.5, out_dir=DEFAULT_CACHE_DIR,
+                            name: str = "cylinder_on_block", write_xdmf: bool = False, stats_dir=None,
+                            comm=None) -> MeshFiles:
+    """The elastic half disk on the elastic block (module docstring).
+
+    Args:
+        radius: R (mm).  width, height: W and H of the block (mm), W > 2 a (1 + margin).
+        contact_half_width: the contact half-width estimate a (mm).
+        h_contact: size on the block's contact zone (mm); the disk's is ``disk_size_ratio h_contact``.
+        disk_size_ratio: in (0.2, 5), not 1 (non-matching meshes).
+        h_far, growth, margin: as :func:`meshes.block.build_block_mesh`.
+    """
+    _positive(radius=radius, width=width, height=height, contact_half_width=contact_half_width,
+              h_contact=h_contact)
+    if not (0.2 < disk_size_ratio < 5.0) or abs(disk_size_ratio - 1.0) < 0.05:
+        raise ValueError(f"disk_size_ratio must be in (0.2, 5) and differ from 1 by >= 0.05, got {disk_size_ratio}")
+    a = float(contact_half_width)
+    h_far = width / 10.0 if h_far is None else float(h_far)
+    h_far = max(h_far, h_contact)
+    validate_common(h_contact=h_contact, h_far=h_far, growth=growth)
+    b = a * (1.0 + margin)
+    if not width / 2.0 > b or not radius > b:
+        raise ValueError(f"width / 2 and radius must be > a (1 + margin) = {b} (mm)")
+    gi = GmshInputs(scale=max(width, height, 2.0 * radius))
+    R, W, H, a = gi.length(radius), gi.length(width), gi.length(height), gi.length(a)
+    b = gi.length(a * (1.0 + margin))
+    h_c, h_far, growth = gi.size(0.9 * h_contact), gi.size(h_far), gi.size(growth)
+    h_d = gi.size(0.9 * h_contact * disk_size_ratio)
+    params = dict(radius=R, width=W, height=H, a=a, b=b, h_contact=h_c, h_disk=h_d, h_far=h_far, growth=growth,
+                  margin=float(margin), split=ARC_SPLIT_DEG)
+    angles = [math.radians(-90.0 - ARC_SPLIT_DEG[0]), math.radians(-90.0 + ARC_SPLIT_DEG[1])]
+    arc_pts = [(gi.length(R * math.cos(t)), gi.length(R + R * math.sin(t))) for t in angles]
+
+    def make(gmsh):
+        geo = gmsh.model.geo
+        # lower block, top edge split at +-b (no point at x = 0)
+        p = [geo.addPoint(-W / 2, -H, 0.0), geo.addPoint(W / 2, -H, 0.0), geo.addPoint(W / 2, 0.0, 0.0),
+             geo.addPoint(b, 0.0, 0.0), geo.addPoint(-b, 0.0, 0.0), geo.addPoint(-W / 2, 0.0, 0.0)]
+        bottom, right = geo.addLine(p[0], p[1]), geo.addLine(p[1], p[2])
+        top = [geo.addLine(p[2], p[3]), geo.addLine(p[3], p[4]), geo.addLine(p[4], p[5])]
+        left = geo.addLine(p[5], p[0])
+        low = geo.addPlaneSurface([geo.addCurveLoop([bottom, right, *top, left])])
+        # upper half disk: centre (0, R), arcs (-R, R) -> split left -> split right -> (R, R), flat top back
+        c = geo.addPoint(0.0, R, 0.0)
+        q_left, q_right = geo.addPoint(-R, R, 0.0), geo.addPoint(R, R, 0.0)
+        s1, s2 = (geo.addPoint(x, y, 0.0) for x, y in arc_pts)
+        arcs = [geo.addCircleArc(q_left, c, s1), geo.addCircleArc(s1, c, s2), geo.addCircleArc(s2, c, q_right)]
+        flat = geo.addLine(q_right, q_left)
+        up = geo.addPlaneSurface([geo.addCurveLoop([*arcs, flat])])
+        geo.synchronize()
+        fields = [growth_field(gmsh, h0=h_c, h_max=h_far, growth=growth, curves=[top[1]], curve_length=2 * b,
+                               sampling_size=gi.size(h_c / 4.0)),
+                  growth_field(gmsh, h0=h_d, h_max=h_far, growth=growth, curves=[arcs[1]],
+                               curve_length=R * math.radians(sum(ARC_SPLIT_DEG)), sampling_size=gi.size(h_d / 4.0))]
+        # the disk's refinement reaches only its own arc: restrict each field to its body
+        restricted = []
+        for f, surf, curves in ((fields[0], low, top), (fields[1], up, arcs)):
+            r = gmsh.model.mesh.field.add("Restrict")
+            gmsh.model.mesh.field.setNumber(r, "InField", f)
+            gmsh.model.mesh.field.setNumbers(r, "SurfacesList", [surf])
+            gmsh.model.mesh.field.setNumbers(r, "CurvesList", list(curves))
+            restricted.append(r)
+        apply_background(gmsh, restricted, h_max=h_far)
+        pg = gmsh.model.addPhysicalGroup
+        groups = {"contact_lower": (1, pg(1, top, name="contact_lower")),
+                  "contact_upper": (1, pg(1, arcs, name="contact_upper")),
+                  "clamped": (1, pg(1, [bottom], name="clamped")),
+                  "driven": (1, pg(1, [flat], name="driven")),
+                  "sides": (1, pg(1, [left, right], name="sides")),
+                  "lower": (2, pg(2, [low], name="lower")),
+                  "upper": (2, pg(2, [up], name="upper"))}
+        gmsh.model.mesh.generate(2)
+
+        def window(mid):
+            return abs(mid[:, 0]) <= a * (1.0 + 1e-9)
+
+        return top, window, groups
+
+    return build_cached(kind="cylinder_on_block", params=params, name=name, out_dir=out_dir, make=make,
+                        inputs=gi, body_size=gi.scale, geometry_source="parameters", write_xdmf=write_xdmf,
+                        stats_dir=stats_dir, comm=comm)
