@@ -249,6 +249,11 @@ class ContactProblem:
             return self.u.x.array.copy()
         return np.concatenate([self.u.x.array] + [f.x.array for f in self.extras])
 
+    def unloaded_guess(self, d_value: float, unloaded: np.ndarray) -> np.ndarray:
+        """The start of the first solve at d_value from the unloaded state: the unloaded state itself (the rigid
+        obstacle carries d; a deformable partner moves its driven body instead)."""
+        return unloaded
+
     def set_state(self, arr: np.ndarray, rest: np.ndarray | None = None) -> None:
         """Set u (and the extra unknowns); a displacement-only ``arr`` takes them from the full state ``rest``."""
         n_u = self.n_u

@@ -189,9 +189,10 @@ class LoadStepper:
 
     # -- predictors -----------------------------------------------------------------------------------------
     def extrapolate(self, d_new: float) -> np.ndarray:
-        """State linear in d through the last two converged states (the last one without history)."""
+        """State linear in d through the last two converged states; without history the problem's guess for
+        the unloaded state moved to d_new (:meth:`fem.problem.ContactProblem.unloaded_guess`)."""
         if len(self.states) == 1:
-            return self.states[-1].x
+            return self.problem.unloaded_guess(d_new, self.states[-1].x)
         (d1, _, u1, _), (d2, _, u2, _) = self.states[-2], self.states[-1]
         if d2 == d1:
             return u2

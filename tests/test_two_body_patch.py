@@ -16,7 +16,7 @@ from mpi4py import MPI
 
 from fem.options import ContactOptions
 from fem.stepping import LoadStepper
-from fem.two_body.problem import Body, TwoBodyProblem, TwoBodySetup
+from fem.two_body.problem import Body, TwoBodyProblem, MeshedPartner
 from meshes.two_body import build_stacked_blocks
 from workbench.mesh_io import read_mesh
 
@@ -33,7 +33,7 @@ def stacked(tmp_path_factory):
 
 def _problem(md, *, pairing="mortar", method="penalty", degree=2, slave="contact_upper"):
     master = "contact_lower" if slave == "contact_upper" else "contact_upper"
-    setup = TwoBodySetup(bodies=(Body(name="lower", E=200.0, nu=0.3), Body(name="upper", E=70.0, nu=0.25)),
+    setup = MeshedPartner(bodies=(Body(name="lower", E=200.0, nu=0.3), Body(name="upper", E=70.0, nu=0.25)),
                          slave=slave, master=master, driven="driven", driven_body="upper", driven_components=(1,),
                          pairing=pairing)
     opts = ContactOptions(E=200.0, nu=0.3, target=1e-3, degree=degree, method=method, control="displacement",

@@ -51,6 +51,12 @@ class TwoBodyLaw:
         self.X1 = X1
         self.zones = None
         self.uzawa_rtol, self.uzawa_max_it = uzawa_rtol, uzawa_max_it
+        self.gap: Callable[[], np.ndarray] = lambda: np.zeros(n_nodes)
+        self.scale: Callable[[], float] = lambda: 1.0
+
+    def bind(self, *, gap: Callable[[], np.ndarray], scale: Callable[[], float]) -> None:
+        """Give the law the problem's current weighted gaps (mm) and displacement scale max|u| (mm)."""
+        self.gap, self.scale = gap, scale
 
     def argument(self, g: np.ndarray) -> np.ndarray:
         """The pressure argument q (MPa): p = [q]_+."""
@@ -78,8 +84,7 @@ class TwoBodyLaw:
     def set_state(self, arr: np.ndarray) -> None:
         return None
 
-    def solve(self, newton: Callable[..., tuple[int, int]], *, gap: Callable[[], np.ndarray],
-              scale: Callable[[], float]) -> tuple[int, int, dict]:
+    def solve(self, newton: Callable[..., tuple[int, int]]) -> tuple[int, int, dict]:
         """One load level: one Newton solve."""
         reason, its = newton()
         return reason, its, {}
@@ -104,7 +109,8 @@ class AugmentedLagrangianLaw(TwoBodyLaw):
     def set_state(self, arr: np.ndarray) -> None:
         self.lam[:] = arr
 
-    def solve(self, newton, *, gap, scale):
+    def solve(self, newton):
+        gap, scale = self.gap, self.scale
         reason, total = newton()
         if reason <= 0:
             return reason, total, {}

@@ -22,9 +22,10 @@ the identity, and every Newton iteration copies it and adds the contact Jacobian
 support rows ``u_i - u_i^prescribed``. The Jacobian is exact (a test compares it with finite differences).
 
 Loading: the ``driven`` facet group (e.g. the top of the upper body) is moved by ``d`` along ``direction``
-(displacement control; the load stepper's force control drives d). Measured load P: the support reaction of the
-driven group along ``direction`` (N/mm, full body for a half model); ``P_pressure``: the resultant of the
-contact forces on the other body along ``direction``; the two agree up to the residual.
+(displacement control; the load stepper's force control drives d). Measured load P: the support reaction along
+``direction`` on the softer body (N/mm, full body for a half model): of the driven group, or, when the other body
+is the softer one, minus the reaction of that body's supports; ``P_pressure``: the resultant of the contact
+forces on the other body along ``direction``; the two agree up to the residual.
 
 This object offers the interface :class:`fem.stepping.LoadStepper` drives (the rigid obstacle's
 :class:`fem.problem.ContactProblem` offers the same), so load steps, cut-backs, force control and the
@@ -54,12 +55,12 @@ from fem.linear_solver import configure as configure_linear_solver
 from fem.linear_solver import snes_options
 from fem.options import ContactOptions
 from fem.postprocess import SurfaceSamples, contact_edges, oscillation_warnings, resolution_warnings
-from fem.two_body.geometry import mortar_points, node_points
+from fem.two_body.geometry import exact_master_gaps, mortar_points, node_points
 from fem.two_body.laws import law_for
 from fem.two_body.surfaces import cell_data, surface_of_group
 from fem.two_body.weighted_gap import WeightedGap, assemble_weighted_gap
 
-__all__ = ["Body", "MeshedPartner", "TwoBodySetup", "TwoBodyProblem", "PAIRINGS"]
+__all__ = ["Body", "MeshedPartner", "TwoBodyProblem", "PAIRINGS"]
 
 PAIRINGS = ("mortar", "node_to_segment")
 _COMPONENTS = {"clamped": (0, 1), "roller_x": (0,), "roller_y": (1,), "free": ()}
@@ -76,8 +77,9 @@ class Body:
 
 
 @dataclass(frozen=True, kw_only=True)
-class TwoBodySetup:
-    """What the two-body problem needs beyond :class:`fem.options.ContactOptions`.
+class MeshedPartner:
+    """The deformable contact partner: a second meshed elastic body (the rigid partner is an analytic curve of
+    :mod:`fem.obstacles`). Everything the two-body problem needs beyond :class:`fem.options.ContactOptions`.
 
     Attributes:
         bodies: the two bodies (cell groups of the mesh).
@@ -86,6 +88,8 @@ class TwoBodySetup:
         driven_body: name of the body that owns ``driven`` (the load is measured on it).
         pairing: ``"mortar"`` (segment-to-segment) or ``"node_to_segment"``.
         direction: unit loading direction (default (0, -1)).
+        master_surface: the master body's exact reference surface (e.g.
+            :class:`fem.two_body.geometry.CircleSurface`) to measure the initial gap to, or None (its facets).
     """
 
     bodies: tuple[Body, Body]
@@ -96,6 +100,9 @@ class TwoBodySetup:
     driven_components: tuple[int, ...] = (0, 1)
     pairing: str = "mortar"
     direction: tuple[float, float] = (0.0, -1.0)
+    master_surface: object | None = None
+
+    analytic = False  # the load stepper's test for an analytic (Hertz-predictable) rigid obstacle
 
     def combined_modulus(self) -> float:
         """E* (MPa): ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` (:mod:`analytic.materials`)."""
@@ -104,18 +111,17 @@ class TwoBodySetup:
                       + 1.0 / materials.plane_strain_modulus(b2.E, b2.nu))
 
 
-class MeshedPartner(NamedTuple):
-    """The deformable contact partner as the load stepper sees it (the rigid obstacle's counterpart): a loading
-    direction and no analytic Hertz predictor."""
-
-    direction: tuple[float, float]
-    analytic: bool = False
-
-
 class TwoBodyForms(NamedTuple):
     """The load stepper's view of the forms: no gap data to refresh per iteration."""
 
     update: None = None
+
+
+class NoFarField:
+    """No ``halfplane`` supports (refused for two bodies): the load stepper's per-level update does nothing."""
+
+    def set_load(self, P: float) -> None:
+        return None
 
 
 class _Value:
@@ -134,14 +140,15 @@ class TwoBodyProblem:
         snes: the PETSc SNES; A: the Jacobian matrix (extended sparsity); K0: stiffness without supports.
     """
 
-    def __init__(self, mesh_data, setup: TwoBodySetup, options: ContactOptions):
+    def __init__(self, mesh_data, setup: MeshedPartner, options: ContactOptions):
         self.options = opts = options
         self.setup = setup
         self.mesh_data, self.mesh = mesh_data, mesh_data.mesh
         self.comm = self.mesh.comm
         _check(setup, opts, mesh_data)
-        self.obstacle = MeshedPartner(direction=tuple(float(c) for c in setup.direction))
+        self.obstacle = setup  # the partner, as the load stepper reads it (a direction, no Hertz predictor)
         self.forms = TwoBodyForms()
+        self.far_field = NoFarField()
         self.lame = None
         self.ph = None
         self.E_star = setup.combined_modulus()
@@ -149,7 +156,7 @@ class TwoBodyProblem:
         self.d = _Value(0.0)
         self.prefix = opts.petsc_prefix or f"fem_two_body_{next(_counter)}_"
         self.method_rule = None
-        self.qdeg = opts.degree
+        self.qdeg = self.sdeg = opts.degree
         self._build_space()
         self._build_pairing()
         self._build_supports()
@@ -186,9 +193,11 @@ class TwoBodyProblem:
         self.slave_geom = surface_of_group(self.mesh_data, st.slave)
         self.master_geom = surface_of_group(self.mesh_data, st.master)
         if st.pairing == "mortar":
-            pts = mortar_points(self.slave_geom, self.master_geom, n_gauss=opts.degree + 1)
+            pts = mortar_points(self.slave_geom, self.master_geom, n_gauss=opts.degree + 1,
+                                cuts=(0.5,) if opts.degree == 2 else ())
         else:
             pts = node_points(self.slave_geom, self.master_geom, degree=opts.degree)
+        pts = exact_master_gaps(pts, st.master_surface)
         self.points = pts
         self.gap: WeightedGap = assemble_weighted_gap(
             pts, slave=self.slave_geom, slave_cells=cell_data(self.V, self.slave_geom),
@@ -199,6 +208,8 @@ class TwoBodyProblem:
         kappa = opts.kappa0 * self.E_star / h
         self.method = law_for(opts.method)(kappa=kappa, n_nodes=self.gap.nodes.size, X1=self.gap.X[:, 0],
                                            uzawa_rtol=opts.uzawa_rtol, uzawa_max_it=opts.uzawa_max_it)
+        self.method.bind(gap=lambda: self.gap.gap(self.u.x.array),
+                         scale=lambda: float(np.max(np.abs(self.u.x.array), initial=0.0)))
 
     def _build_supports(self) -> None:
         """Supports (unrolled dof indices, prescribed value per unit d) and the driven group."""
@@ -230,6 +241,15 @@ class TwoBodyProblem:
         self.other_dir = np.zeros(self.n_u)
         for c in range(2):
             self.other_dir[2 * self.body_nodes[other] + c] = st.direction[c]
+        # P is measured on the softer body: the reaction of a much stiffer body sums K u terms of size E_stiff |u|
+        # whose round-off (measured: 1e-9 of P at E ratio 1e6) stalls the force control's 1e-10 tolerance
+        E_of = {b.name: b.E for b in st.bodies}
+        if E_of[other] < E_of[st.driven_body]:
+            on_other = np.zeros(self.n_u, dtype=bool)
+            on_other[2 * self.body_nodes[other]] = on_other[2 * self.body_nodes[other] + 1] = True
+            supported = np.zeros(self.n_u, dtype=bool)
+            supported[self.bc_dofs] = True
+            self.reaction_dir = np.where(on_other & supported, -self.other_dir, 0.0)
 
     def _build_matrices(self) -> None:
         """K0 (no supports), and the Jacobian pattern: K's plus the contact node blocks."""
@@ -316,6 +336,14 @@ class TwoBodyProblem:
 
     def get_state(self) -> np.ndarray:
         return np.concatenate([self.u.x.array, self.method.state()])
+
+    def unloaded_guess(self, d_value: float, unloaded: np.ndarray) -> np.ndarray:
+        """The unloaded state with the driven body translated rigidly by ``d_value`` along ``direction``: its
+        overlap with the other body is the first active set of the geometric predictor."""
+        guess = unloaded.copy()
+        for c in range(2):
+            guess[2 * self.body_nodes[self.setup.driven_body] + c] += d_value * self.setup.direction[c]
+        return guess
 
     def set_state(self, arr: np.ndarray, rest: np.ndarray | None = None) -> None:
         n = self.n_u
@@ -405,8 +433,7 @@ class TwoBodyProblem:
         if zone is not None:
             self.predictor_iteration(zone)
             pre = 1
-        scale = lambda: float(np.max(np.abs(self.u.x.array), initial=0.0))  # noqa: E731
-        reason, its, extra = self.method.solve(self.newton, gap=lambda: self.gap.gap(self.u.x.array), scale=scale)
+        reason, its, extra = self.method.solve(self.newton)
         return reason, its + pre, extra
 
     def tangent(self, state: np.ndarray, d0: float):
@@ -451,7 +478,7 @@ def _add_csr(M, C: sp.csr_matrix, *, scale: float = 1.0) -> None:
         M.setValues(int(i), C.indices[lo:hi].astype(np.int32), scale * C.data[lo:hi], addv=PETSc.InsertMode.ADD)
 
 
-def _check(setup: TwoBodySetup, opts: ContactOptions, mesh_data) -> None:
+def _check(setup: MeshedPartner, opts: ContactOptions, mesh_data) -> None:
     """The combinations the two-body problem supports (ValueError naming the option)."""
     if mesh_data.mesh.comm.size > 1:
         raise ValueError("two-body contact runs on one process (the pairing needs both surfaces there); "

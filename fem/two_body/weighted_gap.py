@@ -1,7 +1,8 @@
 """The weighted gap of two meshed bodies: one sparse matrix, from the paired points (numpy/scipy only).
 
-Units mm, N, MPa. Slave node i (a Lagrange node on the slave contact surface) has the scalar trace basis
-function ``phi_i``; its weighted gap and weight are
+Units mm, N, MPa. Slave node i (a Lagrange node on the slave contact surface) has the scalar contact basis
+function ``phi_i`` (:func:`fem.two_body.geometry.multiplier_basis`: linear for P1, piecewise linear hats on the
+half facets for P2; >= 0, a partition of unity); its weighted gap and weight are
 
     W_i g~_i = int_Gs phi_i g ds = G0_i + (D u)_i ,      W_i = int_Gs phi_i ds   (mm^2 and mm)
 
@@ -35,7 +36,7 @@ from typing import NamedTuple
 import numpy as np
 import scipy.sparse as sp
 
-from fem.two_body.geometry import PairedPoints, SurfaceGeometry, facet_node_params
+from fem.two_body.geometry import PairedPoints, SurfaceGeometry, facet_node_params, multiplier_basis
 
 __all__ = ["MIN_PAIRED_FRACTION", "CellData", "WeightedGap", "assemble_weighted_gap", "reference_coordinates"]
 
@@ -111,9 +112,10 @@ def assemble_weighted_gap(pts: PairedPoints, *, slave: SurfaceGeometry, slave_ce
     N_s = slave_cells.tabulate(reference_coordinates(slave_cells.vertices[fs], pts.X_s))  # (n, k)
     N_m = master_cells.tabulate(reference_coordinates(master_cells.vertices[fm], pts.X_m))
     nodes_s, nodes_m = slave_cells.nodes[fs], master_cells.nodes[fm]
-    # phi_i(X_s) for the facet's own nodes: the cell basis of those nodes
-    k_idx = np.argmax(nodes_s[:, None, :] == facet_nodes[fs][:, :, None], axis=2)  # (n, nt) position in cell
-    phi = np.take_along_axis(N_s, k_idx, axis=1)  # (n, nt)
+    # phi_i(X_s) for the facet's own nodes: the contact basis at the point's facet parameter
+    e = slave.b[fs] - slave.a[fs]
+    t = np.clip(np.einsum("ij,ij->i", pts.X_s - slave.a[fs], e) / np.einsum("ij,ij->i", e, e), 0.0, 1.0)
+    phi = multiplier_basis(t, degree)  # (n, nt)
     rows_node = facet_nodes[fs]  # (n, nt)
     nu = pts.normal
     wphi = pts.weight[:, None] * phi  # (n, nt)

@@ -1,0 +1,53 @@
+"""Contact partners: what the elastic body (or bodies) of a mesh is pressed against, and the one solve for all.
+
+Two kinds of partner (units mm, N, MPa):
+
+* a **rigid analytic curve** (:mod:`fem.obstacles`: circle, parabola, wedge, plane, spline curve), moved by d
+  along its direction; the contact terms are dolfinx forms on the body's contact facets
+  (:class:`fem.problem.ContactProblem`);
+* a **deformable meshed surface** (:class:`fem.two_body.problem.MeshedPartner`): a second elastic body in the
+  same mesh, with its own material, paired across non-matching facets by mortar or node-to-segment; the contact
+  terms couple both bodies' dofs (:class:`fem.two_body.problem.TwoBodyProblem`).
+
+Both problems offer the interface :class:`fem.stepping.LoadStepper` drives, so :func:`solve` is one Newton
+(PETSc SNES with the linear solver of :mod:`fem.linear_solver`), one load-stepping driver, one active-set logic
+(the prescribed-active-set predictor on runs of X1) and one results contract
+(:class:`fem.solver.ContactResult`) for every partner.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+from fem.options import ContactOptions
+
+__all__ = ["contact_problem", "solve", "partner_kind"]
+
+
+def partner_kind(partner) -> str:
+    """``"meshed"`` for a :class:`fem.two_body.problem.MeshedPartner`, ``"rigid"`` for an obstacle."""
+    from fem.two_body.problem import MeshedPartner
+
+    return "meshed" if isinstance(partner, MeshedPartner) else "rigid"
+
+
+def contact_problem(mesh_data, partner, options: ContactOptions):
+    """The contact problem of ``mesh_data`` against ``partner`` (ValueError naming a bad option)."""
+    if partner_kind(partner) == "meshed":
+        from fem.two_body.problem import TwoBodyProblem
+
+        return TwoBodyProblem(mesh_data, partner, options)
+    from fem.options import check_options
+    from fem.problem import ContactProblem
+
+    check_options(options, mesh_data=mesh_data, obstacle=partner)
+    return ContactProblem(mesh_data, partner, options)
+
+
+def solve(mesh_data, partner, *, options: ContactOptions,
+          step_callbacks: Sequence[Callable[[dict], None]] = ()):
+    """Solve the contact of ``mesh_data`` against ``partner`` along the load path of ``options``; returns a
+    :class:`fem.solver.ContactResult`."""
+    from fem.solver import solve_problem
+
+    return solve_problem(contact_problem(mesh_data, partner, options), step_callbacks=step_callbacks)
