@@ -16,7 +16,7 @@ from mpi4py import MPI
 
 from fem.options import ContactOptions
 from fem.stepping import LoadStepper
-from fem.two_body.problem import Body, TwoBodyProblem, MeshedPartner
+from fem.two_body.problem import Body, MeshedPartner, TwoBodyProblem
 from meshes.two_body import build_stacked_blocks
 from workbench.mesh_io import read_mesh
 
