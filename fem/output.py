@@ -91,13 +91,12 @@ class FrameRecorder:
 
 
 def solve_recording(mesh_data, obstacle, *, options):
-    """:func:`fem.solver.solve_contact` with a :class:`FrameRecorder` attached: ``(ContactResult, frames)``."""
-    from fem.options import check_options
-    from fem.problem import ContactProblem
+    """:func:`fem.partners.solve` with a :class:`FrameRecorder` attached: ``(ContactResult, frames)``; ``obstacle``
+    is any contact partner (a rigid curve or a :class:`fem.two_body.problem.MeshedPartner`)."""
+    from fem.partners import contact_problem
     from fem.solver import solve_problem
 
-    check_options(options, mesh_data=mesh_data, obstacle=obstacle)
-    problem = ContactProblem(mesh_data, obstacle, options)
+    problem = contact_problem(mesh_data, obstacle, options)
     recorder = FrameRecorder(problem)
     return solve_problem(problem, step_callbacks=[recorder]), recorder.frames
 
@@ -128,7 +127,8 @@ class _BodyFields:
         self.ud, self.s = dolfinx.fem.Function(Vd), dolfinx.fem.Function(T)
         self.szz, self.vm = dolfinx.fem.Function(S), dolfinx.fem.Function(S)
         stress = sigma(self.u, lm) if self.ph is None else sigma_mixed(self.u, self.ph, lm)
-        lmbda = dolfinx.fem.Constant(mesh, float(lm.lmbda))  # a Constant: nu = 0 must not fold sigma_zz to 0.0
+        # a Constant: nu = 0 must not fold sigma_zz to 0.0; two bodies carry cell-wise Lame fields (UFL)
+        lmbda = dolfinx.fem.Constant(mesh, float(lm.lmbda)) if np.isscalar(lm.lmbda) else lm.lmbda
         szz = lmbda * ufl.tr(epsilon(self.u)) if self.ph is None else -self.ph
         vm = von_mises(self.u, lm, self.ph)
         model = (getattr(result, "options", None) or {}).get("material_model", "linear")

@@ -51,6 +51,7 @@ import ufl
 from petsc4py import PETSc
 
 from analytic import materials
+from fem.elasticity import Lame
 from fem.linear_solver import configure as configure_linear_solver
 from fem.linear_solver import snes_options
 from fem.options import ContactOptions
@@ -149,7 +150,6 @@ class TwoBodyProblem:
         self.obstacle = setup  # the partner, as the load stepper reads it (a direction, no Hertz predictor)
         self.forms = TwoBodyForms()
         self.far_field = NoFarField()
-        self.lame = None
         self.ph = None
         self.E_star = setup.combined_modulus()
         self.mult = 2.0 if opts.symmetric_half else 1.0
@@ -183,6 +183,7 @@ class TwoBodyProblem:
         def eps(w):
             return ufl.sym(ufl.grad(w))
 
+        self.lame = Lame(lmbda, mu)  # cell-wise (UFL), for the output's stress fields
         self.stress = lmbda * ufl.tr(eps(self.u)) * ufl.Identity(2) + 2 * mu * eps(self.u)
         sig = lmbda * ufl.tr(eps(du)) * ufl.Identity(2) + 2 * mu * eps(du)
         self.a_form = dolfinx.fem.form(ufl.inner(sig, eps(v)) * ufl.dx)
