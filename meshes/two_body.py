@@ -96,7 +96,7 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
                             h_contact: float, disk_size_ratio: float = 0.77, h_far: float | None = None,
                             growth: float = 1.3, margin: float = 0.5, out_dir=DEFAULT_CACHE_DIR,
                             name: str = "cylinder_on_block", write_xdmf: bool = False, stats_dir=None,
-                            comm=None) -> MeshFiles:
+                            comm=None, indenter: bool = True) -> MeshFiles:
     """The elastic half disk on the elastic block (module docstring).
 
     Args:
@@ -105,6 +105,8 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
         h_contact: size on the block's contact zone (mm); the disk's is ``disk_size_ratio h_contact``.
         disk_size_ratio: in (0.2, 5), not 1 (non-matching meshes).
         h_far, growth, margin: as :func:`meshes.block.build_block_mesh`.
+        indenter: False meshes the block alone, node for node the same (its sizes depend on its own curves
+            only): the mesh of the rigid-indenter twin (the rigid-limit test).
     """
     _positive(radius=radius, width=width, height=height, contact_half_width=contact_half_width,
               h_contact=h_contact)
@@ -123,7 +125,7 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
     h_c, h_far, growth = gi.size(0.9 * h_contact), gi.size(h_far), gi.size(growth)
     h_d = gi.size(0.9 * h_contact * disk_size_ratio)
     params = dict(radius=R, width=W, height=H, a=a, b=b, h_contact=h_c, h_disk=h_d, h_far=h_far, growth=growth,
-                  margin=float(margin), split=ARC_SPLIT_DEG)
+                  margin=float(margin), split=ARC_SPLIT_DEG, indenter=bool(indenter))
     angles = [math.radians(-90.0 - ARC_SPLIT_DEG[0]), math.radians(-90.0 + ARC_SPLIT_DEG[1])]
     arc_pts = [(gi.length(R * math.cos(t)), gi.length(R + R * math.sin(t))) for t in angles]
 
@@ -136,35 +138,43 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
         top = [geo.addLine(p[2], p[3]), geo.addLine(p[3], p[4]), geo.addLine(p[4], p[5])]
         left = geo.addLine(p[5], p[0])
         low = geo.addPlaneSurface([geo.addCurveLoop([bottom, right, *top, left])])
-        # upper half disk: centre (0, R), arcs (-R, R) -> split left -> split right -> (R, R), flat top back
-        c = geo.addPoint(0.0, R, 0.0)
-        q_left, q_right = geo.addPoint(-R, R, 0.0), geo.addPoint(R, R, 0.0)
-        s1, s2 = (geo.addPoint(x, y, 0.0) for x, y in arc_pts)
-        arcs = [geo.addCircleArc(q_left, c, s1), geo.addCircleArc(s1, c, s2), geo.addCircleArc(s2, c, q_right)]
-        flat = geo.addLine(q_right, q_left)
-        up = geo.addPlaneSurface([geo.addCurveLoop([*arcs, flat])])
         geo.synchronize()
         fields = [growth_field(gmsh, h0=h_c, h_max=h_far, growth=growth, curves=[top[1]], curve_length=2 * b,
-                               sampling_size=gi.size(h_c / 4.0)),
-                  growth_field(gmsh, h0=h_d, h_max=h_far, growth=growth, curves=[arcs[1]],
-                               curve_length=R * math.radians(sum(ARC_SPLIT_DEG)), sampling_size=gi.size(h_d / 4.0))]
-        # the disk's refinement reaches only its own arc: restrict each field to its body
+                               sampling_size=gi.size(h_c / 4.0))]
+        bodies = [(low, top)]
+        pg = gmsh.model.addPhysicalGroup
+        if indenter:
+            # upper half disk: centre (0, R), arcs (-R, R) -> split left -> split right -> (R, R), flat top back
+            c = geo.addPoint(0.0, R, 0.0)
+            q_left, q_right = geo.addPoint(-R, R, 0.0), geo.addPoint(R, R, 0.0)
+            s1, s2 = (geo.addPoint(x, y, 0.0) for x, y in arc_pts)
+            arcs = [geo.addCircleArc(q_left, c, s1), geo.addCircleArc(s1, c, s2), geo.addCircleArc(s2, c, q_right)]
+            flat = geo.addLine(q_right, q_left)
+            up = geo.addPlaneSurface([geo.addCurveLoop([*arcs, flat])])
+            geo.synchronize()
+            fields.append(growth_field(gmsh, h0=h_d, h_max=h_far, growth=growth, curves=[arcs[1]],
+                                       curve_length=R * math.radians(sum(ARC_SPLIT_DEG)),
+                                       sampling_size=gi.size(h_d / 4.0)))
+            bodies.append((up, arcs))
+        else:
+            geo.synchronize()
+        # each body's refinement reaches only its own surface: restrict each field to its body
         restricted = []
-        for f, surf, curves in ((fields[0], low, top), (fields[1], up, arcs)):
+        for f, (surf, curves) in zip(fields, bodies, strict=True):
             r = gmsh.model.mesh.field.add("Restrict")
             gmsh.model.mesh.field.setNumber(r, "InField", f)
             gmsh.model.mesh.field.setNumbers(r, "SurfacesList", [surf])
             gmsh.model.mesh.field.setNumbers(r, "CurvesList", list(curves))
             restricted.append(r)
         apply_background(gmsh, restricted, h_max=h_far)
-        pg = gmsh.model.addPhysicalGroup
         groups = {"contact_lower": (1, pg(1, top, name="contact_lower")),
-                  "contact_upper": (1, pg(1, arcs, name="contact_upper")),
                   "clamped": (1, pg(1, [bottom], name="clamped")),
-                  "driven": (1, pg(1, [flat], name="driven")),
                   "sides": (1, pg(1, [left, right], name="sides")),
-                  "lower": (2, pg(2, [low], name="lower")),
-                  "upper": (2, pg(2, [up], name="upper"))}
+                  "lower": (2, pg(2, [low], name="lower"))}
+        if indenter:
+            groups.update({"contact_upper": (1, pg(1, arcs, name="contact_upper")),
+                           "driven": (1, pg(1, [flat], name="driven")),
+                           "upper": (2, pg(2, [up], name="upper"))})
         gmsh.model.mesh.generate(2)
 
         def window(mid):

@@ -15,7 +15,8 @@ Two pairings (:class:`PairedPoints`, one row per point):
   segment. A product of a slave and a master polynomial of degree p is integrated exactly with
   ``n_gauss = p + 1``; that is what makes the contact patch test pass on non-matching meshes.
 * **node-to-segment** (:func:`node_points`): one point per slave facet node (P1: the two ends, P2: also the
-  midpoint) with the nodal weight ``int_facet N_i ds`` of that facet (P1: L/2, L/2; P2: L/6, 2L/3, L/6). The
+  midpoint) with the nodal weight ``int_facet N_i ds`` of its Lagrange function on that facet (P1: L/2, L/2;
+  P2: L/6, 2L/3, L/6; :func:`lagrange_node_weights`). The
   gap is collocated at the nodes and the force of node i goes to the master nodes by the master shape
   functions at its projection, which is not the consistent load of a uniform pressure on a non-matching
   master mesh: node-to-segment fails the patch test (Taylor and Papadopoulos 1991).
@@ -92,6 +93,16 @@ def facet_node_params(degree: int) -> tuple[np.ndarray, np.ndarray]:
         return np.array([0.0, 1.0]), np.array([0.5, 0.5])
     if degree == 2:
         return np.array([0.0, 0.5, 1.0]), np.array([0.25, 0.5, 0.25])
+    raise ValueError(f"degree must be 1 or 2 for meshed contact surfaces, got {degree}")
+
+
+def lagrange_node_weights(degree: int) -> np.ndarray:
+    """``int_0^1 N_i dt`` of the Lagrange functions of a facet's nodes (P1: 1/2, 1/2; P2: Simpson 1/6, 2/3, 1/6):
+    the consistent nodal loads of a uniform pressure on the slave side, the node-to-segment weights."""
+    if degree == 1:
+        return np.array([0.5, 0.5])
+    if degree == 2:
+        return np.array([1.0, 4.0, 1.0]) / 6.0
     raise ValueError(f"degree must be 1 or 2 for meshed contact surfaces, got {degree}")
 
 
@@ -180,7 +191,8 @@ def mortar_points(slave: SurfaceGeometry, master: SurfaceGeometry, *, n_gauss: i
 def node_points(slave: SurfaceGeometry, master: SurfaceGeometry, *, degree: int) -> PairedPoints:
     """Node-to-segment points: the Lagrange nodes of every slave facet with their nodal weights, each paired
     with the nearest facing master facet its normal ray hits (module docstring)."""
-    tn, wn = facet_node_params(degree)
+    tn, _ = facet_node_params(degree)
+    wn = lagrange_node_weights(degree)
     rows = []
     for k in range(slave.a.shape[0]):
         cand = _candidates(slave, master, k)
