@@ -75,4 +75,4 @@ def test_stiff_cylinder_reproduces_the_rigid_indenter(meshes, rigid, ratio, p_to
     assert np.max(np.abs(s_t.p - s_r.p)) / np.max(s_r.p) < p_tol
     (pr,), (pt,) = rigid.patches, res.patches
     assert abs(pt.half_width / pr.half_width - 1) < b_tol
-    assert max(res.newton_iterations) <= 6
+    assert max(res.newton_iterations) <= max(rigid.newton_iterations) + 2  # Uzawa solves included in both
