@@ -37,6 +37,7 @@ from typing import Any
 
 __all__ = [
     "CASE_DIR",
+    "CASE_LEVEL_DEFAULTS",
     "Analytic",
     "Case",
     "CaseError",
@@ -264,6 +265,17 @@ class Solver:
     theta: int = 1
     formulation: str = "auto"
     linear_solver: str = "lu"
+
+
+# Every [solver] field is the solver option (fem.options.ContactOptions) of the same name, with the same default,
+# except these: case-level choices, each with its reason (tests/test_options_record.py checks the rest agree).
+CASE_LEVEL_DEFAULTS = {
+    "traction": "the case files compare with half-plane theory, which assumes a vertical gap and traction "
+                "('halfplane'); a bare solve defaults to the obstacle's normal ('obstacle'), right for any geometry "
+                "and the only traction finite kinematics supports",
+    "formulation": "'auto' is a case-level choice resolved by nu (effective_formulation: the mixed formulation "
+                   "from NU_MIXED on); the solver takes the resolved 'displacement' or 'mixed'",
+}
 
 
 @dataclass(frozen=True)
