@@ -41,11 +41,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from analytic import convective, materials, wedge
-from cases.schema import Discretisation, Geometry, Loading, Material, Run, Solver
+from cases.schema import Discretisation, Loading, Material, Run, Solver
 from workbench.atomic import write_json, write_text
 from workbench.owned import ensure_dir
 from workbench.paths import default_paths
 from workbench.scenes.base import LoadPath
+from workbench.scenes.block_schema import BlockGeometry
 from workbench.scenes.block_theory import block_theory
 from workbench.studies.config import STABILITY_STUDIES, StabilityConfig, to_json
 
@@ -139,11 +140,11 @@ class Spec:
         go beyond a case file's ranges (h_c = 2 a)."""
         size = self.size_factor
         if self.indenter == "wedge":
-            geo = Geometry(scene="block", indenter="wedge", wedge_angle=self.wedge_angle, wedge_slope="paper",
-                           width_factor=size, height_factor=size, half_model=True)
+            geo = BlockGeometry(scene="block", indenter="wedge", wedge_angle=self.wedge_angle, wedge_slope="paper",
+                                width_factor=size, height_factor=size, half_model=True)
         else:
-            geo = Geometry(scene="block", indenter=self.indenter, radius=self.R, width_factor=size,
-                           height_factor=size, half_model=True)
+            geo = BlockGeometry(scene="block", indenter=self.indenter, radius=self.R, width_factor=size,
+                                height_factor=size, half_model=True)
         if self.control == "force":
             loading = Loading(control="force", half_width=self.target_half_width, steps=self.n_steps)
         else:
