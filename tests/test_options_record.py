@@ -71,3 +71,19 @@ def test_stability_spec_derives_from_the_record():
     assert spec.run().solver.method == "penalty"
     with pytest.raises(TypeError, match="'kapa0' is not a ContactOptions field"):
         Spec("t", "t", options={"kapa0": 1.0})
+
+
+def test_schema_solver_vocabularies_are_the_solvers():
+    """The case schema cannot import fem (layers), so it lists the [solver] choices itself: they must be the
+    solver's vocabularies (a new contact method or linear solver is added to both, or this fails)."""
+    from cases.schema import _CHOICES
+    from fem.contact_forms import KINEMATICS, TRACTIONS
+    from fem.methods import method_names
+    from fem.options import FORMULATIONS, LINEAR_SOLVERS, MATERIAL_MODELS
+
+    assert set(_CHOICES[("solver", "method")]) == set(method_names())
+    assert set(_CHOICES[("solver", "kinematics")]) == set(KINEMATICS)
+    assert set(_CHOICES[("solver", "traction")]) == set(TRACTIONS)
+    assert set(_CHOICES[("solver", "linear_solver")]) == set(LINEAR_SOLVERS)
+    assert set(_CHOICES[("solver", "formulation")]) == {"auto", *FORMULATIONS}
+    assert set(_CHOICES[("material", "model")]) == set(MATERIAL_MODELS)
