@@ -10,19 +10,35 @@ The command-line layer turns it into exit code 2 before anything is written. Val
 ``MAX_ECHO`` characters in messages, so a huge value is never echoed back whole.
 
 Every accepted field is used, or refused here: ``[case] name`` is a slug (it names the output folder);
-``[analytic] predictions`` must be ones the scene and indenter compute; a geometry field the scene ignores
-(``radius`` of a wedge, ``design`` of a block, ...) is refused when given; the block scene is force-
-controlled and the concave scene displacement-controlled; ``[solver] formulation`` switches itself to the
-mixed one from ``nu >= NU_MIXED`` (``"auto"``), and an explicit ``"displacement"`` beyond ``NU_DISPLACEMENT_MAX``
-is refused with that advice. The model hierarchy (``docs/models.md``): ``[material] model`` (linear or a
-hyperelastic model) goes with ``[solver] kinematics`` (small/convective or finite), and finite kinematics
-needs ``traction = "obstacle"``, the displacement formulation and the block scene; other combinations are
-refused. Magnitudes the solver cannot represent are refused with their cause (E beyond ``E_MAX``; a block
-contact smaller than ``MIN_A_OVER_R`` of the radius or outside ``HALF_WIDTH_RANGE``).
+``[analytic] predictions`` must be ones the scene and indenter compute; a geometry field the scene or indenter
+ignores is refused when given; each scene names the load controls it supports; ``[solver] formulation`` switches
+itself to the mixed one from ``nu >= NU_MIXED`` (``"auto"``), and an explicit ``"displacement"`` beyond
+``NU_DISPLACEMENT_MAX`` is refused with that advice. The model hierarchy (``docs/models.md``): ``[material] model``
+(linear or a hyperelastic model) goes with ``[solver] kinematics`` (small/convective or finite), and finite
+kinematics needs ``traction = "obstacle"``, the displacement formulation and a scene that supports it; other
+combinations are refused. Magnitudes the solver cannot represent are refused with their cause (E beyond
+``E_MAX``; a scene adds its own, e.g. a contact too small for the indenter's size).
 
 A case may carry ``[[variant]]`` tables. Each variant overrides fields of the base case (same section
 layout, e.g. ``[variant.solver] kinematics = "convective"``) and is run as its own FEM run; the case's
 ``metrics.json`` holds one entry per variant.
+
+Scenes: this module names none. Each scene module (``workbench/scenes/<scene>.py``) registers a
+:class:`SceneSchema` with :func:`register_scene_schema` when it is imported (``import workbench.scenes`` imports
+them all; every entry point that loads a case does it first, and so does ``tests/conftest.py``). The schema holds:
+
+* ``geometry``: the scene's geometry record, a frozen dataclass subclassing :class:`Geometry` (``scene``,
+  ``indenter``) whose further fields, each with a default and a plain annotation (``float``, ``int``, ``bool``,
+  ``str``, optionally ``| None``), are the scene's ``[geometry]`` keys; ``run.geometry`` is an instance of it;
+* ``indenters``: indenter -> the geometry keys a run with it reads (a key given but not read is refused);
+  ``predictions``: indenter -> the analytic predictions the scene computes for it;
+* ``choices`` / ``ranges`` of its geometry keys, the load ``controls`` it supports, its ``tolerances`` keys and
+  ``band_quantities``, and what the solver supports on it (``finite``, ``mixed``, ``budget_widths``);
+* three hooks raising :class:`CaseError`: ``check_geometry(run, where)`` (before the loading's checks),
+  ``check_load(run, where)`` (after them) and ``check_case(case, runs, where)`` (after the predictions' check).
+
+A new scene registers its own schema; it touches neither this file nor another scene's module. A case whose
+``[geometry] scene`` names no registered scene is refused in one line listing the registered ones.
 """
 
 from __future__ import annotations
@@ -31,12 +47,20 @@ import copy
 import math
 import re
 import tomllib
+from collections.abc import Callable
 from dataclasses import MISSING, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
 __all__ = [
     "CASE_DIR",
+    "CONTROL_NEEDS",
+    "SceneSchema",
+    "register_scene_schema",
+    "scene_schema",
+    "scene_schemas",
+    "short_repr",
+    "CASE_LEVEL_DEFAULTS",
     "Analytic",
     "Case",
     "CaseError",
@@ -74,29 +98,19 @@ NU_DISPLACEMENT_MAX = 0.499
 # Extreme magnitudes. E: kappa = kappa0 E / h and the SNES tolerance 1e-13 E L must stay finite (E = 1e300
 # gave inf/NaN residuals); the stability study's scale sweep covers 1e-3 ... 1e6 MPa.
 E_MAX = 1e12
-# A block contact: the approach d ~ a^2 / R must stay far above the round-off of the coordinates (~1e-16 R).
-# Measured on hertz_cylinder (P2, h = a/20): a/R = 1e-5 within the case tolerances (p_max 0.05 %), 1e-6
-# p_max 1 % with an oscillating pressure, 1e-7 round-off noise (13 patches, p_max 87 % off).
-MIN_A_OVER_R = 1e-5
-# The classical half-width (mm) the mesh is sized from: measured sound from 5e-8 mm (R = 1e-6 mm) upwards.
-HALF_WIDTH_RANGE = (1e-8, 1e8)
-# Block size over the half-width. W = 1e6 a (H = 40 a) gave a 1.9 % load-balance error with no warning;
-# W = H = 1e5 a measured 7.5e-13. Width and height beyond 1e4 a are refused, and W/H is kept within 1e3.
+# A body's size over the contact half-width (scenes whose body is sized from the contact, and the budget's
+# truncation study): a size of 1e6 a (height 40 a) gave a 1.9 % load-balance error with no warning; 1e5 a x 1e5 a
+# measured 7.5e-13. Sizes beyond 1e4 a are refused.
 MAX_SIZE_FACTOR = 1e4
 BUDGET_SPAN = 8.0  # error budget: largest over smallest level (the grading is refined with h_c)
 # [bands]: checks whose tolerance is the error budget's band (make run only). A listed quantity selects every
-# budget row of that quantity (block: one per run; concave: one per step and patch); "name[k]" selects the
-# rows of patch k only.
+# budget row of that quantity (one per run, or one per step and patch, as the scene's budget has them);
+# "name[k]" selects the rows of patch k only. The quantities are the scene's (SceneSchema.band_quantities).
 BAND_KINDS = {
     "contain_theory": "the band (GCI + truncation) of the quantity contains its theory",
     "exclude_alt": "the band of the quantity excludes its alternative theory (e.g. first order, Hertz)",
     "exclude_theory": "the band of the quantity excludes its theory (a theory the scene shows to fail)",
 }
-BAND_QUANTITIES = {
-    "block": ("p_max", "half_width", "half_width_moment", "b_over_b0", "b_over_b0_moment"),
-    "concave": ("load_symmetry", "first_contact_width", "width_moment", "width_fem"),
-}
-MAX_ASPECT = 1e3
 # Penalty / Nitsche factors: the contact terms add kappa0 (gamma0) times the bulk stiffness entries of the contact
 # rows (kappa = kappa0 E / h integrated over an edge of length h ~ kappa0 E). LU resolves the bulk part of those
 # rows to about eps * kappa0 relative (eps = 2.2e-16): at the upper bound 1e12 that is 2e-4, beyond it the bulk is
@@ -114,12 +128,17 @@ MAX_TOLERANCE = 10.0  # a relative error of 1000 %: anything above checks nothin
 E_MIN = 1e-6  # MPa: the stability study's scale sweep starts at 1e-3
 # The finite-strain material models (material.model; "linear" is the small-strain one), docs/models.md.
 HYPERELASTIC_MODELS = ("saint_venant_kirchhoff", "neo_hookean")
+# What each load control needs (the loading checks; a scene names the controls it supports).
+CONTROL_NEEDS = {"force": "with P or half_width", "displacement": "with d"}
 
 
-def _r(value: Any) -> str:
+def short_repr(value: Any) -> str:
     """``repr(value)`` cut to MAX_ECHO characters (a 200 kB string is never echoed back whole)."""
     text = repr(value)
     return text if len(text) <= MAX_ECHO else text[:MAX_ECHO - 3] + "..."
+
+
+_r = short_repr
 
 class CaseError(ValueError):
     """A case file is malformed or holds an out-of-range value (one-line message)."""
@@ -147,37 +166,16 @@ class Material:
 
 @dataclass(frozen=True)
 class Geometry:
-    """Scene geometry.
+    """Scene geometry: what every scene's has. A scene's own geometry record subclasses this one with its fields
+    (:attr:`SceneSchema.geometry`); ``run.geometry`` is an instance of the scene's record.
 
     Attributes:
-        scene: ``"block"`` (elastic block under a rigid indenter) or ``"concave"`` (concave elastic body
-            under the rigid convex particle of the close-to-conformal paper).
-        indenter: ``"circle"``, ``"parabola"`` or ``"wedge"`` for the block scene; ``"particle"`` for
-            the concave scene.
-        radius: Indenter radius R in mm (circle, parabola).
-        wedge_angle: External wedge angle theta in rad, 0 < theta < pi/2.
-        wedge_slope: ``"exact"`` (face slope tan(theta), the true geometry) or ``"paper"`` (slope
-            theta, the small-angle profile of Ciavarella & Hills).
-        design: Concave configuration, ``"symmetric"`` or ``"close_to_conformal"``.
-        width_factor: Block width W over the classical contact half-width (>= 10).
-        height_factor: Block height H over the classical contact half-width (>= 10).
-        half_model: Mesh half the block with a symmetry edge (symmetric block scenes only).
-        far_field: Outer boundary of the block: ``"clamped"`` (bottom clamped, sides free) or ``"halfplane"``
-            (bottom and sides moved as the half-plane under the line load P, Flamant's field:
-            :mod:`fem.far_field`; block scenes only, force control). The error budget always uses
-            ``"halfplane"``.
+        scene: The registered scene (:func:`scene_schemas`).
+        indenter: One of the scene's indenters (:attr:`SceneSchema.indenters`).
     """
 
     scene: str
     indenter: str
-    radius: float | None = None
-    wedge_angle: float | None = None
-    wedge_slope: str = "exact"
-    design: str | None = None
-    width_factor: float = 40.0
-    height_factor: float = 40.0
-    half_model: bool = True
-    far_field: str = "clamped"
 
 
 @dataclass(frozen=True)
@@ -214,10 +212,10 @@ class Discretisation:
         ci_level: Fraction used by ``make ci`` (the coarsest that still meets the tolerances).
         growth: Element-to-element size ratio of the mesh grading away from the contact, in [1.05, 2].
         budget_levels: Three h_contact fractions of the error budget (``make run`` solves each run on all
-            three, block scenes on the largest budget block), or empty for no budget.
-        budget_widths: Three block sizes W/a (width = height, in [10, MAX_SIZE_FACTOR]) of the budget's
-            truncation study (at the finest budget level); required with ``budget_levels`` in block scenes,
-            refused in concave scenes (their body is the real geometry).
+            three, scenes with a truncation study on their largest body), or empty for no budget.
+        budget_widths: Three body sizes W/a (width = height, in [10, MAX_SIZE_FACTOR]) of the budget's
+            truncation study (at the finest budget level); required with ``budget_levels`` on a scene whose
+            budget takes them, refused on the others (:attr:`SceneSchema.budget_widths` says why).
     """
 
     degree: int = 2
@@ -231,29 +229,16 @@ class Discretisation:
 
 @dataclass(frozen=True)
 class Solver:
-    """Contact formulation and kinematics.
+    """Contact formulation and kinematics: the ``[solver]`` fields of a case.
 
-    Attributes:
-        method: ``"nitsche"``, ``"penalty"`` or ``"augmented_lagrangian"`` (Uzawa updates of a nodal
-            multiplier around the penalty Newton: the constraint holds exactly for any kappa0,
-            :mod:`fem.methods.augmented_lagrangian`).
-        kinematics: ``"small"`` (gap at the undeformed position, the Hertz hypothesis),
-            ``"convective"`` (obstacle evaluated at the current position X + u) or ``"finite"`` (finite-strain
-            hyperelasticity, total Lagrangian; contact at X + u with the traction along the obstacle's current
-            normal; needs a hyperelastic material.model, traction = "obstacle", the displacement formulation and
-            the block scene; ``docs/models.md``).
-        traction: ``"halfplane"`` (vertical gap and traction, as half-plane theory assumes) or
-            ``"obstacle"`` (gap and traction along the rigid curve's normal).
-        kappa0: Dimensionless penalty factor, kappa = kappa0 E / h, > 0 (the augmentation stiffness of the
-            augmented Lagrangian).
-        gamma0: Dimensionless Nitsche factor, gamma = gamma0 E / h, > 0.
-        theta: Nitsche variant: 1 (symmetric), 0 (skew-less), -1 (skew-symmetric).
-        formulation: ``"auto"`` (displacement below nu = NU_MIXED, Taylor-Hood mixed from there on),
-            ``"displacement"`` (refused above nu = NU_DISPLACEMENT_MAX) or ``"mixed"`` (degree 2, block scenes).
-        linear_solver: The linear solver of the Newton iterations (:mod:`fem.linear_solver`): ``"lu"`` (MUMPS LU
-            of every Jacobian), ``"lu_reuse"`` (GMRES preconditioned by the LU of an earlier Jacobian) or
-            ``"gamg"`` (GMRES + algebraic multigrid with the rigid-body near-nullspace; not with the mixed
-            formulation). The converged answer is the same.
+    Every field is the solver option of the same name, :class:`fem.options.ContactOptions` (its meaning, units and
+    vocabulary are documented there, once), with the same default, except the case-level choices in
+    :data:`CASE_LEVEL_DEFAULTS`: ``traction`` defaults to ``"halfplane"`` and ``formulation`` takes ``"auto"``
+    (displacement below nu = NU_MIXED, Taylor-Hood mixed from there on; an explicit ``"displacement"`` is refused
+    above nu = NU_DISPLACEMENT_MAX, ``"mixed"`` needs degree 2 and a scene with an analytic obstacle).
+    ``kinematics = "finite"`` needs a hyperelastic material.model, traction = "obstacle", the displacement
+    formulation and a scene that supports it (``docs/models.md``). The wiring passes every field through by name
+    (:func:`workbench.scenes.wiring.solver_options`): a new option is one field here and one on ContactOptions.
     """
 
     method: str = "nitsche"
@@ -266,16 +251,156 @@ class Solver:
     linear_solver: str = "lu"
 
 
+# Every [solver] field is the solver option (fem.options.ContactOptions) of the same name, with the same default,
+# except these: case-level choices, each with its reason (tests/test_options_record.py checks the rest agree).
+CASE_LEVEL_DEFAULTS = {
+    "traction": "the case files compare with half-plane theory, which assumes a vertical gap and traction "
+                "('halfplane'); a bare solve defaults to the obstacle's normal ('obstacle'), right for any geometry "
+                "and the only traction finite kinematics supports",
+    "formulation": "'auto' is a case-level choice resolved by nu (effective_formulation: the mixed formulation "
+                   "from NU_MIXED on); the solver takes the resolved 'displacement' or 'mixed'",
+}
+
+
 @dataclass(frozen=True)
 class Analytic:
     """Analytic predictions compared with the FEM (names of analytic/ predictions).
 
     Attributes:
-        predictions: e.g. ``("hertz",)``, ``("wedge",)``, ``("convective",)``,
-            ``("hertz_superposition", "elliptical_fit")``.
+        predictions: Names the scene computes for the run's indenter (:attr:`SceneSchema.predictions`); empty:
+            the scene's own.
     """
 
     predictions: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class SceneSchema:
+    """What the case schema knows of one scene, registered by the scene's module (:func:`register_scene_schema`).
+
+    Attributes:
+        name: The ``[geometry] scene`` value.
+        geometry: The scene's geometry record: a frozen dataclass subclassing :class:`Geometry`; its further fields
+            (each with a default) are the scene's ``[geometry]`` keys.
+        indenters: Indenter -> the geometry keys a run with it reads (besides ``scene`` and ``indenter``); its keys
+            are the scene's indenters, in order.
+        predictions: Indenter -> the analytic predictions the scene computes for it (``[analytic] predictions``).
+        controls: The ``loading.control`` values the scene supports (keys of :data:`CONTROL_NEEDS`).
+        choices: Geometry key -> its allowed values.
+        ranges: Geometry key -> ``(low, high, low_inclusive, high_inclusive, text)``.
+        tolerances: ``[tolerances]`` key -> its meaning (the keys the scene's checks read).
+        band_quantities: The error-budget quantities ``[bands]`` may name.
+        band_note: How a band quantity may be qualified on this scene (e.g. ``"optionally name[k], patch k"``), or "".
+        finite: The scene supports ``solver.kinematics = "finite"``.
+        mixed: The scene supports the mixed formulation (it needs an analytic obstacle).
+        budget_widths: None if the scene's error budget takes ``budget_widths`` (then required with
+            ``budget_levels``), else the reason it refuses them.
+        check_geometry: ``(run, where) -> None``: the scene's own checks of a run, before the loading's.
+        check_load: ``(run, where) -> None``: the scene's checks of the load, after the loading's.
+        check_case: ``(case, runs, where) -> None``: case-level checks (e.g. a prediction that compares two runs).
+    """
+
+    name: str
+    geometry: type
+    indenters: dict[str, frozenset]
+    predictions: dict[str, tuple[str, ...]]
+    controls: tuple[str, ...]
+    choices: dict[str, tuple] = field(default_factory=dict)
+    ranges: dict[str, tuple] = field(default_factory=dict)
+    tolerances: dict[str, str] = field(default_factory=dict)
+    band_quantities: tuple[str, ...] = ()
+    band_note: str = ""
+    finite: bool = False
+    mixed: bool = False
+    budget_widths: str | None = None
+    check_geometry: Callable[[Any, str], None] | None = None
+    check_load: Callable[[Any, str], None] | None = None
+    check_case: Callable[[Any, tuple, str], None] | None = None
+
+    def geometry_fields(self) -> dict[str, Any]:
+        """The scene's own geometry fields (name -> dataclass Field), in declaration order."""
+        return {f.name: f for f in fields(self.geometry) if f.name not in ("scene", "indenter")}
+
+
+_SCENE_SCHEMAS: dict[str, SceneSchema] = {}
+
+
+def register_scene_schema(schema: SceneSchema) -> SceneSchema:
+    """Register a scene's case schema under ``schema.name`` (the scene module calls it at import).
+
+    Registering the same name again replaces the entry (a module reloaded). The geometry record must subclass
+    :class:`Geometry`, every geometry field must have a default, and every indenter's keys must be its fields.
+    """
+    if not (isinstance(schema.geometry, type) and issubclass(schema.geometry, Geometry)):
+        raise TypeError(f"scene {schema.name!r}: geometry must be a dataclass subclassing cases.schema.Geometry")
+    own = schema.geometry_fields()
+    for name, f in own.items():
+        if f.default is MISSING and f.default_factory is MISSING:
+            raise TypeError(f"scene {schema.name!r}: geometry field {name!r} needs a default")
+    for indenter, keys in schema.indenters.items():
+        if not set(keys) <= set(own):
+            raise TypeError(f"scene {schema.name!r}: indenter {indenter!r} reads {sorted(set(keys) - set(own))}, "
+                            f"which are not fields of {schema.geometry.__name__}")
+    if not set(schema.controls) <= set(CONTROL_NEEDS):
+        raise TypeError(f"scene {schema.name!r}: controls must be among {tuple(CONTROL_NEEDS)}")
+    _SCENE_SCHEMAS[schema.name] = schema
+    return schema
+
+
+def scene_schemas() -> tuple[SceneSchema, ...]:
+    """The registered scene schemas, in registration order."""
+    if not _SCENE_SCHEMAS:
+        raise RuntimeError("no scene is registered with cases.schema: import workbench.scenes (each scene module "
+                           "registers its SceneSchema) before loading a case")
+    return tuple(_SCENE_SCHEMAS.values())
+
+
+def scene_schema(name: str) -> SceneSchema:
+    """The registered schema of scene ``name`` (KeyError if none)."""
+    scene_schemas()
+    return _SCENE_SCHEMAS[name]
+
+
+def _geometry_specs(scene: str | None) -> dict[str, Any]:
+    """Every registered geometry key -> its dataclass Field (``scene``, ``indenter``, then each scene's fields in
+    registration order; a key two scenes declare takes the Field of ``scene`` if it is one of them)."""
+    specs = {f.name: f for f in fields(Geometry)}
+    for sch in scene_schemas():
+        for name, f in sch.geometry_fields().items():
+            specs.setdefault(name, f)
+    if scene in _SCENE_SCHEMAS:
+        specs |= _SCENE_SCHEMAS[scene].geometry_fields()
+    return specs
+
+
+def _geometry_choices(scene: str | None, name: str) -> tuple | None:
+    """The allowed values of geometry key ``name`` (the scene's own, else the first scene that declares it)."""
+    schemas = scene_schemas()
+    if name == "scene":
+        return tuple(s.name for s in schemas)
+    if name == "indenter":
+        return tuple(dict.fromkeys(i for s in schemas for i in s.indenters))
+    own = _SCENE_SCHEMAS.get(scene)
+    if own is not None and name in own.geometry_fields():
+        return own.choices.get(name)
+    return next((s.choices.get(name) for s in schemas if name in s.geometry_fields()), None)
+
+
+def _geometry_range(scene: str | None, name: str) -> tuple | None:
+    """The range of geometry key ``name`` (the scene's own, else the first scene that declares it)."""
+    own = _SCENE_SCHEMAS.get(scene)
+    if own is not None and name in own.geometry_fields():
+        return own.ranges.get(name)
+    return next((s.ranges.get(name) for s in scene_schemas() if name in s.geometry_fields()), None)
+
+
+def _tolerance_keys() -> dict[str, str]:
+    """Every registered scene's ``[tolerances]`` keys (registration order)."""
+    out: dict[str, str] = {}
+    for sch in scene_schemas():
+        for key, text in sch.tolerances.items():
+            out.setdefault(key, text)
+    return out
 
 
 @dataclass(frozen=True)
@@ -319,7 +444,7 @@ class Case:
                     continue
                 base = getattr(self, name)
                 over = var.get(name, {})
-                merged = {f.name: getattr(base, f.name) for f in fields(cls)} | over
+                merged = {f.name: getattr(base, f.name) for f in fields(base)} | over
                 sections[name] = _build(cls, merged, f"{where}: {name}", partial_ok=False)
             if h_contact is not None:
                 d = sections["discretisation"]
@@ -340,13 +465,8 @@ _SECTIONS = {
 }
 _REQUIRED_SECTIONS = ("material", "geometry", "loading")
 
-# allowed values and ranges, checked per field
+# allowed values and ranges, checked per field (a scene's geometry keys: SceneSchema.choices / ranges)
 _CHOICES = {
-    ("geometry", "scene"): ("block", "concave"),
-    ("geometry", "indenter"): ("circle", "parabola", "wedge", "particle"),
-    ("geometry", "wedge_slope"): ("exact", "paper"),
-    ("geometry", "design"): ("symmetric", "close_to_conformal"),
-    ("geometry", "far_field"): ("clamped", "halfplane"),
     ("loading", "control"): ("force", "displacement"),
     ("discretisation", "degree"): (1, 2),
     ("solver", "method"): ("nitsche", "penalty", "augmented_lagrangian"),
@@ -361,11 +481,6 @@ _CHOICES = {
 _RANGES = {
     ("material", "E"): (E_MIN, E_MAX, True, True, f"E > 0, {E_MIN:g} <= E <= {E_MAX:g} (MPa)"),
     ("material", "nu"): (-1.0, 0.5, False, False, "-1 < nu < 0.5"),
-    ("geometry", "radius"): (0.0, math.inf, False, False, "radius > 0 (mm)"),
-    ("geometry", "wedge_angle"): (0.0, math.pi / 2, False, False, "0 < wedge_angle < pi/2 (rad)"),
-    ("geometry", "width_factor"): (10.0, MAX_SIZE_FACTOR, True, True, f"10 <= width_factor <= {MAX_SIZE_FACTOR:g}"),
-    ("geometry", "height_factor"): (10.0, MAX_SIZE_FACTOR, True, True,
-                                    f"10 <= height_factor <= {MAX_SIZE_FACTOR:g}"),
     ("loading", "P"): (0.0, math.inf, False, False, "P > 0 (N/mm)"),
     ("loading", "half_width"): (0.0, math.inf, False, False, "half_width > 0 (mm)"),
     ("loading", "steps"): (1, 1000, True, True, "1 <= steps <= 1000"),
@@ -384,20 +499,10 @@ _SEQ_RANGES = {
     ("discretisation", "budget_widths"): (10.0, MAX_SIZE_FACTOR, True, True,
                                           f"every budget width in [10, {MAX_SIZE_FACTOR:g}] (W/a)"),
 }
-_TOLERANCE_KEYS = {
-    "p_max": "relative error of the peak pressure",
-    "half_width": "relative error of the contact half-width",
-    "rms": "RMS(p_fem - p_theory) / p0",
-    "load_balance": "|P - P_pressure| / P",
-    "b_over_b0": "relative error of the FEM convective ratio b/b0 against the converged theory",
-    "rms_convective": "RMS(p_fem - p_convective)/p_ref of the convective run against the converged theory",
-    "fit_rms": "elliptical-fit RMS / p0 (upper bound)",
-    "patch_size": "relative mismatch of eq. (4) and eq. (5) patch sizes",
-}
-
-
 def _coerce(value: Any, annotation: str, where: str) -> Any:
     """Check ``value`` against a field annotation string (postponed annotations) and coerce it."""
+    if not isinstance(annotation, str):  # a scene module without postponed annotations
+        annotation = annotation.__name__ if isinstance(annotation, type) else str(annotation)
     ann = annotation.replace(" ", "")
     optional = ann.endswith("|None")
     base = ann.removesuffix("|None")
@@ -454,6 +559,8 @@ def _build(cls: type, table: Any, where: str, *, partial_ok: bool = False) -> An
     if not isinstance(table, dict):
         raise CaseError(f"{where} must be a table")
     section = where.rsplit(": ", 1)[-1]
+    if cls is Geometry:
+        return _build_geometry(table, where)
     known = {f.name: f for f in fields(cls)}
     for key in table:
         if key not in known:
@@ -482,28 +589,51 @@ def _build(cls: type, table: Any, where: str, *, partial_ok: bool = False) -> An
     return cls(**values)
 
 
+def _build_geometry(table: dict, where: str) -> Geometry:
+    """The ``[geometry]`` record of a run: the keys of every registered scene are validated (type, choices, range)
+    in the order of :func:`_geometry_specs`; the scene's record is built from its own keys (a given key it does not
+    read is refused later, :func:`_check_used_geometry`)."""
+    scene = table.get("scene")
+    scene = scene if isinstance(scene, str) and scene in _SCENE_SCHEMAS else None
+    known = _geometry_specs(scene)
+    for key in table:
+        if key not in known:
+            raise CaseError(f"{where}.{_r(key)[1:-1]} is an unknown key; allowed keys: {', '.join(known)}")
+    values = {}
+    for name, f in known.items():
+        if name in table:
+            raw = table[name]
+        elif f.default is not MISSING or f.default_factory is not MISSING:
+            continue
+        else:
+            raise CaseError(f"{where}.{name} is a required field and is missing")
+        value = _coerce(raw, f.type, f"{where}.{name}")
+        if value is not None:
+            choices = _geometry_choices(scene, name)
+            if choices is not None and value not in choices:
+                allowed = ", ".join(repr(c) for c in choices)
+                raise CaseError(f"{where}.{name} = {_r(value)} is not allowed; allowed values: {allowed}")
+            spec = _geometry_range(scene, name)
+            if spec is not None and not _in_range(value, spec):
+                raise CaseError(f"{where}.{name} = {_r(value)} is out of range; allowed: {spec[4]}")
+        values[name] = value
+    cls = _SCENE_SCHEMAS[values["scene"]].geometry
+    own = {f.name for f in fields(cls)}
+    return cls(**{k: v for k, v in values.items() if k in own})
+
+
 def _check_run(run: Run, where: str) -> None:
     """Cross-field checks of one run (after variant overrides)."""
     g, ld = run.geometry, run.loading
-    if g.scene == "block":
-        if g.indenter == "particle":
-            raise CaseError(f"{where}: geometry.indenter = 'particle' needs geometry.scene = 'concave'")
-        if g.indenter in ("circle", "parabola") and g.radius is None:
-            raise CaseError(f"{where}: geometry.radius is required for a {g.indenter}; allowed: radius > 0 (mm)")
-        if g.indenter == "wedge" and g.wedge_angle is None:
-            raise CaseError(
-                f"{where}: geometry.wedge_angle is required for a wedge; allowed: 0 < wedge_angle < pi/2 (rad)"
-            )
-    else:
-        if g.indenter != "particle":
-            raise CaseError(f"{where}: geometry.indenter must be 'particle' for geometry.scene = 'concave'")
-        if g.design is None:
-            raise CaseError(
-                f"{where}: geometry.design is required for a concave scene; "
-                "allowed values: 'symmetric', 'close_to_conformal'"
-            )
-    if g.indenter == "circle" and ld.control == "force" and (ld.P is None) != (ld.half_width is None):
-        _check_circle_reachable(run, where)
+    sch = scene_schema(g.scene)
+    if g.indenter not in sch.indenters:
+        if len(sch.indenters) == 1:
+            raise CaseError(f"{where}: geometry.indenter must be {next(iter(sch.indenters))!r} for geometry.scene = "
+                            f"{g.scene!r}")
+        owner = next(s.name for s in scene_schemas() if g.indenter in s.indenters)
+        raise CaseError(f"{where}: geometry.indenter = {g.indenter!r} needs geometry.scene = {owner!r}")
+    if sch.check_geometry is not None:
+        sch.check_geometry(run, where)
     if ld.control == "force":
         if (ld.P is None) == (ld.half_width is None):
             raise CaseError(f"{where}: loading needs exactly one of P (N/mm) or half_width (mm) for force control")
@@ -516,23 +646,28 @@ def _check_run(run: Run, where: str) -> None:
             raise CaseError(f"{where}: loading.d = {_r(list(ld.d))} must be increasing")
         if ld.P is not None or ld.half_width is not None:
             raise CaseError(f"{where}: loading.P/half_width are only allowed with control = 'force'")
-    if g.scene == "block" and ld.control != "force":
-        raise CaseError(f"{where}: loading.control = {_r(ld.control)} is not supported by the block scene; "
-                        "allowed: 'force' (with P or half_width)")
-    if g.scene == "concave" and ld.control != "displacement":
-        raise CaseError(f"{where}: loading.control = {_r(ld.control)} is not supported by the concave scene; "
-                        "allowed: 'displacement' (with d)")
-    if g.scene == "block" and ld.control == "force" and (ld.P is None) != (ld.half_width is None):
-        _check_block_scale(run, where)
+    if ld.control not in sch.controls:
+        allowed = ", ".join(f"{c!r} ({CONTROL_NEEDS[c]})" for c in sch.controls)
+        raise CaseError(f"{where}: loading.control = {_r(ld.control)} is not supported by the {g.scene} scene; "
+                        f"allowed: {allowed}")
+    if sch.check_load is not None:
+        sch.check_load(run, where)
     _check_formulation(run, where)
     _check_model(run, where)
     _check_budget(run, where)
 
 
+def _scenes_that(flag: str) -> list[str]:
+    """The registered scenes whose schema has ``flag`` (``finite``, ``mixed``; ``budget_widths`` None)."""
+    if flag == "budget_widths":
+        return [s.name for s in scene_schemas() if s.budget_widths is None]
+    return [s.name for s in scene_schemas() if getattr(s, flag)]
+
+
 def _check_model(run: Run, where: str) -> None:
     """The model hierarchy's combinations (``docs/models.md``): a hyperelastic material goes with finite
     kinematics and finite kinematics with a hyperelastic material, the obstacle traction, the displacement
-    formulation and the block scene (the options :func:`fem.options.check_model` checks again)."""
+    formulation and a scene that supports it (the options :func:`fem.options.check_model` checks again)."""
     model, sol = run.material.model, run.solver
     if sol.kinematics == "finite":
         if model not in HYPERELASTIC_MODELS:
@@ -545,27 +680,32 @@ def _check_model(run: Run, where: str) -> None:
             raise CaseError(f"{where}: solver.kinematics = 'finite' supports the displacement formulation only (got "
                             f"{_r(effective_formulation(run))}); allowed: formulation = 'displacement' or 'auto' with "
                             f"nu < {NU_MIXED}")
-        if run.geometry.scene != "block":
+        if not scene_schema(run.geometry.scene).finite:
             raise CaseError(f"{where}: solver.kinematics = 'finite' is not supported by the {_r(run.geometry.scene)} "
-                            "scene; allowed: scene = 'block'")
+                            f"scene; allowed: scene = {' or '.join(repr(n) for n in _scenes_that('finite'))}")
     elif model != "linear":
         raise CaseError(f"{where}: material.model = {_r(model)} needs solver.kinematics = 'finite' (got "
                         f"{_r(sol.kinematics)}); allowed with small or convective kinematics: model = 'linear'")
 
 
 def _check_budget(run: Run, where: str) -> None:
-    """The error budget needs three distinct levels and three distinct block sizes, block scenes only."""
+    """The error budget needs three distinct levels, and three distinct body sizes on a scene whose budget takes
+    them (:attr:`SceneSchema.budget_widths`)."""
     d = run.discretisation
     if not d.budget_levels and not d.budget_widths:
         return
-    block = run.geometry.scene == "block"
-    if not block and d.budget_widths:
+    why_not = scene_schema(run.geometry.scene).budget_widths
+    able = _scenes_that("budget_widths")
+    if why_not is not None and d.budget_widths:
         raise CaseError(f"{where}: discretisation.budget_widths = {_r(list(d.budget_widths))} is not supported by "
-                        f"the {_r(run.geometry.scene)} scene (its body is the real geometry); allowed: scene = 'block'")
-    for name, seq in (("budget_levels", d.budget_levels), ("budget_widths", d.budget_widths))[:2 if block else 1]:
+                        f"the {_r(run.geometry.scene)} scene ({why_not}); allowed: scene = "
+                        f"{' or '.join(repr(n) for n in able)}")
+    takes = why_not is None
+    for name, seq in (("budget_levels", d.budget_levels), ("budget_widths", d.budget_widths))[:2 if takes else 1]:
         if len(seq) != 3 or len(set(seq)) != 3:
             raise CaseError(f"{where}: discretisation.{name} = {_r(list(seq))} is not allowed; allowed: exactly "
-                            "three distinct values (block scenes: with both budget_levels and budget_widths)")
+                            f"three distinct values ({' or '.join(able)} scenes: with both budget_levels and "
+                            "budget_widths)")
     if max(d.budget_levels) > BUDGET_SPAN * min(d.budget_levels):
         raise CaseError(f"{where}: discretisation.budget_levels = {_r(list(d.budget_levels))} spans more than a "
                         f"factor {BUDGET_SPAN:g}; allowed: max <= {BUDGET_SPAN:g} min (the grading is refined with "
@@ -595,72 +735,12 @@ def _check_formulation(run: Run, where: str) -> None:
         if run.discretisation.degree < 2:
             raise CaseError(f"{where}: {why}, which needs discretisation.degree = 2 (Taylor-Hood P2/P1); "
                             "allowed: degree = 2")
-        if run.geometry.scene != "block":
-            raise CaseError(f"{where}: {why}, which needs an analytic obstacle (block scenes); allowed on the "
-                            f"concave scene: nu < {NU_MIXED}")
+        if not scene_schema(run.geometry.scene).mixed:
+            raise CaseError(f"{where}: {why}, which needs an analytic obstacle ({' or '.join(_scenes_that('mixed'))} "
+                            f"scenes); allowed on the {run.geometry.scene} scene: nu < {NU_MIXED}")
         if sol.linear_solver == "gamg":
             raise CaseError(f"{where}: solver.linear_solver = 'gamg' with the mixed formulation ({why}): a saddle "
                             "point; allowed: linear_solver = 'lu' or 'lu_reuse'")
-
-
-def _classical_half_width(run: Run) -> float:
-    """The classical half-width (mm) of a force-controlled block run (Hertz or wedge)."""
-    from analytic import hertz, materials, wedge
-
-    g, ld = run.geometry, run.loading
-    if ld.half_width is not None:
-        return ld.half_width
-    E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
-    if g.indenter == "wedge":
-        return wedge.wedge(ld.P, wedge.wedge_slope(g.wedge_angle, convention=g.wedge_slope), E_star).half_width
-    return hertz.hertz_half_width(ld.P, g.radius, E_star)
-
-
-def _check_block_scale(run: Run, where: str) -> None:
-    """Magnitudes a double-precision solve resolves: the contact against the radius and in absolute size."""
-    g, ld = run.geometry, run.loading
-    field_ = "loading.half_width" if ld.half_width is not None else "loading.P"
-    value = ld.half_width if ld.half_width is not None else ld.P
-    try:
-        a = _classical_half_width(run)
-    except (ValueError, ArithmeticError):
-        a = math.nan
-    if g.indenter == "parabola" and a >= 0.5 * g.radius:
-        raise CaseError(f"{where}: {field_} = {_r(value)} gives a contact half-width a = {a:.4g} mm against "
-                        f"radius {g.radius:g} mm: strains of order a/R, beyond the small-strain model; allowed: "
-                        f"half-width < radius/2 = {0.5 * g.radius:.4g} mm")
-    if g.indenter in ("circle", "parabola") and math.isfinite(a) and a < MIN_A_OVER_R * g.radius:
-        raise CaseError(f"{where}: {field_} = {_r(value)} gives a contact half-width a = {a:.3g} mm, a/R = "
-                        f"{a / g.radius:.2g}: the approach a^2/R is at the round-off of the coordinates (the "
-                        f"pressure would be noise, not a mesh-resolution problem); allowed: a/R >= {MIN_A_OVER_R:g} "
-                        "(raise the load)")
-    lo, hi = HALF_WIDTH_RANGE
-    if not (math.isfinite(a) and lo <= a <= hi):
-        raise CaseError(f"{where}: {field_} = {_r(value)} with material.E = {run.material.E!r} gives a contact "
-                        f"half-width of {a:.3g} mm; allowed: {lo:g} <= half-width <= {hi:g} mm (change the load or "
-                        "E, or the units)")
-    if max(g.width_factor / g.height_factor, g.height_factor / g.width_factor) > MAX_ASPECT:
-        raise CaseError(f"{where}: geometry.width_factor / height_factor = {g.width_factor:g} / {g.height_factor:g} "
-                        f"makes far-field elements too stretched for load balance; allowed: a ratio within "
-                        f"1/{MAX_ASPECT:g} ... {MAX_ASPECT:g}")
-
-
-def _check_circle_reachable(run: Run, where: str) -> None:
-    """A rigid circle cannot make a contact wider than itself: the Hertz half-width must stay below R/2
-    (the half-plane theory and the case's comparison mean nothing beyond that)."""
-    from analytic import hertz, materials
-
-    g, ld = run.geometry, run.loading
-    limit = 0.5 * g.radius
-    if ld.half_width is not None:
-        a = ld.half_width
-    else:
-        a = hertz.hertz_half_width(ld.P, g.radius, materials.plane_strain_modulus(run.material.E, run.material.nu))
-    if a >= limit:
-        field_ = "loading.half_width" if ld.half_width is not None else "loading.P"
-        value = ld.half_width if ld.half_width is not None else ld.P
-        raise CaseError(f"{where}: {field_} = {_r(value)} cannot be reached by a circle of radius {g.radius} mm "
-                        f"(Hertz half-width {a:.4g} mm); allowed: half-width < radius/2 = {limit:.4g} mm")
 
 
 def label_folder(label: str) -> str:
@@ -725,9 +805,9 @@ def load_case(path: str | Path) -> Case:
         raise CaseError(f"{where}: tolerances must be a table")
     tol = {}
     for key, value in tolerances.items():
-        if key not in _TOLERANCE_KEYS:
+        if key not in _tolerance_keys():
             raise CaseError(f"{where}: tolerances.{_r(key)[1:-1]} is an unknown key; "
-                           f"allowed keys: {', '.join(_TOLERANCE_KEYS)}")
+                            f"allowed keys: {', '.join(_tolerance_keys())}")
         if (isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value)
                 or not 0 < value <= MAX_TOLERANCE):
             raise CaseError(f"{where}: tolerances.{key} = {_r(value)} is out of range; allowed: a finite number "
@@ -839,57 +919,41 @@ def _check_bands(case: Case, runs: tuple[Run, ...], where: str) -> None:
     if not case.discretisation.budget_levels:
         raise CaseError(f"{where}: bands need the error budget; allowed: [bands] together with "
                         "discretisation.budget_levels (three levels)")
+    notes = "; ".join(f"{s.name}: {s.band_note}" for s in scene_schemas() if s.band_note)
     for run in runs:
-        allowed = BAND_QUANTITIES.get(run.geometry.scene, ())
+        allowed = scene_schema(run.geometry.scene).band_quantities
         for key, names in case.bands.items():
             for name in names:
                 if re.sub(r"\[\d+\]$", "", name) not in allowed:
                     raise CaseError(f"{where}: bands.{key} = {_r(list(names))}: {_r(name)} is not a budget quantity "
                                     f"of the {run.geometry.scene} scene; allowed values: "
-                                    f"{', '.join(repr(a) for a in allowed)} (concave: optionally name[k], patch k)")
-
-
-# geometry fields each scene / indenter reads (a field given but not read is refused)
-_GEOMETRY_USED = {
-    ("block", "circle"): {"radius", "width_factor", "height_factor", "half_model", "far_field"},
-    ("block", "parabola"): {"radius", "width_factor", "height_factor", "half_model", "far_field"},
-    ("block", "wedge"): {"wedge_angle", "wedge_slope", "width_factor", "height_factor", "half_model",
-                         "far_field"},
-    ("concave", "particle"): {"design"},
-}
-# predictions each scene / indenter computes; "convective" also needs a small and a convective run
-_PREDICTIONS = {
-    ("block", "circle"): ("hertz", "convective"),
-    ("block", "parabola"): ("hertz", "convective"),
-    ("block", "wedge"): ("wedge", "convective"),
-    ("concave", "particle"): ("hertz_superposition", "elliptical_fit"),
-}
+                                    f"{', '.join(repr(a) for a in allowed)}" + (f" ({notes})" if notes else ""))
 
 
 def _check_used_geometry(run: Run, given: set, where: str) -> None:
+    """A geometry key given but not read by the scene with this indenter is refused."""
     g = run.geometry
-    used = _GEOMETRY_USED.get((g.scene, g.indenter), set())
+    used = scene_schema(g.scene).indenters.get(g.indenter, frozenset())
     for key in sorted(given - used - {"scene", "indenter"}):
         raise CaseError(f"{where}: geometry.{key} is not used by a {g.scene} scene with a {g.indenter} indenter; "
                         f"allowed keys: scene, indenter, {', '.join(sorted(used))}")
 
 
 def _check_predictions(case: Case, runs: tuple[Run, ...], where: str) -> None:
-    """Every listed prediction is one the scene computes for the indenter (an empty list: the scene's own)."""
+    """Every listed prediction is one the scene computes for the indenter (an empty list: the scene's own); then
+    each scene's case-level checks (:attr:`SceneSchema.check_case`)."""
     for run in runs:
         g = run.geometry
-        allowed = _PREDICTIONS.get((g.scene, g.indenter), ())
+        allowed = scene_schema(g.scene).predictions.get(g.indenter, ())
         for name in case.analytic.predictions:
             if name not in allowed:
                 raise CaseError(f"{where}: analytic.predictions = {_r(list(case.analytic.predictions))}: "
                                 f"{_r(name)} is not computed for a {g.scene} scene with a {g.indenter} indenter; "
                                 f"allowed values: {', '.join(repr(a) for a in allowed)}")
-    if "convective" in case.analytic.predictions:
-        kinematics = {r.solver.kinematics for r in runs}
-        if not {"small", "convective"} <= kinematics:
-            raise CaseError(f"{where}: analytic.predictions lists 'convective', which compares a small and a "
-                            f"convective run; got kinematics {sorted(kinematics)}; allowed: [[variant]] runs with "
-                            "solver.kinematics = 'small' and 'convective' (finite runs may be added)")
+    for scene in dict.fromkeys(r.geometry.scene for r in runs):
+        check = scene_schema(scene).check_case
+        if check is not None:
+            check(case, runs, where)
 
 
 def case_names() -> list[str]:

@@ -1,14 +1,22 @@
-"""Options of a contact solve: one frozen record with the keywords (and defaults) of :func:`fem.solver.solve_contact`.
+"""Options of a contact solve: ONE frozen record, :class:`ContactOptions`, passed whole to the solver.
 
-Units: mm, N, MPa; loads P per unit thickness (N/mm, full body). The meaning of every field is documented once,
-in :func:`fem.solver.solve_contact`; this module holds the record, the option vocabularies and the checks that
-need no mesh.
+Units: mm, N, MPa; loads P per unit thickness (N/mm, full body). Every field is named, typed, defaulted and
+documented once, on :class:`ContactOptions`; :func:`fem.solver.solve_contact` takes the record (its keyword
+convenience is generated from :meth:`ContactOptions.field_names`), the case layer
+(:func:`workbench.scenes.wiring.solver_options`) and the studies derive their options from it
+(``dataclasses.replace``). This module also holds the option vocabularies and the checks that need no mesh.
+
+Adding an option: one field (with its documentation) on :class:`ContactOptions`, its check in
+:func:`check_options` if it has a vocabulary or range, and its use in :mod:`fem.problem` / :mod:`fem.stepping`;
+a case-file field of the same name in :class:`cases.schema.Solver` is then passed through by the wiring without a
+further line (``tests/test_options_record.py`` checks the two defaults agree or are listed as intentional
+differences in :data:`cases.schema.CASE_LEVEL_DEFAULTS`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, fields
+from dataclasses import MISSING, dataclass, fields
 
 import numpy as np
 
@@ -46,10 +54,94 @@ NU_DISPLACEMENT_MAX = 0.499
 
 @dataclass(frozen=True, kw_only=True)
 class ContactOptions:
-    """The keyword options of :func:`fem.solver.solve_contact` (same names, same defaults; see its docstring).
+    """The options of one contact solve (:func:`fem.solver.solve_contact`): the one place they are written.
 
-    ``solve_contact(mesh_data, obstacle, options=ContactOptions(E=..., nu=..., target=...))`` is the same
-    solve as passing the fields as keywords; ``dataclasses.replace(options, n_steps=8)`` varies one of them.
+    ``solve_contact(mesh_data, obstacle, ContactOptions(E=..., nu=..., target=...))`` is the same solve as
+    passing the fields as keywords; ``dataclasses.replace(options, n_steps=8)`` varies one of them.
+
+    Attributes:
+        E: Young's modulus (MPa) > 0.
+        nu: Poisson's ratio in (-1, 0.5).
+        target: the load target: d (mm) in displacement control, P (N/mm, full body) in force control.
+        degree: Lagrange degree (1, 2 or 3).
+        method: a registered contact method (:mod:`fem.methods`): ``"nitsche"``, ``"penalty"`` or
+            ``"augmented_lagrangian"``.
+        kinematics: ``"small"``, ``"convective"`` or ``"finite"`` (finite-strain hyperelasticity, total
+            Lagrangian, contact at the deformed position; :mod:`fem.hyperelastic`).
+        traction: ``"obstacle"`` (gap and traction along the rigid curve's normal; the default of a bare solve,
+            right for any geometry and the only one finite kinematics supports) or ``"halfplane"`` (vertical gap
+            and traction, as half-plane theory assumes; the case files' default, :mod:`cases.schema`).
+        kappa0: penalty stiffness factor (kappa = kappa0 E / h), also the augmentation stiffness of the
+            augmented Lagrangian.
+        gamma0: Nitsche factor (gamma = gamma0 E / h).
+        theta: Nitsche variant: 1 (symmetric), 0 (skew-less), -1 (skew-symmetric).
+        control: ``"displacement"`` (target = d, mm) or ``"force"`` (target = P, N/mm; full body).
+        n_steps: number of load steps >= 1.
+        symmetric_half: the mesh is the half x >= 0 with a ``symmetry`` edge (default support roller_x).
+        on_step: callable(dict) called after every converged solve with the load-step record.
+        petsc_prefix: unique PETSc options prefix (default: generated).
+        max_cutbacks: step halvings allowed per load step.
+        supports: physical group name -> one of SUPPORT_KINDS (default clamped bottom ``clamped``, and
+            ``symmetry``: roller_x for a half model).
+        contact_group: name of the candidate contact boundary.
+        quadrature_degree: Gauss degree of the contact integral (default 2 degree - 1: 2 points per P2 facet,
+            1 per P1 facet; more points than trace dofs over-constrain the penalty and make p oscillate).
+        force_rtol: relative tolerance of the final load in force control.
+        snes_rtol: SNES relative residual tolerance.
+        max_it: SNES max iterations.
+        case: name used in error messages.
+        petsc_options: extra SNES options overriding the defaults (e.g. ``{"snes_linesearch_type": "l2"}``).
+        predictor: ``"extrapolate"`` (u linear in d from the last two states), ``"hertz"`` (force control,
+            circle/parabola, direction (0, -1): linear solve with the Hertz pressure of the load level as a
+            Neumann load; d from the displacement at the first-contact point), ``"hertz_zone"`` (the same
+            applicability; the first load level from the unloaded state with the Hertz zone as the prescribed
+            active set and d from that set's tangent, no stiffness solve:
+            :meth:`fem.stepping.LoadStepper.hertz_zone_start`; later levels as ``"hertz"``) or ``"auto"`` (hertz
+            when applicable).
+        sample_degree: Gauss degree of the post-processing sample points (default: the contact quadrature, where
+            the discrete law holds; between those points the law of a penalty/Nitsche solution oscillates; the
+            augmented Lagrangian's default samples are its contact nodes).
+        active_set_predictor: before each Newton solve do one iteration with a prescribed active set (the
+            Hertz zone, or contact edges extrapolated linearly in d from the last two states; single-patch
+            scenes with the surface coordinate X1). Without it the sign of the tiny gaps of the predicted u
+            decides the first active set and semismooth Newton then releases about one quadrature point
+            per iteration.
+        active_set: where the prescribed active set comes from. ``"extrapolate"`` (default): single-patch
+            states only, as above. ``"geometry"``: also several patches (each run's edges extrapolated; up to
+            :data:`fem.problem.MAX_ZONES` runs) and the first contact of a step from an open state: the runs of
+            the rigid overlap at the new d, shrunk about their centres (:data:`fem.stepping.GEOMETRIC_SHRINK`).
+            It needs no analytic predictor; the converged answer is the same, the Newton path differs.
+        active_set_update: after the prescribed active set, ``"newton"`` (default): one iteration on it, then
+            semismooth Newton; ``"edge_fit"``: iterations on prescribed sets whose edges are extrapolated from
+            the pressure of the last iterate (``q |q|`` linear near the edge, :mod:`fem.active_set_update`) until
+            the set of contact points repeats (at most :data:`fem.stepping.EDGE_FIT_MAX`), then semismooth
+            Newton, which decides the answer.
+        first_step_fraction: without the Hertz predictor, an extra first step at this fraction of the first
+            load level (few quadrature points are in the initial overlap, so the unpredicted first solve is
+            short); 1 disables it.
+        record_at: displacement control only: increasing displacements (mm) ending at ``target``; the solver
+            steps through them (``n_steps`` sub-steps to the first) and keeps a :class:`fem.stepping.Snapshot`
+            at each.
+        formulation: ``"displacement"`` (default) or ``"mixed"``: Taylor-Hood u-p plane strain (P``degree`` u,
+            P``degree-1`` p = -lambda div u, :mod:`fem.elasticity`), locking-free as nu -> 1/2; the contact
+            terms are unchanged (Nitsche uses the mixed stress ``2 mu eps - p I``). Needs degree >= 2 and an
+            analytic obstacle.
+        min_facets_across: a patch spanning fewer contact facets adds a "contact unresolved" warning.
+        uzawa_rtol: augmented Lagrangian only: the Uzawa loop of a load level stops when the nodal gaps satisfy
+            the contact conditions to uzawa_rtol times the largest displacement (mm/mm;
+            :mod:`fem.methods.augmented_lagrangian`).
+        uzawa_max_it: augmented Lagrangian only: Uzawa updates allowed per load level (then ContactSolveError).
+        linear_solver: the linear solver of the Newton iterations and the Hertz predictor
+            (:mod:`fem.linear_solver`): ``"lu"`` (MUMPS LU of every Jacobian), ``"lu_reuse"`` (GMRES
+            preconditioned by the MUMPS LU of an earlier Jacobian, refactored when the Krylov solve slows down)
+            or ``"gamg"`` (GMRES + algebraic multigrid with the rigid-body near-nullspace; displacement
+            formulation). The converged answer is the same.
+        split_jacobian: assemble the elastic stiffness once and only the contact terms per Newton iteration
+            (displacement formulation, linear material; :mod:`fem.split_jacobian`); the same Jacobian to
+            round-off. Not used for a hyperelastic material (its stiffness depends on u).
+        material_model: ``"linear"`` (small-strain Hooke; kinematics small/convective) or a hyperelastic model
+            ``"saint_venant_kirchhoff"`` / ``"neo_hookean"`` (kinematics="finite" only; both with the
+            small-strain E and nu, :mod:`fem.hyperelastic`).
     """
 
     E: float
@@ -108,7 +200,31 @@ class ContactOptions:
 
     @classmethod
     def field_names(cls) -> tuple[str, ...]:
+        """The field names, in declaration order (the keywords :func:`fem.solver.solve_contact` accepts)."""
         return tuple(f.name for f in fields(cls))
+
+    @classmethod
+    def required_names(cls) -> tuple[str, ...]:
+        """The fields without a default (E, nu, target)."""
+        return tuple(f.name for f in fields(cls) if f.default is MISSING and f.default_factory is MISSING)
+
+    @classmethod
+    def defaults(cls) -> dict:
+        """Field name -> default of every field that has one."""
+        return {f.name: f.default for f in fields(cls) if f.default is not MISSING}
+
+    @classmethod
+    def from_fields(cls, fields_: dict, *, caller: str = "ContactOptions") -> ContactOptions:
+        """The record of keyword ``fields_``: a TypeError naming an unknown keyword or a missing required one."""
+        names = cls.field_names()
+        unknown = sorted(k for k in fields_ if k not in names)
+        if unknown:
+            raise TypeError(f"{caller}() got an unexpected keyword argument {unknown[0]!r}; allowed: the fields "
+                            f"of ContactOptions ({', '.join(names)})")
+        missing = [k for k in cls.required_names() if fields_.get(k) is None]
+        if missing:
+            raise TypeError(f"{caller}() missing required keyword-only argument(s): {missing}")
+        return cls(**fields_)
 
 
 def check_options(opts: ContactOptions, *, mesh_data, obstacle) -> None:

@@ -118,8 +118,19 @@ def test_bad_subcommand_is_one_line_and_exit_2(tmp_path):
 def test_scene_registry_takes_a_new_scene_and_refuses_a_non_scene():
     assert {"block", "concave"} <= set(SCENES)
 
+    from dataclasses import dataclass
+
+    from cases import schema as case_schema
+
+    @dataclass(frozen=True)
+    class RingGeometry(case_schema.Geometry):
+        inner_radius: float = 1.0
+
     class Ring:
         name = "ring_test"
+        schema = case_schema.SceneSchema(name="ring_test", geometry=RingGeometry,
+                                         indenters={"pin": frozenset({"inner_radius"})}, predictions={"pin": ()},
+                                         controls=("displacement",))
 
         def preflight(self, run, *, where): ...
         def mesh(self, run, *, name, mesh_cache, comm, stats_dir=None): ...
@@ -131,9 +142,10 @@ def test_scene_registry_takes_a_new_scene_and_refuses_a_non_scene():
 
     try:
         register_scene(Ring())
-        assert "ring_test" in SCENES
+        assert "ring_test" in SCENES and case_schema.scene_schema("ring_test").geometry is RingGeometry
     finally:
         SCENES.pop("ring_test", None)
+        case_schema._SCENE_SCHEMAS.pop("ring_test", None)
 
     class NotAScene:
         name = "broken"

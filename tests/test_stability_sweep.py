@@ -8,6 +8,7 @@ per new form).
 
 import dolfinx_solver  # noqa: F401
 
+import dataclasses
 import math
 
 import numpy as np
@@ -32,7 +33,10 @@ BAND = StabilityConfig().band
 
 
 def _run(**kw):
-    return run_block_spec(Spec("test", "t", **kw), comm=COMM)
+    """Run a spec; keywords that are not Spec fields are its solver options (ContactOptions fields)."""
+    own = {f.name for f in dataclasses.fields(Spec)}
+    options = {k: kw.pop(k) for k in list(kw) if k not in own}
+    return run_block_spec(Spec("test", "t", options=options, **kw), comm=COMM)
 
 
 def _names(rec):
@@ -133,21 +137,22 @@ def test_default_config_reproduces_the_published_sweep():
     assert "penalty kappa0=1e8" in labels and "penalty kappa0=1e10" in labels and "E=1e-3" in labels
     assert "nitsche gamma0=0.1 theta=-1" in labels
     al = [s for s in all_specs if s.study == "augmented_lagrangian"]
-    k = [s.kappa0 for s in al]
-    assert [s.method for s in al] == ["augmented_lagrangian"] * 5
+    k = [s.option("kappa0") for s in al]
+    assert [s.option("method") for s in al] == ["augmented_lagrangian"] * 5
     assert math.isclose(math.log10(k[-1] / k[0]), 4.0) and len(k) == 5  # five decades of kappa0
     assert all(s.band == BAND for s in al)
 
 
 def test_spec_becomes_a_case_run():
     """A spec is a cases.schema.Run (what the wiring reads) plus the study's solver overrides."""
-    spec = Spec("test", "t", method="penalty", kappa0=1e2, nu=0.49, degree=1, h_ratio=40.0, formulation="mixed")
+    spec = Spec("test", "t", options=dict(method="penalty", kappa0=1e2, formulation="mixed"), nu=0.49, degree=1,
+                h_ratio=40.0)
     run = spec.run()
     assert (run.solver.method, run.solver.kappa0, run.solver.traction) == ("penalty", 1e2, "halfplane")
     assert (run.material.nu, run.discretisation.degree, run.geometry.half_model) == (0.49, 1, True)
     assert run.loading.half_width == spec.a_over_R * spec.R and run.loading.steps == spec.n_steps
     assert spec.solver_overrides()["formulation"] == "mixed"
-    fault = Spec("faults", "f", control="displacement", d=0.06, active_set_predictor=False).run()
+    fault = Spec("faults", "f", control="displacement", d=0.06, options=dict(active_set_predictor=False)).run()
     assert fault.loading.control == "displacement" and fault.loading.d == (0.06,)
 
 

@@ -181,6 +181,7 @@ def main(argv: list[str] | None = None) -> int:
 
 def _main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
+    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
     from cases import CaseError, case_names, load_case
     from meshes.portable import perturb_amplitude
 

@@ -69,6 +69,7 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """``workbench external ccx`` (exit 0 scored, 2 bad input or ccx missing/failed)."""
+    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
     from cases import CaseError, load_case
     from workbench.atomic import atomic_dir
     from workbench.external.export import ExportError, export_case, supported

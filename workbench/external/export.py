@@ -76,6 +76,7 @@ def description(case, run, theory, *, level: float, mesh_stats: dict) -> dict:
 
 def export_case(case_name: str, *, fmt: str, h_contact: float | None, folder: Path, mesh_cache: Path) -> list[Path]:
     """Write the export files of one level into ``folder`` (created by the caller); returns their paths."""
+    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
     from cases import load_case
     from workbench.external.inp import approach_estimate, inp_deck, read_block_msh
     from workbench.scenes.block import block_mesh
@@ -130,6 +131,7 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
         root = default_paths(None).root if args.out is None else check_output_folder(args.out)
+        import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
         from cases import load_case
 
         case = load_case(args.case)

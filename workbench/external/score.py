@@ -158,6 +158,7 @@ def verdict(study: dict | None, kind: str) -> str:
 def score_levels(case_name: str, results: list[ExternalResult], *, h: list[float] | None = None,
                  samples_per_element: int = 1) -> dict:
     """The score of a case's external results (``score.json``'s content)."""
+    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
     from cases import load_case
 
     case = load_case(case_name)
@@ -305,6 +306,7 @@ def main(argv: list[str] | None = None) -> int:
         score = score_levels(args.case, results, h=args.h, samples_per_element=args.samples_per_element)
         fem = read_csv_result(args.fem) if args.fem else None
         if fem is not None:
+            import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
             from cases import load_case
 
             run = load_case(args.case).runs()[0]

@@ -17,6 +17,7 @@ import sys
 import time
 from collections.abc import Sequence
 
+import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
 from cases import case_names, load_case
 from workbench.atomic import write_root_text
 from workbench.owned import check_dir, check_root_file, check_run_outputs, ensure_dir

@@ -96,6 +96,7 @@ class CaseRun(NamedTuple):
 def run_cases(out: Path, *, cases: list[str], level: str = "ci", perturbation: Perturbation | None = None,
               timeout: float = 3600.0) -> list[CaseRun]:
     """Run every case into ``out`` (``workbench run``; one subprocess each, with the perturbation's env)."""
+    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
     from cases import load_case
 
     out = Path(out).resolve()

@@ -217,6 +217,7 @@ def check_case_fits(case, *, h_contact: float | None = None, ci: bool = False,
 
 def check_levels_fit(case_names, levels, *, study: str, field: str, available: float | None = None) -> None:
     """A study's configuration: every run of every case at every level (h_c fractions) fits; else one line."""
+    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
     from cases import load_case
 
     available = mem_available() if available is None else available

@@ -19,8 +19,10 @@ A *scene* turns a case run (:class:`cases.schema.Run`) into a contact problem an
 
 The pipeline (:mod:`workbench.pipeline.run_case`) does the rest, the same way for every scene: read the mesh,
 call the solver with :func:`workbench.scenes.wiring.solver_options`, write the outputs. A new scene is one
-module with a class implementing this protocol and one line ``register_scene(MyScene())``
-(:mod:`workbench.scenes`); ``[geometry] scene = "<name>"`` in a case file selects it.
+module with a class implementing this protocol, its case schema (``schema``: a :class:`cases.schema.SceneSchema`
+with the scene's geometry record, indenters, predictions, controls and checks; e.g.
+:mod:`workbench.scenes.block_schema`) and one line ``register_scene(MyScene())`` (:mod:`workbench.scenes`), which
+registers both; ``[geometry] scene = "<name>"`` in a case file selects it.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, NamedTuple, Protocol, runtime_checkable
 
-from cases.schema import Case, Run
+from cases.schema import Case, Run, SceneSchema, register_scene_schema
 
 __all__ = ["CaseComparison", "LoadPath", "Outcome", "Scene", "SceneBudget", "SceneMesh", "Series", "SCENES",
            "register_scene", "scene_for"]
@@ -142,6 +144,7 @@ class Scene(Protocol):
     """The protocol of a scene (see the module docstring)."""
 
     name: str
+    schema: SceneSchema
 
     def preflight(self, run: Run, *, where: str) -> None:
         ...
@@ -169,9 +172,13 @@ SCENES: dict[str, Scene] = {}
 
 
 def register_scene(scene: Scene) -> Scene:
-    """Add a scene to the registry under ``scene.name`` (the ``[geometry] scene`` value of a case)."""
+    """Add a scene to the registry under ``scene.name`` (the ``[geometry] scene`` value of a case), and its case
+    schema (``scene.schema``, :class:`cases.schema.SceneSchema`) to the case schema's registry."""
     if not isinstance(scene, Scene):
         raise TypeError(f"{scene!r} does not implement the Scene protocol")
+    if scene.schema.name != scene.name:
+        raise ValueError(f"scene {scene.name!r} carries the case schema of {scene.schema.name!r}")
+    register_scene_schema(scene.schema)
     SCENES[scene.name] = scene
     return scene
 

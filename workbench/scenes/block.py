@@ -16,6 +16,7 @@ import numpy as np
 from analytic.circle import circle_pressure
 from cases.schema import Case, Run
 from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
+from workbench.scenes.block_schema import BLOCK_SCHEMA
 from workbench.scenes.block_theory import BlockTheory, block_theory, compare_block, exact_circle, rms_error
 
 __all__ = ["BlockComparison", "BlockScene", "block_mesh", "compare_result", "obstacle_for", "stress_based_errors"]
@@ -157,6 +158,7 @@ class BlockScene:
     """An elastic block (full or half) under a rigid circle, parabola or wedge, force-controlled."""
 
     name = "block"
+    schema = BLOCK_SCHEMA
 
     def preflight(self, run: Run, *, where: str) -> None:
         """Nothing beyond the case schema's checks (unreachable circle loads are rejected there)."""

@@ -31,6 +31,7 @@ from analytic.superposition import superpose
 from cases.schema import Case, Run
 from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneBudget, SceneMesh, Series
 from workbench.scenes.budget_theory import moment_half_width
+from workbench.scenes.concave_schema import CONCAVE_SCHEMA
 
 __all__ = ["ConcaveMesh", "ConcaveScene", "concave_mesh", "concave_case_comparison"]
 _SAMPLES_LCP = 300
@@ -239,6 +240,7 @@ class ConcaveScene:
     """A concave elastic body under the rigid convex particle, displacement-controlled through ``loading.d``."""
 
     name = "concave"
+    schema = CONCAVE_SCHEMA
 
     def preflight(self, run: Run, *, where: str) -> None:
         """Reject a displacement path that never brings the particle into contact (pure geometry, LCP)."""

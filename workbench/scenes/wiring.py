@@ -7,6 +7,7 @@ new field of :class:`cases.schema.Solver` or a new contact method is wired here 
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import fields
 
 from cases.schema import Run, effective_formulation
 from fem.far_field import far_field_supports
@@ -19,21 +20,27 @@ __all__ = ["solver_options", "solve_run", "step_printer"]
 def solver_options(run: Run, load: LoadPath, **overrides) -> ContactOptions:
     """The solver options of ``run`` driven along ``load`` (``overrides``: any other ContactOptions field).
 
-    Material (E in MPa, nu), element degree, the contact method and its parameters, kinematics, traction and
-    the bulk formulation (``"auto"`` resolved by nu, :func:`cases.schema.effective_formulation`) come from the run;
-    control, target (N/mm or mm), steps, snapshots and the half model from ``load``; the supports from the
-    geometry's ``far_field`` (None, the default, for ``"clamped"``).
+    Derived from the record, not written out: every field of the run's :class:`cases.schema.Solver` is the
+    :class:`fem.options.ContactOptions` field of the same name (the bulk formulation's ``"auto"`` resolved by nu,
+    :func:`cases.schema.effective_formulation`); the material (E in MPa, nu, model) and the element degree come
+    from the run; control, target (N/mm or mm), steps, snapshots and the half model from ``load``; the supports
+    from the geometry's ``far_field`` (None, the default, for ``"clamped"`` or a scene without a far field).
+    Every other field keeps the record's default unless ``overrides`` names it.
     """
-    sol, disc = run.solver, run.discretisation
-    opts = dict(E=run.material.E, nu=run.material.nu, material_model=run.material.model, degree=disc.degree,
-                method=sol.method, kinematics=sol.kinematics, traction=sol.traction, kappa0=sol.kappa0,
-                gamma0=sol.gamma0, theta=sol.theta, control=load.control, target=load.target, n_steps=load.n_steps,
-                symmetric_half=load.symmetric_half, formulation=effective_formulation(run),
-                supports=far_field_supports(far_field=run.geometry.far_field, symmetric_half=load.symmetric_half),
-                linear_solver=sol.linear_solver)
+    names = ContactOptions.field_names()
+    case_level = {f.name: getattr(run.solver, f.name) for f in fields(run.solver)}
+    stray = sorted(set(case_level) - set(names))
+    if stray:  # a new [solver] field must be a ContactOptions field of the same name (or be wired here)
+        raise TypeError(f"cases.schema.Solver fields {stray} are not ContactOptions fields")
+    opts = case_level | dict(
+        E=run.material.E, nu=run.material.nu, material_model=run.material.model, degree=run.discretisation.degree,
+        formulation=effective_formulation(run), control=load.control, target=load.target, n_steps=load.n_steps,
+        symmetric_half=load.symmetric_half,
+        supports=far_field_supports(far_field=getattr(run.geometry, "far_field", "clamped"),
+                                    symmetric_half=load.symmetric_half))
     if load.record_at is not None:
         opts["record_at"] = load.record_at
-    return ContactOptions(**(opts | overrides))
+    return ContactOptions.from_fields(opts | overrides, caller="solver_options")
 
 
 def solve_run(run: Run, mesh_data, obstacle, load: LoadPath, *, case: str, on_step: Callable | None = None,

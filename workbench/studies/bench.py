@@ -151,6 +151,7 @@ def _peak_rss_mb() -> float:
 
 
 def _case_run(cfg: BenchConfig, h_contact: float | None = None):
+    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
     from cases import load_case
 
     return load_case(cfg.case).runs(h_contact=h_contact)[0]
@@ -851,6 +852,7 @@ def lu_reuse(cfg: BenchConfig, *, comm, progress) -> dict:
 def _newton_rows(cfg: BenchConfig, *, comm, progress, **overrides) -> dict:
     """Every run of the predictor-free cases through the case pipeline with ``overrides``: per scene the Newton
     iterations of each solve, the mean per solve, P and the solver time of each run."""
+    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
     from cases import load_case
     from workbench.pipeline.run_case import run_one
 

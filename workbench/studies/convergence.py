@@ -267,6 +267,7 @@ def run_study(cfg: ConvergenceConfig | None = None, *, progress: Callable[[str],
 
     from mpi4py import MPI
 
+    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
     from cases import load_case
 
     cfg = ConvergenceConfig() if cfg is None else cfg

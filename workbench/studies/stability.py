@@ -41,11 +41,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from analytic import convective, materials, wedge
-from cases.schema import Discretisation, Geometry, Loading, Material, Run, Solver
+from cases.schema import Discretisation, Loading, Material, Run, Solver
 from workbench.atomic import write_json, write_text
 from workbench.owned import ensure_dir
 from workbench.paths import default_paths
 from workbench.scenes.base import LoadPath
+from workbench.scenes.block_schema import BlockGeometry
 from workbench.scenes.block_theory import block_theory
 from workbench.studies.config import STABILITY_STUDIES, StabilityConfig, to_json
 
@@ -55,6 +56,14 @@ __all__ = ["STUDIES", "Spec", "StabilityConfig", "classify", "classify_augmented
 
 STUDIES = STABILITY_STUDIES
 AL = "augmented_lagrangian"  # the method and the study of its stiffness sweep
+
+
+# The sweep's solver options beyond the record's defaults (:class:`fem.options.ContactOptions`): the case files'
+# traction (vertical gap and traction, as the half-plane theory the runs are compared with assumes).
+SWEEP_OPTIONS = {"traction": "halfplane"}
+# The options a run's record names in ``stability.json["runs"][i]["params"]`` (read by the report and the plots).
+PARAM_OPTIONS = ("method", "kappa0", "gamma0", "theta", "formulation", "kinematics", "max_it", "max_cutbacks",
+                 "active_set_predictor")
 
 
 @dataclass(frozen=True)
@@ -68,10 +77,12 @@ class Spec:
         half_width: target classical half-width (mm) for the wedge.  wedge_angle: rad.
         E, nu: block material.  size_factor: block width and height over a.
         degree, h_ratio: element degree and a / h_contact.
-        method, kappa0, gamma0, theta, formulation, kinematics: solver options (:func:`fem.solver.solve_contact`).
-        n_steps, max_it, max_cutbacks: load steps, SNES iterations and cut-backs allowed.
+        n_steps: load steps.
         control: ``force`` (target the Hertz load) or ``displacement`` (target ``d`` mm, faults study).
-        d: displacement target (mm) for displacement control.  active_set_predictor: solver option.
+        d: displacement target (mm) for displacement control.
+        options: solver options of this run: :class:`fem.options.ContactOptions` fields by name (e.g.
+            ``{"method": "penalty", "kappa0": 1e2, "max_it": 4}``), over :data:`SWEEP_OPTIONS` over the record's
+            defaults (:meth:`option`); a name that is not a field is a TypeError.
         condition: estimate the Jacobian's condition number.
         band: accuracy band of the errors (None: not compared, e.g. the convective run's classical errors).
         model_limit: named reason why the theory itself departs from the scene (used only if out of band).
@@ -90,22 +101,33 @@ class Spec:
     size_factor: float = 40.0
     degree: int = 2
     h_ratio: float = 10.0
-    method: str = "nitsche"
-    kappa0: float = 1.0e3
-    gamma0: float = 10.0
-    theta: int = 1
-    formulation: str = "displacement"
-    kinematics: str = "small"
     n_steps: int = 3
-    max_it: int = 40
-    max_cutbacks: int = 5
     control: str = "force"
     d: float = 0.0
-    active_set_predictor: bool = True
+    options: dict = dataclasses.field(default_factory=dict, hash=False)
     condition: bool = False
     band: float | None = StabilityConfig.band
     model_limit: str | None = None
     expect_failure: bool = False
+
+    def __post_init__(self):
+        from fem.options import ContactOptions
+
+        names = ContactOptions.field_names()
+        for key in self.options:
+            if key not in names:
+                raise TypeError(f"Spec options: {key!r} is not a ContactOptions field")
+
+    def option(self, name: str):
+        """The value of the ContactOptions field ``name`` for this run (this spec's, the sweep's, the record's)."""
+        from fem.options import ContactOptions
+
+        return (ContactOptions.defaults() | SWEEP_OPTIONS | self.options)[name]
+
+    def params(self) -> dict:
+        """The run's parameters for its JSON record: the spec's fields and the options :data:`PARAM_OPTIONS`."""
+        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "options"}
+        return out | {name: self.option(name) for name in PARAM_OPTIONS}
 
     @property
     def target_half_width(self) -> float:
@@ -113,29 +135,29 @@ class Spec:
         return self.half_width if self.indenter == "wedge" else self.a_over_R * self.R
 
     def run(self) -> Run:
-        """This spec as a case run (half model, ``halfplane`` traction, labelled by its indenter): what the wiring
-        reads. Built directly, not loaded, so a study may go beyond a case file's ranges (h_c = 2 a)."""
+        """This spec as a case run (half model, labelled by its indenter): what the wiring reads; its
+        ``[solver]`` fields are the spec's options of the same names. Built directly, not loaded, so a study may
+        go beyond a case file's ranges (h_c = 2 a)."""
         size = self.size_factor
         if self.indenter == "wedge":
-            geo = Geometry(scene="block", indenter="wedge", wedge_angle=self.wedge_angle, wedge_slope="paper",
-                           width_factor=size, height_factor=size, half_model=True)
+            geo = BlockGeometry(scene="block", indenter="wedge", wedge_angle=self.wedge_angle, wedge_slope="paper",
+                                width_factor=size, height_factor=size, half_model=True)
         else:
-            geo = Geometry(scene="block", indenter=self.indenter, radius=self.R, width_factor=size,
-                           height_factor=size, half_model=True)
+            geo = BlockGeometry(scene="block", indenter=self.indenter, radius=self.R, width_factor=size,
+                                height_factor=size, half_model=True)
         if self.control == "force":
             loading = Loading(control="force", half_width=self.target_half_width, steps=self.n_steps)
         else:
             loading = Loading(control="displacement", d=(self.d,), steps=self.n_steps)
+        solver = Solver(**{f.name: self.option(f.name) for f in dataclasses.fields(Solver)})
         return Run(label=self.indenter, material=Material(E=self.E, nu=self.nu), geometry=geo, loading=loading,
-                   discretisation=Discretisation(degree=self.degree, h_contact=1.0 / self.h_ratio),
-                   solver=Solver(method=self.method, kinematics=self.kinematics, traction="halfplane",
-                                 kappa0=self.kappa0, gamma0=self.gamma0, theta=self.theta))
+                   discretisation=Discretisation(degree=self.degree, h_contact=1.0 / self.h_ratio), solver=solver)
 
     def solver_overrides(self) -> dict:
-        """The study's keywords beyond the case run (:func:`workbench.scenes.wiring.solve_run` overrides)."""
-        return dict(formulation=self.formulation, max_it=self.max_it, max_cutbacks=self.max_cutbacks,
-                    active_set_predictor=self.active_set_predictor,
-                    first_step_fraction=1.0 if not self.active_set_predictor else 0.1)
+        """The study's options beyond the case run (:func:`workbench.scenes.wiring.solve_run` overrides): the
+        spec's options, and no extra first step without the active-set predictor."""
+        first = 1.0 if not self.option("active_set_predictor") else self.option("first_step_fraction")
+        return dict(self.options) | {"first_step_fraction": first}
 
 
 def _decade(v: float) -> str:
@@ -149,25 +171,25 @@ def specs(cfg: StabilityConfig | None = None) -> list[Spec]:
     cfg = StabilityConfig() if cfg is None else cfg
     out = []
     for k in cfg.penalty_kappa0:  # 1. method parameters
-        out.append(Spec("method", f"penalty kappa0={_decade(k)}", method="penalty", kappa0=k, condition=True,
-                        band=cfg.band))
+        out.append(Spec("method", f"penalty kappa0={_decade(k)}", options=dict(method="penalty", kappa0=k),
+                        condition=True, band=cfg.band))
     for theta in cfg.nitsche_theta:
         for g in cfg.nitsche_gamma0:
-            out.append(Spec("method", f"nitsche gamma0={g:g} theta={theta}", gamma0=g, theta=theta, condition=True,
-                            band=cfg.band))
+            out.append(Spec("method", f"nitsche gamma0={g:g} theta={theta}", options=dict(gamma0=g, theta=theta),
+                            condition=True, band=cfg.band))
     for k in cfg.al_kappa0:  # 1b. augmented Lagrangian: every stiffness must converge
-        out.append(Spec(AL, f"{AL} kappa0={_decade(k)}", method=AL, kappa0=k, band=cfg.band))
+        out.append(Spec(AL, f"{AL} kappa0={_decade(k)}", options=dict(method=AL, kappa0=k), band=cfg.band))
     for nu in cfg.incompressible_nu:  # 2. near-incompressibility
         for deg, form, h in cfg.incompressible_elements:
-            out.append(Spec("incompressible", f"nu={nu:g} P{deg} {form}", nu=nu, degree=deg, formulation=form,
-                            h_ratio=h, band=cfg.band_p1 if deg == 1 else cfg.band))
+            out.append(Spec("incompressible", f"nu={nu:g} P{deg} {form}", nu=nu, degree=deg,
+                            options=dict(formulation=form), h_ratio=h, band=cfg.band_p1 if deg == 1 else cfg.band))
     for nu, size in cfg.convective_runs:
         for kin in ("small", "convective"):
+            form = "mixed" if nu >= cfg.convective_mixed_from_nu else "displacement"
             out.append(Spec("convective", f"wedge nu={nu:g} block {size:g}b {kin}", indenter="wedge",
                             wedge_angle=cfg.convective_wedge_angle, nu=nu, h_ratio=cfg.convective_h_ratio,
-                            size_factor=size,
-                            formulation="mixed" if nu >= cfg.convective_mixed_from_nu else "displacement",
-                            kinematics=kin, band=cfg.band_wedge if kin == "small" else None))
+                            size_factor=size, options=dict(formulation=form, kinematics=kin),
+                            band=cfg.band_wedge if kin == "small" else None))
     for aR in cfg.loads_a_over_R:  # 3. loads
         limit = (f"model limit: a/R = {aR:g} > {cfg.model_limit_a_over_R:g}, the exact circle departs from "
                  "Hertz's parabola (see the parabola run at the same a/R)") if aR > cfg.model_limit_a_over_R else None
@@ -179,10 +201,10 @@ def specs(cfg: StabilityConfig | None = None) -> list[Spec]:
     for E in cfg.scale_E:  # 4. scale invariance
         out.append(Spec("scale", f"E={_decade(E)}", E=E, band=cfg.band))
     out.append(Spec("faults", "cut-back: single step, max_it=4", control="displacement", d=cfg.fault_d, n_steps=1,
-                    max_it=4, active_set_predictor=False, band=cfg.band))
+                    options=dict(max_it=4, active_set_predictor=False), band=cfg.band))
     out.append(Spec("faults", "unrecoverable: max_it=1, 1 cut-back", control="displacement", d=cfg.fault_d,
-                    n_steps=1, max_it=1, max_cutbacks=1, active_set_predictor=False, expect_failure=True,
-                    band=cfg.band))
+                    n_steps=1, options=dict(max_it=1, max_cutbacks=1, active_set_predictor=False),
+                    expect_failure=True, band=cfg.band))
     return out
 
 
@@ -205,7 +227,7 @@ def run_block_spec(spec: Spec, *, comm, mesh_cache: Path | None = None) -> dict:
     files = _mesh(spec, comm=comm, mesh_cache=mesh_cache if mesh_cache is not None else default_paths().mesh_cache)
     mesh_data = read_mesh(files.msh, comm)
     load = LoadPath(spec.control, th0.P if spec.control == "force" else spec.d, spec.n_steps, symmetric_half=True)
-    rec = {"study": spec.study, "label": spec.label, "params": dataclasses.asdict(spec),
+    rec = {"study": spec.study, "label": spec.label, "params": spec.params(),
            "cells": files.stats.get("cells"), "target_half_width": a, "P_target": th0.P}
     t0 = time.perf_counter()
     try:
@@ -221,7 +243,7 @@ def run_block_spec(spec: Spec, *, comm, mesh_cache: Path | None = None) -> dict:
             "solves": len(res.newton_iterations),
             "cutbacks": sum(1 for r in res.load_steps if r["kind"] == "cutback"),
             "warnings": list(res.warnings), "P": res.P, "d": res.d}
-    if spec.method == AL or any("uzawa" in r for r in res.load_steps):
+    if spec.option("method") == AL or any("uzawa" in r for r in res.load_steps):
         rec["uzawa"] = _uzawa(res)
     cmp = compare_result(res, run)
     hw, pmax, th = cmp.half_width, cmp.p_max, cmp.theory

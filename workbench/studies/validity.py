@@ -149,14 +149,15 @@ def tasks(cfg: ValidityConfig) -> tuple[list[Task], list[dict]]:
 
 
 def _run(task: Task):
-    from cases.schema import Discretisation, Geometry, Loading, Material, Run, Solver
+    from cases.schema import Discretisation, Loading, Material, Run, Solver
+    from workbench.scenes.block_schema import BlockGeometry
 
     if task.scene == "cylinder":
-        geo = Geometry(scene="block", indenter="circle", radius=1.0 / task.param, width_factor=task.width_factor,
-                       height_factor=task.width_factor, half_model=True)
+        geo = BlockGeometry(scene="block", indenter="circle", radius=1.0 / task.param, width_factor=task.width_factor,
+                            height_factor=task.width_factor, half_model=True)
     else:
-        geo = Geometry(scene="block", indenter="wedge", wedge_angle=task.param, wedge_slope="exact",
-                       width_factor=task.width_factor, height_factor=task.width_factor, half_model=True)
+        geo = BlockGeometry(scene="block", indenter="wedge", wedge_angle=task.param, wedge_slope="exact",
+                            width_factor=task.width_factor, height_factor=task.width_factor, half_model=True)
     form = "mixed" if task.nu >= task.mixed_from_nu else "displacement"
     return Run(label=task.scene, material=Material(E=task.E, nu=task.nu, model=task.material_model), geometry=geo,
                loading=Loading(control="force", half_width=1.0, steps=task.n_steps),
