@@ -39,7 +39,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from fem.errors import ContactSolveError, snes_reason_name
-from fem.options import FORMULATIONS, MIN_FACETS_ACROSS, SUPPORT_KINDS, ContactOptions, check_options
+from fem.options import FORMULATIONS, MIN_FACETS_ACROSS, SUPPORT_KINDS, ContactOptions
 from fem.postprocess import Patch, SurfaceSamples, find_patches
 from fem.problem import ContactProblem
 from fem.stepping import LoadStepper, Snapshot
@@ -116,8 +116,9 @@ def solve_contact(mesh_data, obstacle, options: ContactOptions | None = None, **
         raise TypeError(f"solve_contact() options must be a ContactOptions, got {type(options).__name__}")
     else:
         opts = options
-    check_options(opts, mesh_data=mesh_data, obstacle=obstacle)
-    return solve_problem(ContactProblem(mesh_data, obstacle, opts))
+    from fem.partners import contact_problem  # a rigid curve (checked by check_options) or a meshed partner
+
+    return solve_problem(contact_problem(mesh_data, obstacle, opts))
 
 
 def solve_problem(problem: ContactProblem, *, step_callbacks: Sequence[Callable[[dict], None]] = ()) -> ContactResult:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["growth_field", "apply_background", "validate_common"]
+__all__ = ["growth_field", "apply_background", "validate_common", "graded_triangles", "TRI_PER_H2"]
 
 
 def validate_common(*, h_contact: float, h_far: float, growth: float) -> None:
@@ -71,3 +71,19 @@ def apply_background(gmsh, fields, *, h_max: float, algorithm: int = 6) -> None:
     gmsh.option.setNumber("Mesh.MaxNumThreads2D", 1)
     gmsh.option.setNumber("Mesh.RandomSeed", 1)
     gmsh.option.setNumber("Mesh.RandomFactor", 1e-9)
+
+
+TRI_PER_H2 = 4.0 / math.sqrt(3.0)  # triangles per h^2 of area (equilateral, side h)
+
+
+def graded_triangles(*, L: float, h0: float, h_far: float, growth: float, area: float, c: float) -> float:
+    """The model count of triangles (see the module docstring), before the fitted factor; inf if unbounded."""
+    k = growth - 1.0
+    if not (h0 > 0 and math.isfinite(h0)) or not math.isfinite(L):
+        return math.inf
+    h_far = max(h_far, h0)
+    with_inv = L / k * (1.0 / h0 - 1.0 / h_far)
+    logs = c / k**2 * (math.log(h_far / h0) + h0 / h_far - 1.0)
+    D = (h_far - h0) / k
+    a_far = max(area - (L * D + 0.5 * c * D * D), 0.0)
+    return TRI_PER_H2 * (with_inv + logs + a_far / h_far**2)

@@ -24,9 +24,10 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-__all__ = ["SizeEstimate", "estimate_run", "check_run_fits", "mem_available", "smallest_fitting_h"]
+__all__ = ["SizeEstimate", "estimate_run", "check_run_fits", "mem_available", "smallest_fitting_h", "graded_triangles"]
 
-TRI_PER_H2 = 4.0 / math.sqrt(3.0)
+from meshes.sizing import graded_triangles  # noqa: E402  (re-exported: the model lives with the mesh sizes)
+
 # Measured cells / model cells: 1.20 ... 1.28 over 10 meshes of 1.5k ... 80k cells (hertz_cylinder h_c = 0.01
 # ... 2e-4, wedge 0.002, concave_symmetric and close_to_conformal 0.2 and 0.05): the mean, within +-4 %.
 CELL_FACTOR = 1.24
@@ -57,19 +58,6 @@ class SizeEstimate(NamedTuple):
     bytes: float
 
 
-def graded_triangles(*, L: float, h0: float, h_far: float, growth: float, area: float, c: float) -> float:
-    """The model count of triangles (see the module docstring), before the fitted factor; inf if unbounded."""
-    k = growth - 1.0
-    if not (h0 > 0 and math.isfinite(h0)) or not math.isfinite(L):
-        return math.inf
-    h_far = max(h_far, h0)
-    with_inv = L / k * (1.0 / h0 - 1.0 / h_far)
-    logs = c / k**2 * (math.log(h_far / h0) + h0 / h_far - 1.0)
-    D = (h_far - h0) / k
-    a_far = max(area - (L * D + 0.5 * c * D * D), 0.0)
-    return TRI_PER_H2 * (with_inv + logs + a_far / h_far**2)
-
-
 def _dofs(cells: float, run) -> float:
     from cases.schema import effective_formulation
 
@@ -79,52 +67,11 @@ def _dofs(cells: float, run) -> float:
     return per * cells
 
 
-def _concave_geometry(run):
-    """(refined length L (mm), number of refined intervals, body area (mm^2), h_far (mm), h_c (mm))."""
-    from analytic.designs import design
-    from meshes.concave import refine_intervals
-    from workbench.scenes.concave import concave_a_est
-
-    des = design(run.geometry.design)
-    x_min, x_max, y_bottom = map(float, des.body_box)
-    curve = des.concave
-    ivals = _intervals(des.name, refine_intervals)
-    L = sum(float(curve.arc_length([b])[0] - curve.arc_length([a])[0]) for a, b in ivals)
-    ys = curve.sample(201)[:, 1]
-    area = (x_max - x_min) * (float(ys.mean()) - y_bottom)
-    return L, len(ivals), area, (x_max - x_min) / 10.0, run.discretisation.h_contact * concave_a_est(run)
-
-
-_INTERVALS: dict = {}
-
-
-def _intervals(name, refine_intervals):
-    if name not in _INTERVALS:
-        from analytic.designs import design
-
-        _INTERVALS[name] = refine_intervals(design(name))
-    return _INTERVALS[name]
-
-
 def estimate_run(run) -> SizeEstimate:
     """The estimate for one run (its ``discretisation.h_contact`` and growth), before anything is meshed."""
-    g, disc = run.geometry, run.discretisation
-    if g.scene == "block":
-        from meshes.block import SIZE_SAFETY
-        from workbench.scenes.block_theory import block_theory
+    from workbench.scenes import scene_for
 
-        a0 = block_theory(g, run.material, P=run.loading.P, half_width=run.loading.half_width).half_width
-        W, H = g.width_factor * a0, g.height_factor * a0
-        half = g.half_model
-        L = 1.5 * a0 * (1 if half else 2)
-        cells = graded_triangles(L=L, h0=SIZE_SAFETY * disc.h_contact * a0, h_far=W / 10.0, growth=disc.growth,
-                                 area=(W / 2 if half else W) * H, c=math.pi / 2 if half else math.pi)
-    else:
-        from meshes.concave import SIZE_SAFETY
-
-        L, n, area, h_far, h_c = _concave_geometry(run)
-        cells = graded_triangles(L=L, h0=SIZE_SAFETY * h_c, h_far=h_far, growth=disc.growth, area=area,
-                                 c=n * math.pi)
+    cells = scene_for(run).estimate_cells(run)  # the scene's model count (meshes.sizing.graded_triangles)
     cells *= CELL_FACTOR
     dofs = _dofs(cells, run)
     return SizeEstimate(cells, dofs, memory_bytes(dofs))

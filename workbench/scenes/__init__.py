@@ -18,9 +18,11 @@ from workbench.scenes.base import (
 )
 from workbench.scenes.block import BlockScene
 from workbench.scenes.concave import ConcaveScene
+from workbench.scenes.two_body import TwoBodyScene
 
 __all__ = ["SCENES", "CaseComparison", "LoadPath", "Outcome", "Scene", "SceneMesh", "Series", "register_scene",
            "scene_for"]
 
 register_scene(BlockScene())
 register_scene(ConcaveScene())
+register_scene(TwoBodyScene())

@@ -3,9 +3,11 @@
 A *scene* turns a case run (:class:`cases.schema.Run`) into a contact problem and judges its result:
 
 0. :meth:`Scene.preflight` rejects a run that cannot be done (one-line :class:`cases.CaseError`, exit 2)
-   before anything is written;
+   before anything is written; :meth:`Scene.estimate_cells` says how many triangles its mesh will have (the
+   memory preflight, :mod:`workbench.pipeline.size_estimate`);
 1. :meth:`Scene.mesh` builds (or reuses) the run's mesh, sized from the scene's own contact estimate;
-2. :meth:`Scene.obstacle` is the rigid body, an analytic curve (:mod:`fem.obstacles`), never a mesh;
+2. :meth:`Scene.obstacle` is the contact partner: a rigid analytic curve (:mod:`fem.obstacles`), or a second
+   meshed elastic body (:class:`fem.two_body.problem.MeshedPartner`, :mod:`fem.partners`);
 3. :meth:`Scene.load_path` says how the obstacle is driven (force or displacement control);
 4. :meth:`Scene.compare` compares one converged :class:`fem.solver.ContactResult` with theory and returns an
    :class:`Outcome` (typed records; ``metrics`` is its JSON form for ``metrics.json``);
@@ -129,14 +131,19 @@ class SceneBudget(NamedTuple):
 
 
 class LoadPath(NamedTuple):
-    """How the rigid body is driven: ``control`` ``"force"`` (target P, N/mm, full body) or ``"displacement"``
-    (target d, mm, with snapshots at ``record_at``), in ``n_steps`` steps; ``symmetric_half`` for half models."""
+    """How the contact partner is driven: ``control`` ``"force"`` (target P, N/mm, full body) or
+    ``"displacement"`` (target d, mm, with snapshots at ``record_at``), in ``n_steps`` steps; ``symmetric_half``
+    for half models. ``supports``: physical group -> support kind where the scene holds its bodies in another way
+    than the far field's default; ``solver``: further solver options the scene's problem needs (ContactOptions
+    field -> value, e.g. the load path's predictor), below a study's own overrides."""
 
     control: str
     target: float
     n_steps: int
     symmetric_half: bool = False
     record_at: tuple[float, ...] | None = None
+    supports: dict | None = None
+    solver: dict | None = None
 
 
 @runtime_checkable
@@ -147,6 +154,9 @@ class Scene(Protocol):
     schema: SceneSchema
 
     def preflight(self, run: Run, *, where: str) -> None:
+        ...
+
+    def estimate_cells(self, run: Run) -> float:
         ...
 
     def mesh(self, run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None) -> SceneMesh:

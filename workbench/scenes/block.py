@@ -163,6 +163,19 @@ class BlockScene:
     def preflight(self, run: Run, *, where: str) -> None:
         """Nothing beyond the case schema's checks (unreachable circle loads are rejected there)."""
 
+    def estimate_cells(self, run: Run) -> float:
+        """Model triangle count of the run's mesh before meshing (:func:`meshes.sizing.graded_triangles`)."""
+        from meshes.block import SIZE_SAFETY
+        from meshes.sizing import graded_triangles
+
+        g, disc = run.geometry, run.discretisation
+        a0 = block_theory(g, run.material, P=run.loading.P, half_width=run.loading.half_width).half_width
+        W, H = g.width_factor * a0, g.height_factor * a0
+        half = g.half_model
+        return graded_triangles(L=1.5 * a0 * (1 if half else 2), h0=SIZE_SAFETY * disc.h_contact * a0,
+                                h_far=W / 10.0, growth=disc.growth, area=(W / 2 if half else W) * H,
+                                c=math.pi / 2 if half else math.pi)
+
     def mesh(self, run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None) -> SceneMesh:
         files, target = block_mesh(run, name=name, mesh_cache=mesh_cache, comm=comm, stats_dir=stats_dir)
         summary = (f"mesh {files.stats.get('cells', '?')} cells ({'cached' if files.cached else 'built'}), "

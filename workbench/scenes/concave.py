@@ -236,6 +236,9 @@ def _run_metrics(run: Run, result, mesh: ConcaveMesh, steps: list[dict]) -> dict
     }
 
 
+_INTERVALS: dict = {}  # design name -> refine_intervals (the preflight asks for every level)
+
+
 class ConcaveScene:
     """A concave elastic body under the rigid convex particle, displacement-controlled through ``loading.d``."""
 
@@ -261,6 +264,26 @@ class ConcaveScene:
                 "particle into contact with the concave body; allowed: a largest displacement beyond first contact "
                 f"(Table 1 of the paper starts at d = {min(des.table1_d)} mm)")
 
+
+    def estimate_cells(self, run: Run) -> float:
+        """Model triangle count of the run's mesh before meshing (:func:`meshes.sizing.graded_triangles`): the
+        refined arcs of the concave curve (:func:`meshes.concave.refine_intervals`), graded to a tenth of the
+        body's width."""
+        from analytic.designs import design
+        from meshes.concave import SIZE_SAFETY, refine_intervals
+        from meshes.sizing import graded_triangles
+
+        des = design(run.geometry.design)
+        if des.name not in _INTERVALS:
+            _INTERVALS[des.name] = refine_intervals(des)
+        ivals = _INTERVALS[des.name]
+        x_min, x_max, y_bottom = map(float, des.body_box)
+        curve = des.concave
+        L = sum(float(curve.arc_length([b])[0] - curve.arc_length([a])[0]) for a, b in ivals)
+        area = (x_max - x_min) * (float(curve.sample(201)[:, 1].mean()) - y_bottom)
+        h_c = run.discretisation.h_contact * concave_a_est(run)
+        return graded_triangles(L=L, h0=SIZE_SAFETY * h_c, h_far=(x_max - x_min) / 10.0,
+                                growth=run.discretisation.growth, area=area, c=len(ivals) * math.pi)
     def mesh(self, run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None) -> SceneMesh:
         cm = concave_mesh(run, name=name, mesh_cache=mesh_cache, comm=comm, stats_dir=stats_dir)
         summary = (f"mesh {cm.files.stats.get('cells', '?')} cells ({'cached' if cm.files.cached else 'built'}), "

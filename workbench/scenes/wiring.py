@@ -36,23 +36,25 @@ def solver_options(run: Run, load: LoadPath, **overrides) -> ContactOptions:
         E=run.material.E, nu=run.material.nu, material_model=run.material.model, degree=run.discretisation.degree,
         formulation=effective_formulation(run), control=load.control, target=load.target, n_steps=load.n_steps,
         symmetric_half=load.symmetric_half,
-        supports=far_field_supports(far_field=getattr(run.geometry, "far_field", "clamped"),
-                                    symmetric_half=load.symmetric_half))
+        supports=(load.supports if load.supports is not None else
+                  far_field_supports(far_field=getattr(run.geometry, "far_field", "clamped"),
+                                     symmetric_half=load.symmetric_half)))
     if load.record_at is not None:
         opts["record_at"] = load.record_at
-    return ContactOptions.from_fields(opts | overrides, caller="solver_options")
+    return ContactOptions.from_fields(opts | (load.solver or {}) | overrides, caller="solver_options")
 
 
 def solve_run(run: Run, mesh_data, obstacle, load: LoadPath, *, case: str, on_step: Callable | None = None,
               frames: list | None = None, **overrides):
-    """Solve one run's contact problem: :func:`solver_options` plus any study-specific ``overrides``
+    """Solve one run's contact problem against its partner ``obstacle`` (a rigid curve or a meshed body,
+    :func:`fem.partners.solve`): :func:`solver_options` plus any study-specific ``overrides``
     (e.g. ``petsc_options``, ``predictor``, ``formulation``). ``frames``: a list that receives the converged
     state of every step (:class:`fem.output.Frame`, for the VTK time series); the result is the same."""
-    from fem.solver import solve_contact
+    from fem.partners import solve
 
     options = solver_options(run, load, on_step=on_step, case=case, **overrides)
     if frames is None:
-        return solve_contact(mesh_data, obstacle, options=options)
+        return solve(mesh_data, obstacle, options=options)
     from fem.output import solve_recording
 
     result, recorded = solve_recording(mesh_data, obstacle, options=options)

@@ -1,0 +1,217 @@
+"""Two-body scene: two elastic bodies on non-matching meshes, each with its own material.
+
+Reads top to bottom: estimate -> mesh (each body its own gmsh surface and sizes, :mod:`meshes.two_body`) -> the
+meshed contact partner (:class:`fem.two_body.problem.MeshedPartner`) -> the solve -> comparison. Units mm, N, MPa.
+
+* ``indenter = "cylinder"``: an elastic half disk of radius R (upper body, ``upper_E``, ``upper_nu``; driven
+  through its flat top, force control) on an elastic block (``[material]``, bottom clamped). The block's top is
+  the slave surface: the gap is vertical and the contact traction acts along the vertical on both bodies, the
+  half-plane idealisation (``traction = "halfplane"`` in the metrics); the initial gap is measured to the exact
+  circle. Theory: the exact circle's
+  half-plane theory (:mod:`analytic.circle`) at the combined modulus ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``
+  and the measured load (frictionless, small strain: the normal problem does not depend on Dundurs' beta). The
+  half disk is a finite body and the block is clamped at W x H: both are idealisations of the half-plane theory,
+  of the order of (a/R)^2 and (a/W)^2.
+* ``indenter = "patch"``: the contact patch test (Taylor and Papadopoulos 1991). Two blocks of width W on rollers
+  (bottom ``roller_y``, the x = 0 edges ``roller_x``) pressed by a uniform displacement of the upper block's top
+  (displacement control): the exact solution is a uniform stress, so the contact pressure is P / W at every
+  contact node. Mortar carries it to round-off on non-matching meshes; node-to-segment does not.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from analytic.circle import circle_contact, circle_pressure
+from analytic.hertz import hertz_load_from_half_width
+from analytic.materials import plane_strain_modulus
+from cases.schema import Case, Run
+from measures.contact import moment_half_width, rms_error
+from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
+from workbench.scenes.two_body_schema import TWO_BODY_SCHEMA
+
+__all__ = ["TwoBodyScene", "combined_modulus", "partner_for"]
+
+# The load path of a two-body solve: no analytic predictor; the geometric active set of the driven body's rigid
+# translation, then edge-fitted active-set updates (measured on the elastic cylinder, h = a/40: 4 Newton
+# iterations per step at most, against 7 with the plain semismooth Newton update).
+SOLVER_DEFAULTS = {"predictor": "extrapolate", "active_set": "geometry", "active_set_update": "edge_fit"}
+
+
+# The patch test's contact covers the whole interface by construction: these resolution warnings do not apply.
+_WHOLE_SURFACE = ("contact unresolved", "contact truncated")
+
+
+def combined_modulus(run: Run) -> float:
+    """E* (MPa) of the two bodies: ``1/E* = 1/E1' + 1/E2'`` with the plane-strain moduli."""
+    g, m = run.geometry, run.material
+    return 1.0 / (1.0 / plane_strain_modulus(m.E, m.nu) + 1.0 / plane_strain_modulus(g.upper_E, g.upper_nu))
+
+
+def partner_for(run: Run):
+    """The meshed contact partner of a two-body run (the upper body, driven through its top)."""
+    from fem.two_body.geometry import CircleSurface
+    from fem.two_body.problem import Body, MeshedPartner
+
+    g, m = run.geometry, run.material
+    cyl = g.indenter == "cylinder"
+    return MeshedPartner(bodies=(Body(name="lower", E=m.E, nu=m.nu), Body(name="upper", E=g.upper_E, nu=g.upper_nu)),
+                         slave="contact_lower", master="contact_upper", driven="driven", driven_body="upper",
+                         driven_components=(0, 1) if cyl else (1,), pairing=g.pairing,
+                         master_surface=CircleSurface((0.0, g.radius), g.radius) if cyl else None)
+
+
+def _estimate(run: Run) -> tuple[float, float]:
+    """(P target in N/mm, Hertz half-width a0 in mm) of a cylinder run."""
+    g, ld = run.geometry, run.loading
+    E_star = combined_modulus(run)
+    if ld.half_width is not None:
+        return hertz_load_from_half_width(ld.half_width, g.radius, E_star), ld.half_width
+    return ld.P, math.sqrt(4.0 * ld.P * g.radius / (math.pi * E_star))
+
+
+class TwoBodyScene:
+    """Two elastic bodies on non-matching meshes (module docstring)."""
+
+    name = "two_body"
+    schema = TWO_BODY_SCHEMA
+
+    def preflight(self, run: Run, *, where: str) -> None:
+        """Nothing beyond the case schema's checks."""
+
+    def estimate_cells(self, run: Run) -> float:
+        """Model triangle count of both bodies before meshing (:func:`meshes.sizing.graded_triangles`)."""
+        from meshes.sizing import graded_triangles
+
+        g, disc = run.geometry, run.discretisation
+        if g.indenter == "patch":
+            h = disc.h_contact * g.width
+            return (g.width * g.height_lower / h**2 + g.width * g.height_upper / (g.size_ratio * h) ** 2) * 4 / 3**0.5
+        _, a0 = _estimate(run)
+        W, H, h0 = g.width_factor * a0, g.height_factor * a0, 0.9 * disc.h_contact * a0
+        block = graded_triangles(L=3 * a0, h0=h0, h_far=W / 10, growth=disc.growth, area=W * H, c=math.pi)
+        disk = graded_triangles(L=3 * a0, h0=g.size_ratio * h0, h_far=W / 10, growth=disc.growth,
+                                area=0.5 * math.pi * g.radius**2, c=math.pi)
+        return block + disk
+
+    def mesh(self, run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None) -> SceneMesh:
+        from meshes.two_body import build_cylinder_on_block, build_stacked_blocks
+
+        g, disc = run.geometry, run.discretisation
+        stem = f"{name}_{run.label}".replace("/", "_").replace("=", "_")
+        if g.indenter == "cylinder":
+            P, a0 = _estimate(run)
+            files = build_cylinder_on_block(radius=g.radius, width=g.width_factor * a0, height=g.height_factor * a0,
+                                            contact_half_width=a0, h_contact=disc.h_contact * a0,
+                                            disk_size_ratio=g.size_ratio, growth=disc.growth, out_dir=mesh_cache,
+                                            name=stem, stats_dir=stats_dir, comm=comm)
+            estimate = {"P": P, "half_width": a0}
+            summary = f"a0 = {a0:.4g} mm, P target = {P:.6g} N/mm"
+        else:
+            h = disc.h_contact * g.width
+            files = build_stacked_blocks(width=g.width, height_lower=g.height_lower, height_upper=g.height_upper,
+                                         h_lower=h, h_upper=g.size_ratio * h, out_dir=mesh_cache, name=stem,
+                                         stats_dir=stats_dir, comm=comm)
+            estimate = {"P": math.nan, "half_width": g.width}
+            summary = f"W = {g.width:.4g} mm, h_lower = {h:.4g} mm, h_upper = {g.size_ratio * h:.4g} mm"
+        cells = files.stats.get("cells", "?")
+        return SceneMesh(files, estimate, f"mesh {cells} cells ({'cached' if files.cached else 'built'}), {summary}")
+
+    def obstacle(self, run: Run, mesh: SceneMesh):
+        return partner_for(run)
+
+    def load_path(self, run: Run, mesh: SceneMesh) -> LoadPath:
+        if run.geometry.indenter == "cylinder":
+            return LoadPath("force", mesh.estimate["P"], run.loading.steps, supports={"clamped": "clamped"},
+                            solver=dict(SOLVER_DEFAULTS))
+        d = tuple(run.loading.d)
+        return LoadPath("displacement", d[-1], run.loading.steps, record_at=d,
+                        supports={"clamped": "roller_y", "symmetry": "roller_x"},
+                        solver={**SOLVER_DEFAULTS, "active_set_predictor": False})
+
+    def compare(self, run: Run, result, mesh: SceneMesh, *, progress) -> Outcome:
+        g = run.geometry
+        smp = result.samples
+        metrics = {
+            "label": run.label, "scene": "two_body", "indenter": g.indenter, "pairing": g.pairing,
+            "method": run.solver.method, "kinematics": run.solver.kinematics, "traction": "halfplane",
+            "nu": run.material.nu, "bodies": {"lower": {"E": run.material.E, "nu": run.material.nu},
+                                              "upper": {"E": g.upper_E, "nu": g.upper_nu}},
+            "E_star": combined_modulus(run), "degree": run.discretisation.degree,
+            "h_contact": run.discretisation.h_contact, "ndofs": result.ndofs, "wall_time_s": result.wall_time_s,
+            "newton_iterations": list(result.newton_iterations), "load_steps": result.load_steps, "d": result.d,
+            "P": result.P, "P_pressure": result.P_pressure, "patches": [pt._asdict() for pt in result.patches],
+            "warnings": [w for w in result.warnings if g.indenter != "patch" or not w.startswith(_WHOLE_SURFACE)],
+            "mesh": mesh.files.stats,
+        }
+        errors = {"load_balance": abs(result.P - result.P_pressure) / abs(result.P),
+                  "newton_iterations": float(max(result.newton_iterations, default=0))}
+        if g.indenter == "cylinder":
+            th = circle_contact(result.P, g.radius, metrics["E_star"])
+            main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
+            x = np.linspace(-th.half_width, th.half_width, 4001)
+            p_th = circle_pressure(x, b=th.half_width, R=g.radius, E_star=metrics["E_star"])
+            m_th = math.sqrt(np.trapezoid(p_th * x * x, x) / np.trapezoid(p_th, x))
+            m_fe = moment_half_width(smp.s, smp.p, smp.weight, center=0.0) if main else math.nan
+            p_max = main.p_max if main else math.nan
+            b_fe = main.half_width if main else math.nan
+            errors |= {"p_max": abs(p_max / th.p0 - 1.0), "half_width": abs(b_fe / th.half_width - 1.0),
+                       "half_width_moment": abs(m_fe / m_th - 1.0),
+                       "rms": rms_error(smp.s, smp.p, circle_pressure(smp.s, b=th.half_width, R=g.radius,
+                                                                      E_star=metrics["E_star"]),
+                                        center=0.0, half_width=max(th.half_width, b_fe if main else 0.0),
+                                        p_ref=th.p0)}
+            metrics |= {"p_max": p_max, "patch_half_width": b_fe, "half_width_moment": m_fe,
+                        "analytic": {"kind": "exact_circle", "P": result.P, "E_star": metrics["E_star"],
+                                     "half_width": th.half_width, "p0": th.p0, "R": g.radius,
+                                     "half_width_moment": m_th,
+                                     "signed": {"p_max": p_max / th.p0 - 1.0,
+                                                "half_width_moment": m_fe / m_th - 1.0}}}
+            predictions = {"exact circle (at measured P)": circle_pressure(smp.s, b=th.half_width, R=g.radius,
+                                                                           E_star=metrics["E_star"])}
+            lim = 1.6 * th.half_width
+            theory = th
+        else:
+            p_exact = result.P / g.width
+            dev = float(np.max(np.abs(smp.p / p_exact - 1.0))) if smp.p.size else math.nan
+            errors[("patch_uniformity" if g.pairing == "mortar" else f"patch_uniformity_{g.pairing}")] = dev
+            metrics |= {"p_max": float(np.max(smp.p)) if smp.p.size else math.nan, "p_uniform": p_exact,
+                        "analytic": {"kind": "uniform", "P": result.P, "p": p_exact}}
+            predictions = {"uniform P / W": np.full(smp.s.size, p_exact)}
+            lim = 1.05 * g.width
+            theory = None
+        metrics["errors"] = errors
+        series = Series(run.label, smp.s, smp.p, smp.sigma_nn, predictions, "x (mm, material)",
+                        (-lim if g.indenter == "cylinder" else 0.0, lim))
+        return Outcome(run.label, run, metrics, [series], theory, None, result)
+
+    def judge(self, case: Case, outcomes: list[Outcome]) -> CaseComparison:
+        """The patch test names mortar's uniformity and node-to-segment's error beside it; the cylinder names
+        the idealisations."""
+        by_pairing = {o.run.geometry.pairing: o for o in outcomes}
+        if outcomes and outcomes[0].run.geometry.indenter == "patch":
+            mortar = by_pairing.get("mortar")
+            nts = by_pairing.get("node_to_segment")
+            parts = []
+            if mortar is not None:
+                parts.append(f"mortar: uniform pressure to {mortar.metrics['errors']['patch_uniformity']:.1e}")
+            if nts is not None:
+                parts.append("node-to-segment: off by up to "
+                             f"{100 * nts.metrics['errors']['patch_uniformity_node_to_segment']:.2f} %")
+            return CaseComparison({}, {}, "Contact patch test on non-matching meshes: " + "; ".join(parts) + ".", {})
+        worst = max(outcomes, key=lambda o: o.metrics["errors"].get("half_width_moment", 0.0)) if outcomes else None
+        if worst is None or "analytic" not in worst.metrics:
+            return CaseComparison({}, {}, "", {})
+        an = worst.metrics["analytic"]
+        headline = (f"Theory: the exact circle's half-plane theory at E* = {an['E_star']:.6g} MPa and the measured "
+                    f"load; FEM - theory: p_max {an['signed']['p_max']:+.2e}, moment half-width "
+                    f"{an['signed']['half_width_moment']:+.2e} (a/R = {an['half_width'] / an['R']:.3g}). "
+                    "The elastic half disk and the clamped W x H block are the idealisations the theory leaves out.")
+        return CaseComparison({}, {}, headline, {})
+
+    def error_budget(self, case: Case, *, solve, progress):
+        """None: the two-body cases carry no ``budget_levels`` yet (no grid study of their own)."""
+        return None

@@ -1,0 +1,107 @@
+"""What a case file of the two-body scene may say: its geometry record and checks (:class:`cases.schema.SceneSchema`).
+
+Two elastic bodies on non-matching meshes (:mod:`workbench.scenes.two_body`). The lower body's material is the
+case's ``[material]``; the upper body's is ``[geometry] upper_E`` and ``upper_nu``. Registered with the case
+schema by :func:`workbench.scenes.base.register_scene` (``TwoBodyScene.schema``). Units: mm, N, MPa.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from cases.schema import CaseError, Geometry, Run, SceneSchema
+
+__all__ = ["TWO_BODY_SCHEMA", "TwoBodyGeometry", "PAIRINGS", "TWO_BODY_METHODS"]
+
+PAIRINGS = ("mortar", "node_to_segment")  # fem.two_body.problem.PAIRINGS (the scene layer may not import fem)
+TWO_BODY_METHODS = ("penalty", "augmented_lagrangian")  # fem.two_body.laws.TWO_BODY_METHODS
+
+
+@dataclass(frozen=True)
+class TwoBodyGeometry(Geometry):
+    """Geometry of a two-body scene (``scene = "two_body"``).
+
+    Attributes:
+        indenter: ``"cylinder"`` (an elastic half disk of radius R on an elastic block, compared with the exact
+            circle's half-plane theory at the combined modulus) or ``"patch"`` (two stacked blocks pressed by a
+            uniform displacement: the contact patch test, exact answer a uniform pressure P / W).
+        radius: R (mm), cylinder.
+        width_factor, height_factor: the block's W and H over the Hertz half-width (cylinder, >= 10).
+        width, height_lower, height_upper: the blocks of the patch test (mm).
+        upper_E, upper_nu: the upper body's Young's modulus (MPa) and Poisson's ratio.
+        pairing: ``"mortar"`` (segment-to-segment) or ``"node_to_segment"``.
+        size_ratio: the upper body's element size over the lower body's on the contact surface (non-matching
+            meshes: not 1).
+    """
+
+    radius: float | None = None
+    width_factor: float = 40.0
+    height_factor: float = 40.0
+    width: float | None = None
+    height_lower: float | None = None
+    height_upper: float | None = None
+    upper_E: float | None = None
+    upper_nu: float | None = None
+    pairing: str = "mortar"
+    size_ratio: float = 0.77
+
+
+_COMMON = frozenset({"upper_E", "upper_nu", "pairing", "size_ratio"})
+
+
+def _check_geometry(run: Run, where: str) -> None:
+    g, sol = run.geometry, run.solver
+    needs = ("radius",) if g.indenter == "cylinder" else ("width", "height_lower", "height_upper")
+    for key in needs + ("upper_E", "upper_nu"):
+        if getattr(g, key) is None:
+            raise CaseError(f"{where}: geometry.{key} is required for a two-body {g.indenter} scene")
+    if sol.kinematics != "small":
+        raise CaseError(f"{where}: solver.kinematics = {sol.kinematics!r} is not available for two elastic bodies "
+                        "yet; allowed: 'small'")
+    if sol.method not in TWO_BODY_METHODS:
+        raise CaseError(f"{where}: solver.method = {sol.method!r} is not available for two elastic bodies "
+                        f"(nitsche needs the slave traction); allowed: {', '.join(map(repr, TWO_BODY_METHODS))}")
+    if run.material.model != "linear":
+        raise CaseError(f"{where}: material.model = {run.material.model!r} needs finite kinematics, which two "
+                        "elastic bodies do not support yet; allowed: 'linear'")
+
+
+def _check_load(run: Run, where: str) -> None:
+    g, ld = run.geometry, run.loading
+    if g.indenter == "patch" and ld.control != "displacement":
+        raise CaseError(f"{where}: loading.control must be 'displacement' (with d) for the patch test, "
+                        f"got {ld.control!r}")
+    if g.indenter == "cylinder" and ld.control != "force":
+        raise CaseError(f"{where}: loading.control must be 'force' (with P or half_width) for the elastic "
+                        f"cylinder, got {ld.control!r}")
+
+
+TWO_BODY_SCHEMA = SceneSchema(
+    name="two_body",
+    geometry=TwoBodyGeometry,
+    indenters={"cylinder": frozenset({"radius", "width_factor", "height_factor"}) | _COMMON,
+               "patch": frozenset({"width", "height_lower", "height_upper"}) | _COMMON},
+    predictions={"cylinder": ("exact_circle",), "patch": ("uniform",)},
+    controls=("force", "displacement"),
+    choices={"pairing": PAIRINGS},
+    ranges={"upper_E": (0.0, 1e15, False, True, "0 < upper_E <= 1e15 (MPa)"),
+            "upper_nu": (-1.0, 0.5, False, False, "-1 < upper_nu < 0.5"),
+            "size_ratio": (0.2, 5.0, False, False, "0.2 < size_ratio < 5, not 1"),
+            "radius": (0.0, 1e8, False, True, "0 < radius <= 1e8 (mm)"),
+            "width": (0.0, 1e8, False, True, "0 < width <= 1e8 (mm)"),
+            "height_lower": (0.0, 1e8, False, True, "0 < height_lower <= 1e8 (mm)"),
+            "height_upper": (0.0, 1e8, False, True, "0 < height_upper <= 1e8 (mm)"),
+            "width_factor": (10.0, 1e6, True, True, "10 <= width_factor <= 1e6"),
+            "height_factor": (10.0, 1e6, True, True, "10 <= height_factor <= 1e6")},
+    tolerances={
+        "load_balance": "|P - P_pressure| / P",
+        "p_max": "peak pressure against the exact circle at the measured load (relative)",
+        "half_width_moment": "moment half-width sqrt(M2/M0) against the exact circle's (relative)",
+        "rms": "RMS(p - p_exact_circle) / p0 over the contact",
+        "patch_uniformity": "max |p / (P/W) - 1| over the contact nodes (mortar run)",
+        "newton_iterations": "largest number of Newton iterations of a load step (absolute)",
+    },
+    budget_widths="the two-body scene has no error budget yet",
+    check_geometry=_check_geometry,
+    check_load=_check_load,
+)
