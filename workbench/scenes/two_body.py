@@ -12,7 +12,7 @@ meshed contact partner (:class:`fem.two_body.problem.MeshedPartner`) -> the solv
   and the measured load (frictionless, small strain: the normal problem does not depend on Dundurs' beta). The
   half disk is a finite body and the block is clamped at W x H: both are idealisations of the half-plane theory,
   of the order of (a/R)^2 and (a/W)^2.
-* ``indenter = "patch"``: the contact patch test (Taylor and Papadopoulos 1991). Two blocks of width W on rollers
+* ``indenter = "stacked"``: the contact patch test (Taylor and Papadopoulos 1991). Two blocks of width W on rollers
   (bottom ``roller_y``, the x = 0 edges ``roller_x``) pressed by a uniform displacement of the upper block's top
   (displacement control): the exact solution is a uniform stress, so the contact pressure is P / W at every
   contact node. Mortar carries it to round-off on non-matching meshes; node-to-segment does not.
@@ -87,9 +87,10 @@ class TwoBodyScene:
         from meshes.sizing import graded_triangles
 
         g, disc = run.geometry, run.discretisation
-        if g.indenter == "patch":
-            h = disc.h_contact * g.width
-            return (g.width * g.height_lower / h**2 + g.width * g.height_upper / (g.size_ratio * h) ** 2) * 4 / 3**0.5
+        if g.indenter == "stacked":
+            h = disc.h_contact * g.block_width
+            areas = g.block_width * g.height_lower / h**2 + g.block_width * g.height_upper / (g.size_ratio * h) ** 2
+            return areas * 4 / 3**0.5
         _, a0 = _estimate(run)
         W, H, h0 = g.width_factor * a0, g.height_factor * a0, 0.9 * disc.h_contact * a0
         block = graded_triangles(L=3 * a0, h0=h0, h_far=W / 10, growth=disc.growth, area=W * H, c=math.pi)
@@ -111,12 +112,12 @@ class TwoBodyScene:
             estimate = {"P": P, "half_width": a0}
             summary = f"a0 = {a0:.4g} mm, P target = {P:.6g} N/mm"
         else:
-            h = disc.h_contact * g.width
-            files = build_stacked_blocks(width=g.width, height_lower=g.height_lower, height_upper=g.height_upper,
+            h = disc.h_contact * g.block_width
+            files = build_stacked_blocks(width=g.block_width, height_lower=g.height_lower, height_upper=g.height_upper,
                                          h_lower=h, h_upper=g.size_ratio * h, out_dir=mesh_cache, name=stem,
                                          stats_dir=stats_dir, comm=comm)
-            estimate = {"P": math.nan, "half_width": g.width}
-            summary = f"W = {g.width:.4g} mm, h_lower = {h:.4g} mm, h_upper = {g.size_ratio * h:.4g} mm"
+            estimate = {"P": math.nan, "half_width": g.block_width}
+            summary = f"W = {g.block_width:.4g} mm, h_lower = {h:.4g} mm, h_upper = {g.size_ratio * h:.4g} mm"
         cells = files.stats.get("cells", "?")
         return SceneMesh(files, estimate, f"mesh {cells} cells ({'cached' if files.cached else 'built'}), {summary}")
 
@@ -144,7 +145,7 @@ class TwoBodyScene:
             "h_contact": run.discretisation.h_contact, "ndofs": result.ndofs, "wall_time_s": result.wall_time_s,
             "newton_iterations": list(result.newton_iterations), "load_steps": result.load_steps, "d": result.d,
             "P": result.P, "P_pressure": result.P_pressure, "patches": [pt._asdict() for pt in result.patches],
-            "warnings": [w for w in result.warnings if g.indenter != "patch" or not w.startswith(_WHOLE_SURFACE)],
+            "warnings": [w for w in result.warnings if g.indenter != "stacked" or not w.startswith(_WHOLE_SURFACE)],
             "mesh": mesh.files.stats,
         }
         errors = {"load_balance": abs(result.P - result.P_pressure) / abs(result.P),
@@ -175,13 +176,13 @@ class TwoBodyScene:
             lim = 1.6 * th.half_width
             theory = th
         else:
-            p_exact = result.P / g.width
+            p_exact = result.P / g.block_width
             dev = float(np.max(np.abs(smp.p / p_exact - 1.0))) if smp.p.size else math.nan
             errors[("patch_uniformity" if g.pairing == "mortar" else f"patch_uniformity_{g.pairing}")] = dev
             metrics |= {"p_max": float(np.max(smp.p)) if smp.p.size else math.nan, "p_uniform": p_exact,
                         "analytic": {"kind": "uniform", "P": result.P, "p": p_exact}}
             predictions = {"uniform P / W": np.full(smp.s.size, p_exact)}
-            lim = 1.05 * g.width
+            lim = 1.05 * g.block_width
             theory = None
         metrics["errors"] = errors
         series = Series(run.label, smp.s, smp.p, smp.sigma_nn, predictions, "x (mm, material)",
@@ -192,7 +193,7 @@ class TwoBodyScene:
         """The patch test names mortar's uniformity and node-to-segment's error beside it; the cylinder names
         the idealisations."""
         by_pairing = {o.run.geometry.pairing: o for o in outcomes}
-        if outcomes and outcomes[0].run.geometry.indenter == "patch":
+        if outcomes and outcomes[0].run.geometry.indenter == "stacked":
             mortar = by_pairing.get("mortar")
             nts = by_pairing.get("node_to_segment")
             parts = []

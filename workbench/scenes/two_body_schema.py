@@ -23,11 +23,11 @@ class TwoBodyGeometry(Geometry):
 
     Attributes:
         indenter: ``"cylinder"`` (an elastic half disk of radius R on an elastic block, compared with the exact
-            circle's half-plane theory at the combined modulus) or ``"patch"`` (two stacked blocks pressed by a
+            circle's half-plane theory at the combined modulus) or ``"stacked"`` (two stacked blocks pressed by a
             uniform displacement: the contact patch test, exact answer a uniform pressure P / W).
         radius: R (mm), cylinder.
         width_factor, height_factor: the block's W and H over the Hertz half-width (cylinder, >= 10).
-        width, height_lower, height_upper: the blocks of the patch test (mm).
+        block_width, height_lower, height_upper: the blocks of the patch test (mm).
         upper_E, upper_nu: the upper body's Young's modulus (MPa) and Poisson's ratio.
         pairing: ``"mortar"`` (segment-to-segment) or ``"node_to_segment"``.
         size_ratio: the upper body's element size over the lower body's on the contact surface (non-matching
@@ -37,7 +37,7 @@ class TwoBodyGeometry(Geometry):
     radius: float | None = None
     width_factor: float = 40.0
     height_factor: float = 40.0
-    width: float | None = None
+    block_width: float | None = None
     height_lower: float | None = None
     height_upper: float | None = None
     upper_E: float | None = None
@@ -51,7 +51,7 @@ _COMMON = frozenset({"upper_E", "upper_nu", "pairing", "size_ratio"})
 
 def _check_geometry(run: Run, where: str) -> None:
     g, sol = run.geometry, run.solver
-    needs = ("radius",) if g.indenter == "cylinder" else ("width", "height_lower", "height_upper")
+    needs = ("radius",) if g.indenter == "cylinder" else ("block_width", "height_lower", "height_upper")
     for key in needs + ("upper_E", "upper_nu"):
         if getattr(g, key) is None:
             raise CaseError(f"{where}: geometry.{key} is required for a two-body {g.indenter} scene")
@@ -68,7 +68,7 @@ def _check_geometry(run: Run, where: str) -> None:
 
 def _check_load(run: Run, where: str) -> None:
     g, ld = run.geometry, run.loading
-    if g.indenter == "patch" and ld.control != "displacement":
+    if g.indenter == "stacked" and ld.control != "displacement":
         raise CaseError(f"{where}: loading.control must be 'displacement' (with d) for the patch test, "
                         f"got {ld.control!r}")
     if g.indenter == "cylinder" and ld.control != "force":
@@ -80,15 +80,15 @@ TWO_BODY_SCHEMA = SceneSchema(
     name="two_body",
     geometry=TwoBodyGeometry,
     indenters={"cylinder": frozenset({"radius", "width_factor", "height_factor"}) | _COMMON,
-               "patch": frozenset({"width", "height_lower", "height_upper"}) | _COMMON},
-    predictions={"cylinder": ("exact_circle",), "patch": ("uniform",)},
+               "stacked": frozenset({"block_width", "height_lower", "height_upper"}) | _COMMON},
+    predictions={"cylinder": ("exact_circle",), "stacked": ("uniform",)},
     controls=("force", "displacement"),
     choices={"pairing": PAIRINGS},
     ranges={"upper_E": (0.0, 1e15, False, True, "0 < upper_E <= 1e15 (MPa)"),
             "upper_nu": (-1.0, 0.5, False, False, "-1 < upper_nu < 0.5"),
             "size_ratio": (0.2, 5.0, False, False, "0.2 < size_ratio < 5, not 1"),
             "radius": (0.0, 1e8, False, True, "0 < radius <= 1e8 (mm)"),
-            "width": (0.0, 1e8, False, True, "0 < width <= 1e8 (mm)"),
+            "block_width": (0.0, 1e8, False, True, "0 < block_width <= 1e8 (mm)"),
             "height_lower": (0.0, 1e8, False, True, "0 < height_lower <= 1e8 (mm)"),
             "height_upper": (0.0, 1e8, False, True, "0 < height_upper <= 1e8 (mm)"),
             "width_factor": (10.0, 1e6, True, True, "10 <= width_factor <= 1e6"),
