@@ -55,7 +55,7 @@ from fem.elasticity import Lame
 from fem.linear_solver import configure as configure_linear_solver
 from fem.linear_solver import snes_options
 from fem.options import ContactOptions
-from fem.postprocess import SurfaceSamples, contact_edges, oscillation_warnings, resolution_warnings
+from fem.postprocess import LOCKING_NU, SurfaceSamples, contact_edges, oscillation_warnings, resolution_warnings
 from fem.two_body.geometry import exact_master_gaps, mortar_points, node_points
 from fem.two_body.laws import law_for
 from fem.two_body.surfaces import cell_data, surface_of_group
@@ -390,7 +390,13 @@ class TwoBodyProblem:
         opts = self.options
         out = resolution_warnings(smp, quadrature_degree=opts.degree, half=opts.symmetric_half,
                                   min_facets_across=opts.min_facets_across, points_per_facet=opts.degree)
-        return out + oscillation_warnings(smp)
+        out += oscillation_warnings(smp)
+        for b in self.setup.bodies:
+            if b.nu >= LOCKING_NU:
+                out.append(f"near-incompressible: body {b.name!r} has nu = {b.nu:g} >= {LOCKING_NU} with the "
+                           "displacement formulation (volumetric locking; the mixed formulation is not available "
+                           "for two bodies)")
+        return out
 
     # -- solves ---------------------------------------------------------------------------------------------
     @contextmanager
