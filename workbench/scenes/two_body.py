@@ -214,5 +214,7 @@ class TwoBodyScene:
         return CaseComparison({}, {}, headline, {})
 
     def error_budget(self, case: Case, *, solve, progress):
-        """None: the two-body cases carry no ``budget_levels`` yet (no grid study of their own)."""
-        return None
+        """Three grids, three block sizes and the solver tolerance (:mod:`workbench.scenes.two_body_budget`)."""
+        from workbench.scenes.two_body_budget import two_body_error_budget
+
+        return two_body_error_budget(case, solve=solve, progress=progress)

@@ -1,0 +1,121 @@
+"""Error budget of the elastic cylinder on an elastic block: three grids, three block sizes, the solver tolerance.
+
+For every run of the case the scene is solved again:
+
+* on the three ``[discretisation] budget_levels`` (h_c / a) with the largest block ``W_max = max(budget_widths)``
+  (W/a, width = height), the grading refined with the levels (``growth - 1`` proportional to h_c, as the block
+  budget); the values go through :func:`workbench.error_budget.grid_study` in h;
+* on the finest level with the three block sizes: the same study in 1/W. The block is clamped at its bottom and
+  free at its sides (the two-body scene has no half-plane far field), so the truncation is larger than the rigid
+  block budget's. Where that study is asymptotic the value is corrected by ``f(inf) - f(W_max)`` and
+  ``truncation`` is its GCI, otherwise no correction and ``truncation`` is the spread of the three values;
+* the finest level on W_max again at the solver tolerances / 100 (``iterative``).
+
+Rows (dimensionless, FEM over the exact circle's half-plane theory at the run's measured load and combined
+modulus): ``p_max`` (largest nodal pressure) and ``half_width_moment`` (sqrt(M2/M0)). Theory 1; ``alt_theory`` is
+Hertz's parabola at the same load (its p0 and a/2 over the exact circle's). The half disk's own size is not
+varied: its departure from a half-plane (order (a/R)^2) stays in the extrapolated value, and the row's
+``theory_in_band`` says whether the theory holds to within the band anyway.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from analytic.hertz import hertz
+from cases.schema import Case, Run
+from workbench.error_budget import (
+    ROUNDOFF_FLOOR,
+    grid_study,
+    iterative_error,
+    tight_resolve,
+    uncertainty,
+)
+from workbench.scenes.base import SceneBudget
+
+__all__ = ["two_body_error_budget", "QUANTITIES"]
+
+QUANTITIES = ("p_max", "half_width_moment")
+_TITLE = "Error budget (three grids, three block sizes; the half disk as it is)"
+
+
+def _with(run: Run, *, h: float, W: float, h_coarse: float) -> Run:
+    growth = 1.0 + (run.discretisation.growth - 1.0) * h / h_coarse
+    disc = dataclasses.replace(run.discretisation, h_contact=h, growth=growth)
+    geo = dataclasses.replace(run.geometry, width_factor=W, height_factor=W)
+    return dataclasses.replace(run, discretisation=disc, geometry=geo)
+
+
+def _ratios(outcome) -> dict[str, float]:
+    """FEM over the exact circle at the measured load, and Hertz over the exact circle (the alternative)."""
+    an = outcome.metrics["analytic"]
+    hz = hertz(an["P"], an["R"], an["E_star"])
+    return {"p_max": 1.0 + an["signed"]["p_max"], "half_width_moment": 1.0 + an["signed"]["half_width_moment"],
+            "alt p_max": hz.p0 / an["p0"], "alt half_width_moment": 0.5 * hz.half_width / an["half_width_moment"]}
+
+
+def two_body_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
+    """The budget of a two-body cylinder case (empty without ``budget_levels``; module docstring)."""
+    disc = case.discretisation
+    levels, widths = sorted(disc.budget_levels), sorted(disc.budget_widths)
+    if not levels or not widths:
+        return SceneBudget({}, title=_TITLE)
+    W_max, h_fine = widths[-1], levels[0]
+    rows: dict[str, dict] = {}
+    runs = case.runs()
+    for run in runs:
+        by_h, by_W = [], {}
+        fine = None
+        for h in levels:
+            r = _with(run, h=h, W=W_max, h_coarse=levels[-1])
+            o = solve(r)
+            progress(f"[budget {run.label}] h_c = {h:g} a, W = {W_max:g} a: {o.metrics['ndofs']} dofs")
+            by_h.append(_ratios(o))
+            fine = fine or (r, o)
+        by_W[W_max] = by_h[0]
+        for W in widths[:-1]:
+            o = solve(_with(run, h=h_fine, W=W, h_coarse=levels[-1]))
+            progress(f"[budget {run.label}] h_c = {h_fine:g} a, W = {W:g} a: {o.metrics['ndofs']} dofs")
+            by_W[W] = _ratios(o)
+        o_t, how = tight_resolve(solve, fine[0], fine[1], progress=progress)
+        tight = None if o_t is None else _ratios(o_t)
+        suffix = "" if len(runs) == 1 else f"[{run.label}]"
+        for q in QUANTITIES:
+            rows[q + suffix] = _row(q, levels, widths, by_h, by_W, tight, tight_note="" if o_t else str(how))
+    return SceneBudget(rows, title=_TITLE)
+
+
+def _row(q: str, levels, widths, by_h, by_W, tight, *, tight_note: str) -> dict:
+    values = [v[q] for v in by_h]
+    fine = values[0]
+    iterative = iterative_error(fine, None if tight is None else tight[q])
+    floor = ((iterative or 0.0) + ROUNDOFF_FLOOR) * abs(fine)
+    g = grid_study(tuple(levels), tuple(values), reference=1.0, floor=floor, formal_order=2.0)
+    w_vals = [by_W[W][q] for W in widths]
+    gw = grid_study(tuple(1.0 / W for W in widths), tuple(w_vals), floor=floor)
+    if gw.status == "asymptotic":
+        correction, truncation, t_status = gw.extrapolated - by_W[widths[-1]][q], gw.gci, "extrapolated in 1/W"
+    else:
+        correction = 0.0
+        truncation = (max(w_vals) - min(w_vals)) / abs(fine)
+        t_status = f"spread ({gw.status})"
+    x = g.extrapolated + correction
+    total = uncertainty(g.gci, truncation, iterative, ROUNDOFF_FLOOR)
+    band = total * abs(fine)
+    alt = by_h[0][f"alt {q}"]
+    def num(v):
+        return None if math.isnan(v) else v
+
+    row = {"fine": fine, "extrapolated": x, "observed_order": num(g.observed_order),
+           "band_order": num(g.band_order), "gci": g.gci, "status": g.status,
+           "truncation": truncation, "truncation_status": t_status, "truncation_correction": correction / abs(fine),
+           "iterative": iterative, "roundoff": ROUNDOFF_FLOOR, "uncertainty": total, "theory": 1.0,
+           "theory_name": "exact circle (half-plane theory, combined modulus)",
+           "theory_in_band": bool(abs(1.0 - x) <= band), "error_vs_theory": abs(x - 1.0),
+           "alt_theory": "hertz", "alt_value": alt, "alt_in_band": bool(abs(alt - x) <= band),
+           "by_h": {str(h): v for h, v in zip(levels, values, strict=True)},
+           "by_W": {str(W): v for W, v in zip(widths, w_vals, strict=True)}}
+    if iterative is None:
+        row["iterative_status"] = tight_note or "not measured"
+    return row
