@@ -164,6 +164,7 @@ def _init_worker() -> None:
     if "-no_signal_handler" not in opts:  # as the CLI: Python's signal handlers, not PETSc's MPI_Abort
         os.environ["PETSC_OPTIONS"] = (opts + " -no_signal_handler").strip()
     import dolfinx_solver  # noqa: F401  (MPI ordering, before petsc4py/dolfinx)
+
     import petsc4py
     from mpi4py import MPI
 

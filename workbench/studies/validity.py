@@ -41,8 +41,13 @@ from workbench.atomic import write_json
 from workbench.error_budget import grid_study
 from workbench.owned import ensure_dir
 from workbench.studies.config import ValidityConfig, to_json
-from workbench.studies.executor import (ExecutorChoice, add_executor_options, executor_from_args, run_points,
-                                        worker_summary)
+from workbench.studies.executor import (
+    ExecutorChoice,
+    add_executor_options,
+    executor_from_args,
+    run_points,
+    worker_summary,
+)
 
 __all__ = ["Point", "Task", "assemble", "claim_points", "finite_settings", "main", "point_theories", "run_study",
            "run_validity_point", "solve_task", "tasks"]
