@@ -235,7 +235,7 @@ def _pool(choice: ExecutorChoice):
 
 
 def run_points(fn: Callable, points: Sequence, *, executor: ExecutorChoice, chunksize: int = 1,
-               progress: Callable[[int, int], None] | None = None) -> list:
+               progress: Callable[[int, int, object], None] | None = None) -> list:
     """Run ``fn(point)`` for every point on ``executor``; the results in the points' order.
 
     Args:
@@ -244,7 +244,7 @@ def run_points(fn: Callable, points: Sequence, *, executor: ExecutorChoice, chun
         points: Picklable points.
         executor: Where they run.
         chunksize: Points sent to a worker at a time.
-        progress: Called with (done, total) after each point.
+        progress: Called with (done, total, the point's result) after each point, in the points' order.
     """
     os.environ.setdefault("OMP_NUM_THREADS", "1")  # inherited by the local pool (mpiexec: set it in the job)
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
@@ -254,14 +254,14 @@ def run_points(fn: Callable, points: Sequence, *, executor: ExecutorChoice, chun
         for i, r in enumerate(results, 1):
             out.append(r)
             if progress:
-                progress(i, total)
+                progress(i, total, r)
         return out
     with _pool(executor) as pool:
         for i, r in enumerate(pool.map(run_point, [fn] * total, points, [executor.kind] * total,
                                        chunksize=max(1, chunksize)), 1):
             out.append(r)
             if progress:
-                progress(i, total)
+                progress(i, total, r)
     return out
 
 

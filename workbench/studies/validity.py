@@ -48,6 +48,7 @@ from workbench.studies.executor import (
     run_points,
     worker_summary,
 )
+from workbench.studies.scene_point import scene_compare, scene_obstacle
 
 __all__ = ["Point", "Task", "assemble", "claim_points", "finite_settings", "main", "point_theories", "run_study",
            "run_validity_point", "solve_task", "tasks"]
@@ -220,7 +221,6 @@ def _solve_task(task: Task, mesh_cache: str) -> dict:
     from meshes.block import build_block_mesh
     from workbench.mesh_io import read_mesh
     from workbench.scenes.base import LoadPath
-    from workbench.scenes.block import compare_result, obstacle_for
     from workbench.scenes.block_theory import block_theory
     from workbench.scenes.budget_theory import moment_half_width
     from workbench.scenes.wiring import solve_run
@@ -234,15 +234,17 @@ def _solve_task(task: Task, mesh_cache: str) -> dict:
         files = build_block_mesh(width=W, height=W, contact_half_width=1.0, h_contact=1.0 / task.h_ratio,
                                  growth=task.growth, half_model=True, apex_refinement=task.scene == "wedge",
                                  out_dir=Path(mesh_cache), name=task.mesh_name, stats_dir=None, comm=comm)
-        _MESHES[task.mesh_name] = (read_mesh(files.msh, comm), files.stats.get("cells"))
-    mesh_data, cells = _MESHES[task.mesh_name]
+        _MESHES[task.mesh_name] = (read_mesh(files.msh, comm), files)
+    mesh_data, files = _MESHES[task.mesh_name]
+    cells = files.stats.get("cells")
     load = LoadPath("force", th0.P, task.n_steps, symmetric_half=True)
     # finite strain: FINITE_* (above); a run that cannot converge fails in seconds, with its SNES reason
     extra = ({"material_model": task.material_model, "max_cutbacks": FINITE_CUTBACKS, "max_it": FINITE_MAX_IT}
              if task.kinematics == "finite" else {})
     t0 = time.perf_counter()
     try:
-        res = solve_run(run, mesh_data, obstacle_for(run, th0), load, case=f"validity {task.model}", **extra)
+        res = solve_run(run, mesh_data, scene_obstacle(run, files=files, estimate=th0), load,
+                        case=f"validity {task.model}", **extra)
     except ContactSolveError as exc:
         return rec | {"error": f"diverged: {' '.join(str(exc).split())[:300]}", "time_s": time.perf_counter() - t0}
     except (ValueError, TypeError) as exc:
@@ -250,7 +252,7 @@ def _solve_task(task: Task, mesh_cache: str) -> dict:
     except Exception as exc:  # noqa: BLE001  (e.g. a PETSc error: recorded by name, never pickled back)
         return rec | {"error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}",
                       "time_s": time.perf_counter() - t0}
-    cmp = compare_result(res, run)
+    cmp = scene_compare(run, res, files=files, estimate=th0)
     th = cmp.theory
     s = res.samples
     moment = 2.0 * moment_half_width(s.s, s.p, s.weight, center=0.0)
@@ -296,7 +298,7 @@ def run_study(cfg: ValidityConfig, *, executor: ExecutorChoice | None = None,
     progress(f"validity: {len(meshes)} meshes in {timing['meshes_s']:.0f} s; {len(todo)} runs on "
              f"{executor.workers} {executor.kind} worker(s)")
 
-    def said(i, n):
+    def said(i, n, _rec):
         if i % 50 == 0 or i == n:
             progress(f"validity: {i}/{n} runs, {time.perf_counter() - t0:.0f} s")
 
