@@ -362,6 +362,7 @@ def run_study(cfg: ConvergenceConfig | None = None, *, executor: ExecutorChoice 
     configuration is one point (:func:`points`); ``section_wall_time_s`` sums its points' wall times.
     """
     from cases import load_case
+    from workbench.studies.reference import measure_reference
 
     cfg = ConvergenceConfig() if cfg is None else cfg
     executor = ExecutorChoice() if executor is None else executor
@@ -403,6 +404,7 @@ def run_study(cfg: ConvergenceConfig | None = None, *, executor: ExecutorChoice 
         "extension_setting": cfg.extension,
         "section_wall_time_s": section_s, "study_wall_time_s": time.perf_counter() - t0,
         "executor": executor.kind, "workers": executor.workers, "where": worker_summary(done),
+        "reference": measure_reference(executor=executor, mesh_cache=cfg.cache_dir),
     }
 
 

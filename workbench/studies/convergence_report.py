@@ -455,7 +455,7 @@ def to_markdown(data: dict) -> str:
             for r in data.get(key, [])]
     lines += where_section(wall_time_s=data.get("study_wall_time_s"), records=rows,
                            label=lambda r: f"{r['case']} [{r['series']}] {r['method']} P{r['degree']} "
-                                           f"h_c={r['h_contact']:g}")
+                                           f"h_c={r['h_contact']:g}", reference=data.get("reference"))
     return "\n".join(lines).rstrip() + "\n"
 
 

@@ -662,7 +662,7 @@ def report_markdown(summary: dict, records: list[dict]) -> str:
                     lines.append(f"- {r['label']}: {msg}")
             lines.append("")
     lines += where_section(wall_time_s=summary.get("wall_time_s"), records=records,
-                           label=lambda r: f"{r['study']}: {r['label']}")
+                           label=lambda r: f"{r['study']}: {r['label']}", reference=summary.get("reference"))
     return "\n".join(lines) + "\n"
 
 
@@ -684,13 +684,17 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     records = run_sweep(cfg, executor=executor)
     where = worker_summary(records)
+    wall = time.perf_counter() - t0
+    from workbench.studies.reference import measure_reference
+
+    reference = measure_reference(executor=executor, mesh_cache=cfg.cache_dir)
     summary = {
         "runs": len(records),
         "ok": sum(r["status"] == "ok" for r in records),
         "named": sum(r["status"].startswith("named") for r in records),
         "silent": sum(r["status"] == "SILENT" for r in records),
         "failed": sum(r["status"].startswith("FAILED") for r in records),
-        "wall_time_s": time.perf_counter() - t0,
+        "wall_time_s": wall, "reference": reference,
         "executor": executor.kind, "workers": executor.workers, "jit_retries": where["jit_retries"],
         "jit_compiles_on_workers": where["jit_compiles"], "where": where,
         "band": cfg.band,

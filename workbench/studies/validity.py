@@ -586,11 +586,14 @@ def main(argv: list[str] | None = None) -> int:
     points, dropped = assemble(cfg, records, skipped)
     claim = claim_points(cfg, records)
     wall = time.perf_counter() - t0
+    from workbench.studies.reference import measure_reference
+
+    reference = measure_reference(executor=executor, mesh_cache=cfg.cache_dir)
     summary = {"runs": len(records), "converged": sum(r["converged"] for r in records),
                "failed": sum(not r["converged"] for r in records), "points": len(points), "dropped": len(dropped),
                "wall_time_s": wall, "executor": executor.kind, "workers": executor.workers,
                "cpu_count": os.cpu_count(), "jit_retries": timing["where"]["jit_retries"],
-               "jit_compiles_on_workers": timing["where"]["jit_compiles"], **timing}
+               "jit_compiles_on_workers": timing["where"]["jit_compiles"], "reference": reference, **timing}
     out = cfg.out_dir
     write_json(out / "validity.json", {"config": to_json(cfg), "summary": summary, "points": points,
                                        "dropped": dropped, "claim": claim, "runs": records,

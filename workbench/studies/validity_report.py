@@ -155,7 +155,8 @@ def report_markdown(data: dict) -> str:
             md.append(f"| {d['what']} | {d['scene']} | {d['param']:.4g} | {d['nu']:g} | "
                       f"{d.get('model') or d.get('theory', '-')} | {d.get('quantity') or d.get('level', '-')} | "
                       f"{d['reason']} |")
-    md += [""] + where_section(wall_time_s=s.get("wall_time_s"), records=data.get("runs", []), label=_run_label)
+    md += [""] + where_section(wall_time_s=s.get("wall_time_s"), records=data.get("runs", []), label=_run_label,
+                               reference=s.get("reference"))
     return "\n".join(md) + "\n"
 
 

@@ -8,18 +8,29 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 
-__all__ = ["where_section"]
+__all__ = ["reference_text", "where_section"]
 
 
 def _f(v, spec=".1f") -> str:
     return "-" if v is None else format(v, spec)
 
 
+def reference_text(wall_time_s: float | None, reference: dict | None) -> str:
+    """``= N reference solves (...)``: the wall time over the reference solve of the same run
+    (:mod:`workbench.studies.reference`), or empty when there is none."""
+    if not reference or not reference.get("solve_s") or wall_time_s is None:
+        return ""
+    return (f" = {wall_time_s / reference['solve_s']:.0f} reference solves (the reference, {reference['case']} at "
+            f"h_c = {reference['h_contact']:g}, {reference['ndofs']} dofs, warm: {reference['solve_s']:.3f} s, "
+            "measured in the same run: on a loaded machine compare this ratio, not the seconds)")
+
+
 def where_section(*, wall_time_s: float | None, records: Iterable[dict], label: Callable[[dict], str],
-                  title: str = "Time, and where the points ran") -> list[str]:
-    """Markdown lines: the study's wall time, the executor, one row per worker (host, MPI rank, pid, points,
-    their wall time, forms compiled there), the JIT retries, then one row per point (``label(record)``: host,
-    rank, wall time). Records without ``worker`` (run before the executor existed) are listed as ``-``."""
+                  reference: dict | None = None, title: str = "Time, and where the points ran") -> list[str]:
+    """Markdown lines: the study's wall time (and its ratio to the ``reference`` solve), the executor, one row per
+    worker (host, MPI rank, pid, points, their wall time, forms compiled there), the JIT retries, then one row per
+    point (``label(record)``: host, rank, wall time). Records without ``worker`` (run before the executor
+    existed) are listed as ``-``."""
     records = list(records)
     workers: dict = {}
     retries = compiles = 0
@@ -36,7 +47,8 @@ def where_section(*, wall_time_s: float | None, records: Iterable[dict], label: 
         retries += w["jit_retries"]
         compiles += w["jit_compiles"]
     md = [f"## {title}", "",
-          f"Wall time of the study: {_f(wall_time_s)} s. Executor: {executor or 'not recorded'}; "
+          f"Wall time of the study: {_f(wall_time_s)} s{reference_text(wall_time_s, reference)}. "
+          f"Executor: {executor or 'not recorded'}; "
           f"{len(workers)} worker process(es); JIT retries: {retries} (each worker compiles into its own FFCx "
           f"cache, so no compile waits for another: 0 expected); forms compiled on the workers: {compiles}.", ""]
     if not workers:
