@@ -42,7 +42,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 __all__ = ["EXECUTORS", "JIT_RETRIES", "ExecutorChoice", "add_executor_options", "claim_jit_slot",
-           "executor_from_args", "jit_cache_root", "mpi_pool_size", "run_points", "worker_summary"]
+           "executor_from_args", "jit_cache_root", "mpi_pool_size", "petsc_on_self", "run_point", "run_points",
+           "worker_summary"]
 
 EXECUTORS = ("local", "mpi")
 JIT_RETRIES = 2  # a point that still reports a JIT time-out after these retries keeps its error
@@ -96,6 +97,7 @@ def executor_from_args(args) -> ExecutorChoice:
     Raises:
         ValueError: one line naming the option and what is allowed (the study exits 2, nothing written).
     """
+    local = ExecutorChoice("local", args.workers)  # --workers is checked whichever executor runs
     pool = mpi_pool_size()
     kind = args.executor or ("mpi" if pool is not None and pool > 0 and _world_size() > 1 else "local")
     if kind == "mpi":
@@ -103,8 +105,9 @@ def executor_from_args(args) -> ExecutorChoice:
             raise ValueError("--executor mpi needs the MPI ranks of `mpiexec -n N python -m mpi4py.futures -m "
                              "workbench ...` (N >= 2: 1 master + N-1 workers); allowed without it: --executor "
                              "local (dynamic process spawn is not used)")
+        petsc_on_self()  # the master too: a later import of dolfinx here must not wait for the busy workers
         return ExecutorChoice("mpi", pool)
-    return ExecutorChoice("local", args.workers)
+    return local
 
 
 def _world_size() -> int:
@@ -156,10 +159,12 @@ def claim_jit_slot(root: Path | None = None, *, limit: int = 4096) -> Path:
     raise RuntimeError(f"no free JIT slot among {limit} in {root}")
 
 
-def _init_worker() -> None:
-    """Once per worker process: PETSc on COMM_SELF, the JIT slot, the compile counter."""
-    if _STATE.get("ready"):
-        return
+def petsc_on_self() -> None:
+    """Make ``MPI.COMM_SELF`` PETSc's world in this process, before PETSc is first imported (after: nothing to do).
+
+    In an ``mpi4py.futures`` pool ``MPI_COMM_WORLD`` holds the master and every worker; PETSc's initialisation on
+    it is collective, so a process importing dolfinx alone waits for ever (measured: mpiexec -n 3, the first
+    task never returned)."""
     opts = os.environ.get("PETSC_OPTIONS", "")
     if "-no_signal_handler" not in opts:  # as the CLI: Python's signal handlers, not PETSc's MPI_Abort
         os.environ["PETSC_OPTIONS"] = (opts + " -no_signal_handler").strip()
@@ -168,8 +173,17 @@ def _init_worker() -> None:
     import petsc4py
     from mpi4py import MPI
 
-    if "petsc4py.PETSc" not in sys.modules:  # PETSC_COMM_WORLD = COMM_SELF: no collective with the master
+    if "petsc4py.PETSc" not in sys.modules:
         petsc4py.init(sys.argv[:1], comm=MPI.COMM_SELF)
+
+
+def _init_worker() -> None:
+    """Once per worker process: PETSc on COMM_SELF, the JIT slot, the compile counter."""
+    if _STATE.get("ready"):
+        return
+    petsc_on_self()
+    from mpi4py import MPI
+
     claim_jit_slot()
     _count_compiles()
     _STATE.update(ready=True, rank=MPI.COMM_WORLD.Get_rank(), host=MPI.Get_processor_name())

@@ -39,7 +39,9 @@ def reference_solve(mesh_cache: str) -> dict:
 
 
 def measure_reference(*, executor, mesh_cache) -> dict:
-    """The reference solve on ``executor`` (one point), with where it ran."""
-    from workbench.studies.executor import run_points
+    """The reference solve, with where it ran: on an MPI executor one point on a worker rank (where the study's
+    points ran), on a local one in this process (no pool started for one point)."""
+    from workbench.studies.executor import ExecutorChoice, run_points
 
-    return run_points(reference_solve, [str(mesh_cache)], executor=executor)[0]
+    where = executor if executor.kind == "mpi" else ExecutorChoice("local", 1)
+    return run_points(reference_solve, [str(mesh_cache)], executor=where)[0]
