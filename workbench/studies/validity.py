@@ -584,8 +584,9 @@ def main(argv: list[str] | None = None) -> int:
     import resource
 
     records, skipped, timing = run_study(cfg, executor=executor)
-    timing["cpu_s_workers"] = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime + \
-        resource.getrusage(resource.RUSAGE_CHILDREN).ru_stime
+    if executor.kind == "local":  # MPI workers are no children of this process: their time is in "where"
+        timing["cpu_s_workers"] = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime + \
+            resource.getrusage(resource.RUSAGE_CHILDREN).ru_stime
     points, dropped = assemble(cfg, records, skipped)
     claim = claim_points(cfg, records)
     wall = time.perf_counter() - t0

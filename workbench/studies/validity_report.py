@@ -85,9 +85,9 @@ def report_markdown(data: dict) -> str:
     s, cfg, points = data["summary"], data["config"], data["points"]
     md = ["# Validity of the half-plane theories", "",
           f"{s['runs']} FEM runs ({s['failed']} failed), {s['points']} points, wall time {s['wall_time_s']:.0f} s "
-          f"on {s['workers']} {s.get('executor', 'local')} worker(s) ({s.get('cpu_count')} cores seen; CPU time of "
-          "the workers "
-          f"{s.get('cpu_s_workers', float('nan')):.0f} s: on a shared machine the wall time includes waiting). "
+          f"on {s['workers']} {s.get('executor', 'local')} worker(s) ({s.get('cpu_count')} cores seen here"
+          + (f"; CPU time of the workers {s['cpu_s_workers']:.0f} s: on a shared machine the wall time includes "
+             "waiting" if s.get("cpu_s_workers") is not None else "; the ranks' own times: see the end") + "). "
           "Every value is a ratio to the classical "
           "theory (Hertz or the classical wedge) at the run's measured load.", "",
           "## What each model means", ""]
