@@ -67,7 +67,7 @@ help:
 	@echo "make faults       concurrent runs, SIGINT/SIGTERM during writes, a full disk -> results/faults/report.md"
 	@echo "make mutations    each mutation of tools/mutations.py must make the tests fail (names the catching test)"
 	@echo "make collect-alone  every test file collects alone (pytest FILE and python -m pytest FILE)"
-	@echo "make lint | clean | setup     (NP=N runs cases on N MPI processes)"
+	@echo "make lint | clean | setup     (NP=N runs cases on N MPI processes, and studies on N-1 MPI workers)"
 	@echo "Everything here calls the one command .venv/bin/workbench (see: .venv/bin/workbench --help)"
 
 setup: $(STAMP)
@@ -111,15 +111,18 @@ run: setup
 ci: setup
 	$(WB) ci; $(call explain_exit,ci)
 
+# a study on NP MPI ranks (1 master + NP-1 workers: mpi4py.futures, no spawn) when NP > 1, else locally
+STUDY = $(if $(filter-out 1,$(NP)),$(MPIRUN) $(PY) -m mpi4py.futures -m workbench,$(WB))
+
 convergence: setup
-	$(WB) convergence
+	$(STUDY) convergence
 
 stability: setup
-	$(WB) stability
+	$(STUDY) stability
 
-# two processes (the study's own pool); prints its wall time at the end
+# two processes (the study's own pool), or NP MPI ranks; prints its wall time at the end
 validity: setup
-	$(WB) validity
+	$(STUDY) validity
 
 bench: setup
 	$(WB) bench

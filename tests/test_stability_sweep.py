@@ -111,7 +111,7 @@ def test_snes_reason_names():
 
 def test_resolution_study_has_no_silent_run():
     """The resolution study end to end: every run ok or named; the coarsest ones are the named ones."""
-    recs = run_sweep(StabilityConfig(studies=("resolution",)), comm=COMM, progress=lambda _: None)
+    recs = run_sweep(StabilityConfig(studies=("resolution",)), progress=lambda _: None)
     status = {r["label"]: r["status"] for r in recs}
     assert not [k for k, v in status.items() if v == "SILENT"], status
     assert status["h_c = a/0.5"].startswith("named") and status["h_c = a/8"] == "ok", status

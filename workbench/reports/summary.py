@@ -222,6 +222,9 @@ def summary_markdown(results: Path) -> str:
                 break
         else:
             lines.append(f"- {title}: not run yet (`make {folder if folder != 'analytic' else 'run'}`)")
+    from workbench.reports.study_times import study_times_markdown
+
+    lines += [""] + study_times_markdown(results)
     return "\n".join(lines) + "\n"
 
 

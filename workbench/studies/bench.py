@@ -394,11 +394,11 @@ def time_to_accuracy(cfg: BenchConfig, *, comm, progress) -> dict:
 
 
 def _block_mesh_data(run, cfg: BenchConfig, *, comm):
-    """The cached graded mesh of a block run: :func:`workbench.scenes.block.block_mesh` (as run_one builds it)."""
+    """The cached graded mesh of a block run: its registered scene's mesh (as run_one builds it)."""
     from workbench.mesh_io import read_mesh
-    from workbench.scenes.block import block_mesh
+    from workbench.scenes import scene_for
 
-    files, _ = block_mesh(run, name=f"bench_{cfg.case}", mesh_cache=cfg.cache_dir, comm=comm)
+    files = scene_for(run).mesh(run, name=f"bench_{cfg.case}", mesh_cache=cfg.cache_dir, comm=comm).files
     return read_mesh(files.msh, comm)
 
 
@@ -948,6 +948,10 @@ def run_bench(cfg: BenchConfig | None = None, *, progress: Callable[[str], None]
         out["predictor_free"] = predictor_free(cfg, comm=comm, progress=progress)
     out["load_avg_end"] = os.getloadavg()
     out["bench_wall_time_s"] = time.perf_counter() - t0
+    from workbench.studies.executor import ExecutorChoice
+    from workbench.studies.reference import measure_reference
+
+    out["reference"] = measure_reference(executor=ExecutorChoice(), mesh_cache=cfg.cache_dir)  # issue 27: ratio
     return out
 
 

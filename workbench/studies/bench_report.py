@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 
 from workbench.studies.config import BenchConfig, from_json
+from workbench.studies.where_report import reference_text
 
 __all__ = ["to_markdown"]
 
@@ -325,7 +326,8 @@ def to_markdown(data: dict) -> str:
     L = [
         f"# Performance benchmark ({cfg.case})",
         "",
-        f"`workbench bench`: {_f(data.get('bench_wall_time_s'), '.0f')} s on "
+        f"`workbench bench`: {_f(data.get('bench_wall_time_s'), '.0f')} s"
+        f"{reference_text(data.get('bench_wall_time_s'), data.get('reference'))} on "
         f"{data.get('cpu_count')} cores, load average {_f(data['load_avg_start'][0], '.2f')} at start and "
         f"{_f(data.get('load_avg_end', [math.nan])[0], '.2f')} at the end (the CPU is shared: times are the "
         "best "

@@ -459,7 +459,7 @@ class ValidityConfig:
         thresholds: The map's bands (relative): 0.1 %, 1 %, 5 %.
         claim_nu: nu of the stress comparison of the paper's claim (beta -> 0, the elastically similar limit).
         claim_bound: The claim's bound (0.5 %).  claim_theta_max: Its angle range theta < pi/5.
-        workers: Processes (2 cores).
+        workers: Local processes (2 cores), or the MPI workers of an mpi4py.futures pool (up to 4096).
         out: Output folder (default ``<results>/validity``).  mesh_cache: Mesh cache folder.
     """
 
@@ -522,7 +522,7 @@ class ValidityConfig:
                 raise _bad(name, v, f"a number in [{lo:g}, {hi:g}]")
         if not self.width_factor_far > self.width_factor:
             raise _bad("width_factor_far", self.width_factor_far, f"a number > width_factor = {self.width_factor:g}")
-        for name, lo, hi in (("n_steps", 1, 100), ("workers", 1, 64)):
+        for name, lo, hi in (("n_steps", 1, 100), ("workers", 1, 4096)):
             v = getattr(self, name)
             if not (isinstance(v, int) and not isinstance(v, bool) and lo <= v <= hi):
                 raise _bad(name, v, f"a whole number in [{lo}, {hi}]")

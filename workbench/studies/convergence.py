@@ -45,7 +45,7 @@ import statistics
 import sys
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -54,10 +54,17 @@ import numpy as np
 from workbench.atomic import write_json, write_text
 from workbench.owned import ensure_dir
 from workbench.studies.config import ConvergenceConfig, to_json
+from workbench.studies.executor import (
+    ExecutorChoice,
+    add_executor_options,
+    executor_from_args,
+    run_points,
+    worker_summary,
+)
 from workbench.studies.rates import fit_rate
 
-__all__ = ["ConvergenceConfig", "cheapest", "ideal_growth", "judge_rates", "l2_pressure_error", "main",
-           "observed_rates", "run_study", "to_csv", "write_outputs"]
+__all__ = ["ConvergenceConfig", "Point", "cheapest", "ideal_growth", "judge_rates", "l2_pressure_error", "main",
+           "observed_rates", "points", "run_convergence_point", "run_study", "to_csv", "write_outputs"]
 
 _DEFAULT = ConvergenceConfig()
 
@@ -255,29 +262,119 @@ def cheapest(rows: list[dict], *, metric: str = "rms", target: float = _DEFAULT.
     return out
 
 
-def run_study(cfg: ConvergenceConfig | None = None, *, progress: Callable[[str], None] = print) -> dict:
-    """Run the whole study of ``cfg`` (default :class:`ConvergenceConfig`) and return the JSON-ready data (no
-    files written).
+@dataclass(frozen=True)
+class Point:
+    """One configuration of the study for the shared runner (:func:`workbench.studies.executor.run_points`).
 
-    The case series at ``cfg.levels``, the ideal series at ``cfg.ideal_levels`` (timed ``cfg.repeats`` times
-    after a warm-up), and with ``cfg.diagnostics`` the model-floor decomposition (finest case level), the
-    penalty kappa0 sweep, the grading probe (ideal geometry, fixed growth) and the extension level.
+    Attributes:
+        group: Where its row goes: ``rows``, ``floors``, ``kappa0_sweep``, ``grading_probe``, ``extension`` or
+            ``perturbed``.  section: Its entry of ``section_wall_time_s``.  relabel: The row's ``series`` when it
+            differs from the measured series (e.g. ``kappa0 sweep``).
+        case, series, geometry, method, degree, level, repeats, growth, kappa0: :func:`_measure`'s arguments.
+        cfg: The study's config.
     """
-    import dolfinx_solver  # noqa: F401  (before mpi4py/dolfinx)
 
+    group: str
+    section: str
+    case: str
+    series: str
+    geometry: dict
+    method: str
+    degree: int
+    level: float
+    repeats: int
+    cfg: ConvergenceConfig
+    growth: float | None = None
+    kappa0: float | None = None
+    relabel: str | None = None
+
+
+_CASES: dict = {}
+
+
+def run_convergence_point(point: Point) -> dict:
+    """The study's point function (module level: sent to the workers by name): :func:`_measure` on
+    ``MPI.COMM_SELF``, its row tagged with ``group`` and ``section``."""
     from mpi4py import MPI
 
     import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
     from cases import load_case
 
+    if point.case not in _CASES:
+        _CASES[point.case] = load_case(point.case)
+    row = _measure(_CASES[point.case], point.cfg, series=point.series, geometry=point.geometry, method=point.method,
+                   degree=point.degree, level=point.level, repeats=point.repeats, comm=MPI.COMM_SELF,
+                   growth=point.growth, kappa0=point.kappa0)
+    if point.relabel is not None:
+        row["series"] = point.relabel
+    return row | {"group": point.group, "section": point.section}
+
+
+def points(cfg: ConvergenceConfig) -> list[Point]:
+    """Every configuration of the study, in report order: the case and ideal series of each case, then (with
+    ``cfg.diagnostics``) its model floors, kappa0 sweep, grading probe, extension and perturbed levels."""
+    series_levels = {"case": [float(v) for v in cfg.levels], "ideal": [float(v) for v in cfg.ideal_levels]}
+    out = []
+    for name in cfg.cases:
+        for series, geometry in cfg.series.get(name, {"case": {}}).items():
+            for method in cfg.methods:
+                for degree in cfg.degrees:
+                    for level in series_levels[series]:
+                        growth = cfg.ideal_growth(level) if series == "ideal" else None
+                        out.append(Point("rows", f"{name}/{series}", name, series, geometry, method, degree, level,
+                                         cfg.repeats, cfg, growth=growth))
+        if not cfg.diagnostics:
+            continue
+        diag = f"{name}/diagnostics"
+        for label, geometry in cfg.floors.get(name, {}).items():
+            out.append(Point("floors", diag, name, label, geometry, "nitsche", 2, series_levels["case"][-1], 0, cfg))
+        for degree in cfg.degrees:
+            for kappa0 in cfg.kappa0_sweep:
+                out.append(Point("kappa0_sweep", diag, name, "case", {}, "penalty", degree, cfg.kappa0_level, 0, cfg,
+                                 kappa0=kappa0, relabel="kappa0 sweep"))
+        if name == cfg.grading_probe["case"]:
+            g = cfg.grading_probe
+            for degree in g["degrees"]:
+                for level in series_levels["ideal"][-cfg.n_finest:]:
+                    out.append(Point("grading_probe", diag, name, g["series"], cfg.series[name][g["series"]],
+                                     "nitsche", degree, level, 0, cfg, relabel=f"{g['series']}, fixed growth"))
+        if name == cfg.extension["case"]:
+            lvl, series = cfg.extension["level"], cfg.extension["series"]
+            geometry = cfg.series[name][series]
+            for method in cfg.methods:
+                for degree in cfg.degrees:
+                    out.append(Point("extension", diag, name, series, geometry, method, degree, lvl, 0, cfg,
+                                     growth=1.0 + cfg.growth_per_h * lvl, relabel=f"{series} + extension"))
+            for h in cfg.extension["perturbed"]:
+                out.append(Point("perturbed", diag, name, series, geometry, "nitsche", 2, h, 0, cfg,
+                                 growth=1.0 + cfg.growth_per_h * h, relabel=f"{series}, h_c perturbed"))
+    return out
+
+
+def run_study(cfg: ConvergenceConfig | None = None, *, executor: ExecutorChoice | None = None,
+              progress: Callable[[str], None] = print) -> dict:
+    """Run the whole study of ``cfg`` (default :class:`ConvergenceConfig`) on ``executor`` (default: in this
+    process, one configuration after the other: the published warm times) and return the JSON-ready data (no
+    files written).
+
+    The case series at ``cfg.levels``, the ideal series at ``cfg.ideal_levels`` (timed ``cfg.repeats`` times
+    after a warm-up), and with ``cfg.diagnostics`` the model-floor decomposition (finest case level), the
+    penalty kappa0 sweep, the grading probe (ideal geometry, fixed growth) and the extension level. Each
+    configuration is one point (:func:`points`); ``section_wall_time_s`` sums its points' wall times.
+    """
+    from cases import load_case
+    from workbench.studies.reference import measure_reference
+
     cfg = ConvergenceConfig() if cfg is None else cfg
+    executor = ExecutorChoice() if executor is None else executor
     ensure_dir(cfg.cache_dir, kind="mesh_cache", kinds=("mesh_cache",))  # the workbench's own, or refused
     series_levels = {"case": [float(v) for v in cfg.levels], "ideal": [float(v) for v in cfg.ideal_levels]}
     repeats, n_finest = cfg.repeats, cfg.n_finest
-    loaded = [load_case(c) for c in cfg.cases]  # validate all before running any
-    comm, t0 = MPI.COMM_WORLD, time.perf_counter()
+    for c in cfg.cases:  # validate all before running any
+        load_case(c)
+    t0 = time.perf_counter()
 
-    def say(r: dict) -> None:
+    def say(_i: int, _n: int, r: dict) -> None:
         extra = f" kappa0={r['kappa0']:g}" if r["series"] == "kappa0 sweep" else ""
         progress(f"[{time.perf_counter() - t0:6.0f} s] {r['case']} [{r['series']}] {r['method']} "
                  f"P{r['degree']} h_c={r['h_contact']:g} growth={r['growth']:g}{extra}: "
@@ -286,55 +383,13 @@ def run_study(cfg: ConvergenceConfig | None = None, *, progress: Callable[[str],
                     f"rms {r['rms']:.2e}, half_width {r['half_width']:.2e}, p_max {r['p_max']:.2e}, "
                     f"b/b0 {r['b_over_b0']:.2e}"))
 
-    rows, floors, sweep, probe, ext, perturbed, section_s = [], [], [], [], [], [], {}
-    for case in loaded:
-        for series, geometry in cfg.series.get(case.name, {"case": {}}).items():
-            ts = time.perf_counter()
-            for method in cfg.methods:
-                for degree in cfg.degrees:
-                    for level in series_levels[series]:
-                        growth = cfg.ideal_growth(level) if series == "ideal" else None
-                        rows.append(_measure(case, cfg, series=series, geometry=geometry, method=method,
-                                             degree=degree, level=level, repeats=repeats, comm=comm,
-                                             growth=growth))
-                        say(rows[-1])
-            section_s[f"{case.name}/{series}"] = time.perf_counter() - ts
-        if not cfg.diagnostics:
-            continue
-        ts = time.perf_counter()
-        for label, geometry in cfg.floors.get(case.name, {}).items():
-            floors.append(_measure(case, cfg, series=label, geometry=geometry, method="nitsche", degree=2,
-                                   level=series_levels["case"][-1], repeats=0, comm=comm))
-            say(floors[-1])
-        for degree in cfg.degrees:
-            for kappa0 in cfg.kappa0_sweep:
-                r = _measure(case, cfg, series="case", geometry={}, method="penalty", degree=degree,
-                             level=cfg.kappa0_level, repeats=0, comm=comm, kappa0=kappa0)
-                sweep.append({**r, "series": "kappa0 sweep"})
-                say(sweep[-1])
-        if case.name == cfg.grading_probe["case"]:
-            g = cfg.grading_probe
-            for degree in g["degrees"]:
-                for level in series_levels["ideal"][-n_finest:]:
-                    r = _measure(case, cfg, series=g["series"], geometry=cfg.series[case.name][g["series"]],
-                                 method="nitsche", degree=degree, level=level, repeats=0, comm=comm)
-                    probe.append({**r, "series": f"{g['series']}, fixed growth"})
-                    say(probe[-1])
-        if case.name == cfg.extension["case"]:
-            lvl, series = cfg.extension["level"], cfg.extension["series"]
-            for method in cfg.methods:
-                for degree in cfg.degrees:
-                    r = _measure(case, cfg, series=series, geometry=cfg.series[case.name][series], method=method,
-                                 degree=degree, level=lvl, repeats=0, comm=comm,
-                                 growth=1.0 + cfg.growth_per_h * lvl)
-                    ext.append({**r, "series": f"{series} + extension"})
-                    say(ext[-1])
-            for h in cfg.extension["perturbed"]:
-                r = _measure(case, cfg, series=series, geometry=cfg.series[case.name][series], method="nitsche",
-                             degree=2, level=h, repeats=0, comm=comm, growth=1.0 + cfg.growth_per_h * h)
-                perturbed.append({**r, "series": f"{series}, h_c perturbed"})
-                say(perturbed[-1])
-        section_s[f"{case.name}/diagnostics"] = time.perf_counter() - ts
+    done = run_points(run_convergence_point, points(cfg), executor=executor, progress=say)
+    groups: dict = {g: [] for g in ("rows", "floors", "kappa0_sweep", "grading_probe", "extension", "perturbed")}
+    section_s: dict = {}
+    for r in done:
+        groups[r["group"]].append(r)
+        section_s[r["section"]] = section_s.get(r["section"], 0.0) + r["worker"]["wall_s"]
+    rows, probe, ext = groups["rows"], groups["grading_probe"], groups["extension"]
     return {
         "description": "error against ndofs and warm solver time; see workbench/studies/convergence.py",
         "config": to_json(cfg),
@@ -344,11 +399,13 @@ def run_study(cfg: ConvergenceConfig | None = None, *, progress: Callable[[str],
         "rows": rows, "rates": judge_rates(observed_rates(rows, metrics=cfg.metrics, n_finest=n_finest),
                                            expected=cfg.expected_rates, band=cfg.rate_band),
         "cheapest_rms": cheapest(rows, target=cfg.rms_target),
-        "floors": floors, "kappa0_sweep": sweep, "kappa0_level": cfg.kappa0_level, "grading_probe": probe,
-        "grading_rates": observed_rates(probe, metrics=cfg.metrics, n_finest=n_finest), "extension": ext,
-        "perturbed": perturbed, "extension_rates": _extension_rates(rows, ext, cfg),
+        "floors": groups["floors"], "kappa0_sweep": groups["kappa0_sweep"], "kappa0_level": cfg.kappa0_level,
+        "grading_probe": probe, "grading_rates": observed_rates(probe, metrics=cfg.metrics, n_finest=n_finest),
+        "extension": ext, "perturbed": groups["perturbed"], "extension_rates": _extension_rates(rows, ext, cfg),
         "extension_setting": cfg.extension,
         "section_wall_time_s": section_s, "study_wall_time_s": time.perf_counter() - t0,
+        "executor": executor.kind, "workers": executor.workers, "where": worker_summary(done),
+        "reference": measure_reference(executor=executor, mesh_cache=cfg.cache_dir),
     }
 
 
@@ -412,8 +469,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/convergence)")
     p.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
     p.add_argument("--rewrite", action="store_true", help="only rewrite report.md and plots from the JSON")
+    add_executor_options(p, workers=1)
     args = p.parse_args(argv)
     try:
+        executor = executor_from_args(args)
         cfg = ConvergenceConfig(cases=tuple(args.cases), levels=tuple(args.levels),
                                 ideal_levels=tuple(args.ideal_levels), repeats=args.repeats,
                                 diagnostics=not args.no_diagnostics, plot=not args.no_plot, out=args.out,
@@ -424,7 +483,7 @@ def main(argv: list[str] | None = None) -> int:
             from workbench.pipeline.size_estimate import check_levels_fit
 
             check_levels_fit(cfg.cases, cfg.levels, study="convergence", field="--levels")  # before any mesh
-            data = run_study(cfg, progress=lambda s: print(s, flush=True))
+            data = run_study(cfg, executor=executor, progress=lambda s: print(s, flush=True))
     except (ValueError, FileNotFoundError) as exc:  # includes cases.CaseError
         print(f"error: {exc}", file=sys.stderr)
         return 2

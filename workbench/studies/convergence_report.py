@@ -17,6 +17,7 @@ from pathlib import Path
 from workbench.atomic import write_text
 from workbench.paths import default_paths
 from workbench.studies.rates import fit_rate
+from workbench.studies.where_report import where_section
 
 __all__ = ["RATE_NOTES", "discussion", "main", "to_markdown"]
 HZ, WD = "hertz_cylinder", "wedge_convective"
@@ -108,9 +109,16 @@ def _header(data: dict) -> list[str]:
             "",
             f"Times are WARM solver times: each run was solved once to warm the JIT/form caches (cold = that "
             f"first solve), then {data['repeats']} more identical times; the median is reported. Whole "
-            f"study: {data['study_wall_time_s']:.0f} s, serial, one process ({parts}). Slopes: least "
+            f"study: {data['study_wall_time_s']:.0f} s, {_how(data)} ({parts}). Slopes: least "
             f"squares of log(error) against log(h_c) / log(ndofs) over the finest {data['n_finest']} levels.",
             ""]
+
+
+def _how(data: dict) -> str:
+    """How the study ran (an older JSON: serial, one process)."""
+    if data.get("executor", "local") == "local" and data.get("workers", 1) == 1:
+        return "serial, one process"
+    return f"{data.get('workers')} {data.get('executor')} workers (warm times on shared cores: see the worker table)"
 
 
 def _rates_section(data: dict) -> list[str]:
@@ -442,7 +450,12 @@ def to_markdown(data: dict) -> str:
     """``report.md``: expected rates, error tables, fitted slopes, cheapest configuration, diagnostics,
     discussion."""
     lines = (_header(data) + _rates_section(data) + _series_tables(data) + _diagnostic_tables(data)
-             + [discussion(data)])
+             + [discussion(data), ""])
+    rows = [r for key in ("rows", "floors", "kappa0_sweep", "grading_probe", "extension", "perturbed")
+            for r in data.get(key, [])]
+    lines += where_section(wall_time_s=data.get("study_wall_time_s"), records=rows,
+                           label=lambda r: f"{r['case']} [{r['series']}] {r['method']} P{r['degree']} "
+                                           f"h_c={r['h_contact']:g}", reference=data.get("reference"))
     return "\n".join(lines).rstrip() + "\n"
 
 

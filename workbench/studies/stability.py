@@ -13,8 +13,13 @@ clamped bottom), plane strain, E = 200 GPa, nu = 0.3, a/R = 0.05, force control 
 h_contact = a/10, Nitsche gamma0 = 10, theta = 1, ``small`` kinematics, ``halfplane`` traction. Each run is a
 :class:`Spec`, which becomes a case run (:meth:`Spec.run`, a :class:`cases.schema.Run`): its solve is
 :func:`workbench.scenes.wiring.solve_run` (with the study's overrides: formulation, iterations, cut-backs,
-predictor), its errors :func:`workbench.scenes.block.compare_result` against Hertz (or the wedge) at the
-MEASURED load; its mesh is :mod:`meshes.block` sized from the target half-width (:func:`_mesh`).
+predictor), its errors the block scene's comparison (through the scene registry,
+:mod:`workbench.studies.scene_point`) against Hertz (or the wedge) at the MEASURED load; its mesh is
+:mod:`meshes.block` sized from the target half-width (:func:`_mesh`).
+
+Every spec (and the ``conformal`` design) is one point of :func:`workbench.studies.executor.run_points`, run on
+``MPI.COMM_SELF`` in this process (``--workers 1``, the default: the published times), in local processes
+(``--workers N``) or on MPI ranks (``mpiexec -n N python -m mpi4py.futures -m workbench stability``).
 
 What is swept, and the accuracy bands, are :class:`StabilityConfig` (band 2 %: see there).
 
@@ -49,6 +54,15 @@ from workbench.scenes.base import LoadPath
 from workbench.scenes.block_schema import BlockGeometry
 from workbench.scenes.block_theory import block_theory
 from workbench.studies.config import STABILITY_STUDIES, StabilityConfig, to_json
+from workbench.studies.executor import (
+    ExecutorChoice,
+    add_executor_options,
+    executor_from_args,
+    run_points,
+    worker_summary,
+)
+from workbench.studies.scene_point import scene_compare, scene_obstacle
+from workbench.studies.where_report import where_section
 
 __all__ = ["STUDIES", "Spec", "StabilityConfig", "classify", "classify_augmented_lagrangian", "convective_ratios",
            "main", "penalty_sweep", "report_markdown", "run_block_spec", "run_conformal", "run_sweep",
@@ -218,7 +232,6 @@ def run_block_spec(spec: Spec, *, comm, mesh_cache: Path | None = None) -> dict:
     """
     from fem.solver import ContactSolveError
     from workbench.mesh_io import read_mesh
-    from workbench.scenes.block import compare_result, obstacle_for
     from workbench.scenes.wiring import solve_run
 
     run = spec.run()
@@ -231,7 +244,8 @@ def run_block_spec(spec: Spec, *, comm, mesh_cache: Path | None = None) -> dict:
            "cells": files.stats.get("cells"), "target_half_width": a, "P_target": th0.P}
     t0 = time.perf_counter()
     try:
-        res = solve_run(run, mesh_data, obstacle_for(run, th0), load, case=spec.label, **spec.solver_overrides())
+        res = solve_run(run, mesh_data, scene_obstacle(run, files=files, estimate=th0), load, case=spec.label,
+                        **spec.solver_overrides())
     except ContactSolveError as exc:
         return rec | {"converged": False, "error": f"diverged: {exc}", "time_s": time.perf_counter() - t0,
                       "warnings": [], "errors": {}, "iterations": None}
@@ -245,7 +259,7 @@ def run_block_spec(spec: Spec, *, comm, mesh_cache: Path | None = None) -> dict:
             "warnings": list(res.warnings), "P": res.P, "d": res.d}
     if spec.option("method") == AL or any("uzawa" in r for r in res.load_steps):
         rec["uzawa"] = _uzawa(res)
-    cmp = compare_result(res, run)
+    cmp = scene_compare(run, res, files=files, estimate=th0)
     hw, pmax, th = cmp.half_width, cmp.p_max, cmp.theory
     rec |= {"errors": cmp.errors, "half_width": hw, "p_max": pmax, "n_patches": len(res.patches),
             "half_width_theory": th.half_width, "p_ref_theory": th.p_ref,
@@ -420,29 +434,49 @@ def run_conformal(cfg: StabilityConfig | None = None, *, comm, progress) -> list
     return recs
 
 
-def run_sweep(cfg: StabilityConfig | None = None, *, comm=None, progress=print) -> list[dict]:
-    """Run the studies of ``cfg`` (default: all); returns one record per run, each with its ``status``."""
-    cfg = StabilityConfig() if cfg is None else cfg
-    ensure_dir(cfg.cache_dir, kind="mesh_cache", kinds=("mesh_cache",))  # the workbench's own, or refused
-    if comm is None:
-        from mpi4py import MPI
+@dataclass(frozen=True)
+class Point:
+    """One point of the sweep for the shared runner: a block ``spec``, or the ``conformal`` design (spec None)."""
 
-        comm = MPI.COMM_WORLD
-    studies = cfg.studies
-    records = []
-    todo = [s for s in specs(cfg) if s.study in studies]
-    for i, spec in enumerate(todo, 1):
-        rec = run_block_spec(spec, comm=comm, mesh_cache=cfg.cache_dir)
-        rec["status"] = (classify_augmented_lagrangian if spec.study == AL else classify)(rec)
-        records.append(rec)
-        progress(f"[{i:3d}/{len(todo)}] {spec.study:14s} {spec.label:38s} {rec['status'][:60]:60s} "
-                 f"{rec['time_s']:.2f} s")
-    if "conformal" in studies:
-        for rec in run_conformal(cfg, comm=comm, progress=progress):
+    spec: Spec | None
+    cfg: StabilityConfig
+
+
+def run_stability_point(point: Point) -> dict:
+    """The sweep's point function (module level: sent to the workers by name); on ``MPI.COMM_SELF``. A block
+    spec returns its record with its ``status``; the conformal design ``{"records": [...]}``."""
+    from mpi4py import MPI
+
+    comm = MPI.COMM_SELF
+    if point.spec is None:
+        recs = run_conformal(point.cfg, comm=comm, progress=lambda _: None)
+        for rec in recs:
             rec["status"] = classify(rec)
-            records.append(rec)
-            progress(f"[conformal] {rec['label']}: P = {rec.get('P', math.nan):.4g} N/mm, "
-                     f"its = {rec['iterations']}, {rec['status']}")
+        return {"records": recs}
+    rec = run_block_spec(point.spec, comm=comm, mesh_cache=point.cfg.cache_dir)
+    rec["status"] = (classify_augmented_lagrangian if point.spec.study == AL else classify)(rec)
+    return rec
+
+
+def run_sweep(cfg: StabilityConfig | None = None, *, executor: ExecutorChoice | None = None,
+              progress=print) -> list[dict]:
+    """Run the studies of ``cfg`` (default: all) on ``executor`` (default: in this process); returns one record
+    per run, each with its ``status`` and where it ran (``worker``)."""
+    cfg = StabilityConfig() if cfg is None else cfg
+    executor = ExecutorChoice() if executor is None else executor
+    ensure_dir(cfg.cache_dir, kind="mesh_cache", kinds=("mesh_cache",))  # the workbench's own, or refused
+    todo = [Point(s, cfg) for s in specs(cfg) if s.study in cfg.studies]
+    if "conformal" in cfg.studies:
+        todo.append(Point(None, cfg))
+
+    def said(i: int, n: int, rec: dict) -> None:
+        for r in rec.get("records", [rec]):
+            progress(f"[{i:3d}/{n}] {r['study']:14s} {r['label']:38s} {r['status'][:60]:60s} {r['time_s']:.2f} s")
+
+    records = []
+    for rec in run_points(run_stability_point, todo, executor=executor, progress=said):
+        for r in rec.get("records", [rec]):
+            records.append(r | {"worker": rec["worker"]})
     return records
 
 
@@ -649,27 +683,42 @@ def report_markdown(summary: dict, records: list[dict]) -> str:
                 for msg in ([r["error"]] if r.get("error") else []) + list(r.get("warnings", [])):
                     lines.append(f"- {r['label']}: {msg}")
             lines.append("")
+    lines += where_section(wall_time_s=summary.get("wall_time_s"), records=records,
+                           label=lambda r: f"{r['study']}: {r['label']}", reference=summary.get("reference"))
     return "\n".join(lines) + "\n"
 
 
 def main(argv: list[str] | None = None) -> int:
-    """CLI ``workbench stability [--study NAME ...] [--out DIR] [--mesh-cache DIR]``; exit 1 if any run is SILENT
-    or an augmented-Lagrangian run FAILED."""
+    """CLI ``workbench stability [--study NAME ...] [--out DIR] [--mesh-cache DIR] [--executor local|mpi]
+    [--workers N]``; exit 1 if any run is SILENT or an augmented-Lagrangian run FAILED, 2 on a bad option."""
     ap = argparse.ArgumentParser(prog="workbench stability", description=__doc__.splitlines()[0])
     ap.add_argument("--study", action="append", choices=STUDIES, help="run only these studies (repeatable)")
     ap.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/stability)")
     ap.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
+    add_executor_options(ap, workers=1)
     args = ap.parse_args(argv)
+    try:
+        executor = executor_from_args(args)
+    except ValueError as exc:
+        print(f"workbench stability: error: {exc}", file=sys.stderr)
+        return 2
     cfg = StabilityConfig(studies=tuple(args.study or STUDIES), out=args.out, mesh_cache=args.mesh_cache)
     t0 = time.perf_counter()
-    records = run_sweep(cfg)
+    records = run_sweep(cfg, executor=executor)
+    where = worker_summary(records)
+    wall = time.perf_counter() - t0
+    from workbench.studies.reference import measure_reference
+
+    reference = measure_reference(executor=executor, mesh_cache=cfg.cache_dir)
     summary = {
         "runs": len(records),
         "ok": sum(r["status"] == "ok" for r in records),
         "named": sum(r["status"].startswith("named") for r in records),
         "silent": sum(r["status"] == "SILENT" for r in records),
         "failed": sum(r["status"].startswith("FAILED") for r in records),
-        "wall_time_s": time.perf_counter() - t0,
+        "wall_time_s": wall, "reference": reference,
+        "executor": executor.kind, "workers": executor.workers, "jit_retries": where["jit_retries"],
+        "jit_compiles_on_workers": where["jit_compiles"], "where": where,
         "band": cfg.band,
         "convective": convective_ratios(records, main_block=max((b for _, b in cfg.convective_runs), default=0.0)),
         "scale": scale_invariance(records, reference_E=cfg.scale_reference_E),

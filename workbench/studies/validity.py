@@ -31,9 +31,7 @@ import math
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass
-from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
@@ -43,9 +41,17 @@ from workbench.atomic import write_json
 from workbench.error_budget import grid_study
 from workbench.owned import ensure_dir
 from workbench.studies.config import ValidityConfig, to_json
+from workbench.studies.executor import (
+    ExecutorChoice,
+    add_executor_options,
+    executor_from_args,
+    run_points,
+    worker_summary,
+)
+from workbench.studies.scene_point import scene_compare, scene_obstacle
 
-__all__ = ["Task", "assemble", "claim_points", "finite_settings", "main", "point_theories", "run_study", "solve_task",
-           "tasks"]
+__all__ = ["Point", "Task", "assemble", "claim_points", "finite_settings", "main", "point_theories", "run_study",
+           "run_validity_point", "solve_task", "tasks"]
 
 # Finite-strain runs only (measured on the wedge, neo-Hookean, a/h = 4, 8, 16, W/a = 160 and 640, theta = pi/40 ..
 # pi/4, nu = 0 and 0.3: 38 of 40 runs converge with these, none of the nu = 0.3 ones did before):
@@ -178,25 +184,33 @@ def build_mesh(task: Task, mesh_cache: str) -> dict:
 
 
 _MESHES: dict = {}
-# The two pool workers may compile the same form at once; FFCx waits for the other's compile at most dolfinx's
-# JIT timeout (10 s), and a large form (mixed u-p, finite strain) can take longer: measured on a quiet machine,
-# 4 of 616 runs ended "JIT compilation timed out". By the retry the other compile has finished (cached).
-JIT_RETRIES = 2
 
 
 def solve_task(task: Task, mesh_cache: str) -> dict:
     """Run one task in this process (MPI.COMM_SELF); returns its record. Never raises: any failure becomes the
     record's named ``error`` (an exception object holding PETSc state could not even be sent back)."""
-    retries = 0
-    while True:
-        try:
-            rec = _solve_task(task, mesh_cache)
-        except Exception as exc:  # noqa: BLE001
-            rec = {"task": asdict(task), "model": task.model, "converged": False,
-                   "error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}"}
-        if "JIT compilation timed out" not in str(rec.get("error")) or retries == JIT_RETRIES:
-            return rec | ({"jit_retries": retries} if retries else {})
-        retries += 1
+    try:
+        return _solve_task(task, mesh_cache)
+    except Exception as exc:  # noqa: BLE001
+        return {"task": asdict(task), "model": task.model, "converged": False,
+                "error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}"}
+
+
+@dataclass(frozen=True)
+class Point:
+    """One point of the study for the shared runner (:func:`workbench.studies.executor.run_points`): build the
+    mesh of ``task`` (``mesh``) or solve it (``solve``), with the mesh cache folder."""
+
+    kind: str
+    task: Task
+    mesh_cache: str
+
+
+def run_validity_point(point: Point) -> dict:
+    """The study's point function (module level: sent to the workers by name)."""
+    if point.kind == "mesh":
+        return build_mesh(point.task, point.mesh_cache)
+    return solve_task(point.task, point.mesh_cache)
 
 
 def _solve_task(task: Task, mesh_cache: str) -> dict:
@@ -208,7 +222,6 @@ def _solve_task(task: Task, mesh_cache: str) -> dict:
     from meshes.block import build_block_mesh
     from workbench.mesh_io import read_mesh
     from workbench.scenes.base import LoadPath
-    from workbench.scenes.block import compare_result, obstacle_for
     from workbench.scenes.block_theory import block_theory
     from workbench.scenes.budget_theory import moment_half_width
     from workbench.scenes.wiring import solve_run
@@ -222,15 +235,17 @@ def _solve_task(task: Task, mesh_cache: str) -> dict:
         files = build_block_mesh(width=W, height=W, contact_half_width=1.0, h_contact=1.0 / task.h_ratio,
                                  growth=task.growth, half_model=True, apex_refinement=task.scene == "wedge",
                                  out_dir=Path(mesh_cache), name=task.mesh_name, stats_dir=None, comm=comm)
-        _MESHES[task.mesh_name] = (read_mesh(files.msh, comm), files.stats.get("cells"))
-    mesh_data, cells = _MESHES[task.mesh_name]
+        _MESHES[task.mesh_name] = (read_mesh(files.msh, comm), files)
+    mesh_data, files = _MESHES[task.mesh_name]
+    cells = files.stats.get("cells")
     load = LoadPath("force", th0.P, task.n_steps, symmetric_half=True)
     # finite strain: FINITE_* (above); a run that cannot converge fails in seconds, with its SNES reason
     extra = ({"material_model": task.material_model, "max_cutbacks": FINITE_CUTBACKS, "max_it": FINITE_MAX_IT}
              if task.kinematics == "finite" else {})
     t0 = time.perf_counter()
     try:
-        res = solve_run(run, mesh_data, obstacle_for(run, th0), load, case=f"validity {task.model}", **extra)
+        res = solve_run(run, mesh_data, scene_obstacle(run, files=files, estimate=th0), load,
+                        case=f"validity {task.model}", **extra)
     except ContactSolveError as exc:
         return rec | {"error": f"diverged: {' '.join(str(exc).split())[:300]}", "time_s": time.perf_counter() - t0}
     except (ValueError, TypeError) as exc:
@@ -238,7 +253,7 @@ def _solve_task(task: Task, mesh_cache: str) -> dict:
     except Exception as exc:  # noqa: BLE001  (e.g. a PETSc error: recorded by name, never pickled back)
         return rec | {"error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}",
                       "time_s": time.perf_counter() - t0}
-    cmp = compare_result(res, run)
+    cmp = scene_compare(run, res, files=files, estimate=th0)
     th = cmp.theory
     s = res.samples
     moment = 2.0 * moment_half_width(s.s, s.p, s.weight, center=0.0)
@@ -266,32 +281,37 @@ def finite_settings() -> dict:
             "max_it": FINITE_MAX_IT, "svk_wedge_theta_max": SVK_WEDGE_THETA_MAX}
 
 
-def _pool(cfg: ValidityConfig):
-    return ProcessPoolExecutor(max_workers=cfg.workers, mp_context=get_context("spawn"))
-
-
-def run_study(cfg: ValidityConfig, *, progress=print) -> tuple[list[dict], list[dict], dict]:
-    """Run every task on ``cfg.workers`` processes (meshes first, one per process, then the solves)."""
-    os.environ.setdefault("OMP_NUM_THREADS", "1")
-    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+def run_study(cfg: ValidityConfig, *, executor: ExecutorChoice | None = None,
+              progress=print) -> tuple[list[dict], list[dict], dict]:
+    """Run every task on ``executor`` (default: ``cfg.workers`` local processes): the meshes first, one point
+    each, then the solves. Returns the records (each with its ``worker``), the skipped entries and the timing
+    (with where the runs ran and the JIT compiles and retries: :func:`workbench.studies.executor.worker_summary`)."""
+    executor = ExecutorChoice("local", cfg.workers) if executor is None else executor
     todo, skipped = tasks(cfg)
     cache = str(cfg.cache_dir)
     ensure_dir(cache, kind="mesh_cache", kinds=("mesh_cache",))  # the workbench's own, or refused
     meshes = {t.mesh_name: t for t in todo}
     timing = {}
     t0 = time.perf_counter()
-    with _pool(cfg) as pool:
-        mesh_stats = list(pool.map(build_mesh, meshes.values(), [cache] * len(meshes)))
-        timing["meshes_s"] = time.perf_counter() - t0
-        progress(f"validity: {len(meshes)} meshes in {timing['meshes_s']:.0f} s; {len(todo)} runs on "
-                 f"{cfg.workers} processes")
-        records = []
-        for i, rec in enumerate(pool.map(solve_task, todo, [cache] * len(todo), chunksize=2), 1):
-            records.append(rec)
-            if i % 50 == 0 or i == len(todo):
-                progress(f"validity: {i}/{len(todo)} runs, {time.perf_counter() - t0:.0f} s")
+    mesh_stats = run_points(run_validity_point, [Point("mesh", t, cache) for t in meshes.values()],
+                            executor=executor)
+    timing["meshes_s"] = time.perf_counter() - t0
+    progress(f"validity: {len(meshes)} meshes in {timing['meshes_s']:.0f} s; {len(todo)} runs on "
+             f"{executor.workers} {executor.kind} worker(s)")
+
+    def said(i, n, _rec):
+        if i % 50 == 0 or i == n:
+            progress(f"validity: {i}/{n} runs, {time.perf_counter() - t0:.0f} s")
+
+    # chunks of 4: the levels h0, h1, h2, far of one (point, model) share their forms (tasks() lists them together),
+    # so one worker compiles them once. validity --tiny on 2 cold workers: 72 forms compiled (one process: 69);
+    # with chunks of 2, 138
+    records = run_points(run_validity_point, [Point("solve", t, cache) for t in todo], executor=executor,
+                         chunksize=4, progress=said)
     timing["runs_s"] = time.perf_counter() - t0 - timing["meshes_s"]
-    return records, skipped, {"meshes": mesh_stats, **timing}
+    for m in mesh_stats:
+        m.pop("worker", None)
+    return records, skipped, {"meshes": mesh_stats, **timing, "where": worker_summary(records)}
 
 
 # --- theories ---------------------------------------------------------------------------------------
@@ -539,12 +559,12 @@ class _Parser(argparse.ArgumentParser):
 
 
 def main(argv: list[str] | None = None) -> int:
-    """CLI ``workbench validity [--out DIR] [--mesh-cache DIR] [--workers N] [--quick]``; bad options or config
-    values: one line, exit 2, nothing run or written."""
+    """CLI ``workbench validity [--out DIR] [--mesh-cache DIR] [--executor local|mpi] [--workers N] [--quick]``;
+    bad options or config values: one line, exit 2, nothing run or written."""
     ap = _Parser(prog="workbench validity", description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/validity)")
     ap.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
-    ap.add_argument("--workers", type=int, default=ValidityConfig.workers, help="processes (default 2)")
+    add_executor_options(ap, workers=ValidityConfig.workers)
     ap.add_argument("--quick", action="store_true", help="two points per scene, nu = 0 and 0.499 (a smoke run)")
     ap.add_argument("--tiny", action="store_true", help="one point per scene, nu = 0, coarse levels on a small "
                     "block (the end-to-end test: every layer in seconds, no meaningful numbers)")
@@ -556,22 +576,29 @@ def main(argv: list[str] | None = None) -> int:
         kw = {"cylinder_a_over_R": (0.1,), "wedge_theta": (math.pi / 10,), "nu": (0.0,), "h_ratios": (2.0, 3.0, 4.0),
               "width_factor": 20.0, "width_factor_far": 40.0}
     try:
-        cfg = ValidityConfig(out=args.out, mesh_cache=args.mesh_cache, workers=args.workers, **kw)
+        executor = executor_from_args(args)
+        cfg = ValidityConfig(out=args.out, mesh_cache=args.mesh_cache, workers=executor.workers, **kw)
     except ValueError as exc:
         print(f"workbench validity: error: {exc}", file=sys.stderr)
         return 2
     t0 = time.perf_counter()
     import resource
 
-    records, skipped, timing = run_study(cfg)
-    timing["cpu_s_workers"] = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime + \
-        resource.getrusage(resource.RUSAGE_CHILDREN).ru_stime
+    records, skipped, timing = run_study(cfg, executor=executor)
+    if executor.kind == "local":  # MPI workers are no children of this process: their time is in "where"
+        timing["cpu_s_workers"] = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime + \
+            resource.getrusage(resource.RUSAGE_CHILDREN).ru_stime
     points, dropped = assemble(cfg, records, skipped)
     claim = claim_points(cfg, records)
     wall = time.perf_counter() - t0
+    from workbench.studies.reference import measure_reference
+
+    reference = measure_reference(executor=executor, mesh_cache=cfg.cache_dir)
     summary = {"runs": len(records), "converged": sum(r["converged"] for r in records),
                "failed": sum(not r["converged"] for r in records), "points": len(points), "dropped": len(dropped),
-               "wall_time_s": wall, "workers": cfg.workers, "cpu_count": os.cpu_count(), **timing}
+               "wall_time_s": wall, "executor": executor.kind, "workers": executor.workers,
+               "cpu_count": os.cpu_count(), "jit_retries": timing["where"]["jit_retries"],
+               "jit_compiles_on_workers": timing["where"]["jit_compiles"], "reference": reference, **timing}
     out = cfg.out_dir
     write_json(out / "validity.json", {"config": to_json(cfg), "summary": summary, "points": points,
                                        "dropped": dropped, "claim": claim, "runs": records,
@@ -582,7 +609,8 @@ def main(argv: list[str] | None = None) -> int:
     write_report(out)
     plot_main(["--dir", str(out)])
     print(f"validity: {summary['runs']} runs ({summary['failed']} failed), {summary['points']} points, "
-          f"{summary['dropped']} dropped entries, {wall:.0f} s -> {out}")
+          f"{summary['dropped']} dropped entries, {wall:.0f} s on {executor.workers} {executor.kind} worker(s), "
+          f"{summary['jit_retries']} JIT retries -> {out}")
     return 0
 
 

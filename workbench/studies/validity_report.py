@@ -8,6 +8,7 @@ import math
 from pathlib import Path
 
 from workbench.atomic import write_text
+from workbench.studies.where_report import where_section
 
 __all__ = ["MODEL_MEANING", "report_markdown", "write_report"]
 
@@ -84,8 +85,9 @@ def report_markdown(data: dict) -> str:
     s, cfg, points = data["summary"], data["config"], data["points"]
     md = ["# Validity of the half-plane theories", "",
           f"{s['runs']} FEM runs ({s['failed']} failed), {s['points']} points, wall time {s['wall_time_s']:.0f} s "
-          f"on {s['workers']} processes ({s.get('cpu_count')} cores seen; CPU time of the workers "
-          f"{s.get('cpu_s_workers', float('nan')):.0f} s: on a shared machine the wall time includes waiting). "
+          f"on {s['workers']} {s.get('executor', 'local')} worker(s) ({s.get('cpu_count')} cores seen here"
+          + (f"; CPU time of the workers {s['cpu_s_workers']:.0f} s: on a shared machine the wall time includes "
+             "waiting" if s.get("cpu_s_workers") is not None else "; the ranks' own times: see the end") + "). "
           "Every value is a ratio to the classical "
           "theory (Hertz or the classical wedge) at the run's measured load.", "",
           "## What each model means", ""]
@@ -153,7 +155,14 @@ def report_markdown(data: dict) -> str:
             md.append(f"| {d['what']} | {d['scene']} | {d['param']:.4g} | {d['nu']:g} | "
                       f"{d.get('model') or d.get('theory', '-')} | {d.get('quantity') or d.get('level', '-')} | "
                       f"{d['reason']} |")
+    md += [""] + where_section(wall_time_s=s.get("wall_time_s"), records=data.get("runs", []), label=_run_label,
+                               reference=s.get("reference"))
     return "\n".join(md) + "\n"
+
+
+def _run_label(r: dict) -> str:
+    t = r["task"]
+    return f"{t['scene']} {t['param']:.4g} nu={t['nu']:g} {r['model']} {t['level']}"
 
 
 def write_report(folder: Path) -> Path:
