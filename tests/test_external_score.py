@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import os
 import subprocess
 import sys
@@ -72,7 +73,7 @@ def test_three_levels_extrapolate_the_known_offset(tmp_path):
     from workbench.reports.external_summary import scored_markdown
 
     rows = [ln for ln in scored_markdown(tmp_path) if ln.startswith("| [score_hertz_cylinder]")]
-    assert len(rows) == 1 and "0.99500" in rows[0] and "obstacle traction" in rows[0]
+    assert len(rows) == 1 and "0.99500" in rows[0] and "obstacle/convective" in rows[0]
 
 
 def test_exact_hertz_is_within_band_and_half_model_mirrors(tmp_path):
@@ -166,3 +167,48 @@ def test_external_ccx_levels_out_of_range_one_line_exit_2(tmp_path, levels):
     assert proc.stderr.strip().splitlines() == [f"error: --levels {levels}; allowed: 1 to 4 (the case's levels from "
                                                 "ci_level 0.1 down)"]
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("model", ["halfplane/convective", "obstacle/convective", "obstacle/finite"])
+def test_verdict_names_the_model_whose_band_holds_the_result(tmp_path, model):
+    """The verdict is derived from the saved model bands (workbench/external/model_bands/hertz_cylinder.json),
+    not a fixed sentence: three levels converging to a model's own extrapolated p_max/p0 are named with it, and
+    the traction it shares is put in words."""
+    from workbench.external.models import load_model_bands
+
+    bands = {f"{m['traction']}/{m['kinematics']}": m for m in load_model_bands("hertz_cylinder")["models"]}
+    target = bands[model]["study"]["p_max"]["extrapolated"]
+    E_star = materials.plane_strain_modulus(210000.0, 0.3)
+    files = []
+    for h in (0.04, 0.02, 0.01):  # p = A sqrt(1 - x^2/a^2), the load column its own trapezoid integral (load
+        x = np.arange(-int(round(0.8 / h)), int(round(0.8 / h)) + 1) * h  # balance 0) and p_max/p0(P) = r
+        shape = np.sqrt(np.clip(1 - (x / 0.5) ** 2, 0, None))
+        integral = float(np.trapezoid(shape, x))
+        r = target * (1.0 + math.copysign(5.0, target - 1.0) * h**2)  # away from 1: no "crossing"
+        A = r**2 * integral * E_star / (np.pi * 10.0)  # p0(P) = sqrt(P E* / (pi R)) with P = A * integral
+        f = tmp_path / f"level_{h}.csv"
+        f.write_text("x_mm,p_MPa,P_N_per_mm\n" + "".join(f"{xi!r},{A * si!r},{A * integral!r}\n"
+                                                          for xi, si in zip(x.tolist(), shape.tolist(), strict=True)))
+        files.append(str(f))
+    assert score_main(["hertz_cylinder", *files, "--out", str(tmp_path)]) == 0
+    score = json.loads((tmp_path / "score_hertz_cylinder" / "score.json").read_text())
+    inside = [r["model"] for r in score["models"]["models"] if r["contains"]]
+    assert model in inside and "halfplane/small" not in inside
+    assert f"Consistent with the workbench's model(s) {', '.join(inside)}" in score["verdict"]
+    words = "vertical (half-plane) traction" if model.startswith("halfplane") else "obstacle's normal"
+    assert words in score["verdict"]
+    assert score["theory"] == "exact circle" and "from the exact circle" in score["verdict"]
+
+
+def test_circle_theory_is_drawn_as_the_exact_circle():
+    """The score plot's theory of a circle indenter is the exact circle (the case's own theory), Hertz beside it."""
+    from workbench.external.score import theory_curves
+
+    th = {"kind": "hertz", "P": 4531.143250369892, "E_star": 230769.23076923075, "half_width": 0.5,
+          "p0": 5769.230769230768, "R": 10.0,
+          "exact_circle": {"p0": 5770.132422825063, "half_width": 0.499765643338218}}
+    x = np.linspace(-0.6, 0.6, 241)
+    curves = theory_curves(th, x)
+    assert [c[0] for c in curves] == ["exact circle", "Hertz (parabola)"]
+    assert curves[0][1].max() == pytest.approx(5770.132422825063, rel=1e-4)
+    assert [c[0] for c in theory_curves(th | {"exact_circle": None}, x)] == ["hertz"]

@@ -264,7 +264,7 @@ def _report_md(score: dict) -> str:
     from workbench.reports.markdown import fmt
 
     lines = [f"# External result scored against `{score['case']}`", "", f"**Verdict.** {score['verdict']}", "",
-             "| file | h (mm) | P (N/mm) | p_max (MPa) | a edge (mm) | a moment (mm) | p_max err | a err | "
+             "| file | h (mm) | P (N/mm) | p_max (MPa) | a edge (mm) | a moment (mm) | p_max err (Hertz) | a err | "
              "a_mom err | RMS/p0 |", "|---|---|---|---|---|---|---|---|---|---|"]
     for lv in score["levels"]:
         e = lv["errors"]
@@ -285,6 +285,26 @@ def _report_md(score: dict) -> str:
                 s = st[key]
                 lines.append(f"| {key} | {s['fine']:.6f} | {s['extrapolated']:.6f} | {fmt(s['observed_order'], 3)} | "
                              f"{s['band']:.3%} | {s['status']} |")
+    m = score.get("models")
+    if m:
+        lines += ["", "## The workbench's models on the same scene", "",
+                  f"Extrapolated p_max/p0 (Hertz) of each model of the hierarchy (`{m['source']}`); the external "
+                  f"value's uncertainty +-{m['uncertainty']:.3%} is its GCI band plus half its finest level's "
+                  "load balance.", "", "| model | what it assumes | p_max/p0 | band | external - model | "
+                  "band contains the external value |", "|---|---|---|---|---|---|"]
+        for r in m["models"]:
+            lines.append(f"| {r['model']} | {r['description'].split(' (', 1)[1].rstrip(')')} | "
+                         f"{r['extrapolated']:.6f} | {r['band']:.4%} | {r['distance']:+.3%} | "
+                         f"{'yes' if r['contains'] else 'no'} |")
+    cal = [lv for lv in score["levels"] if "load_calibration" in lv]
+    if cal:
+        lines += ["", "## Load calibration (displacement-driven deck)", "",
+                  "| h (mm) | target P (N/mm) | runs: d (mm) -> P (N/mm) | final P / target |", "|---|---|---|---|"]
+        for lv in cal:
+            c = lv["load_calibration"]
+            runs = "; ".join(f"{r['d']:.6g} -> {r['P']:.6g}" for r in c["runs"])
+            ratio = c["runs"][-1]["P"] / c["target_P"]
+            lines.append(f"| {fmt(lv['h'])} | {c['target_P']:.6g} | {runs} | {ratio:.4f} |")
     lines += ["", "![pressure](pressure.png)", ""]
     return "\n".join(lines)
 
@@ -308,7 +328,9 @@ def _plot(score: dict, results: list[ExternalResult], path: Path, fem: ExternalR
     t = fine["theory"]
     th = BlockTheory(t["kind"], t["P"], t["E_star"], t["half_width"], t["p0"], R=t["R"])
     xx = np.linspace(-1.3 * th.half_width, 1.3 * th.half_width, 801)
-    ax.plot(xx, th.pressure(xx), "k--", lw=1.2, label=f"{t['kind']} at P = {t['P']:.6g} N/mm")
+    for name, p_th, p_ref, style in theory_curves(t, xx):
+        ax.plot(xx, p_th, style, lw=1.2, label=f"{name} at P = {t['P']:.6g} N/mm")
+        bx.plot(xx / th.half_width, p_th / p_ref, style, lw=1.2, label=name)
     ax.set_xlim(-1.5 * th.half_width, 1.5 * th.half_width)
     ax.set(xlabel="x (mm, reference)", ylabel="contact pressure (MPa)", title="external result")
     ax.legend(fontsize=7)
@@ -316,13 +338,28 @@ def _plot(score: dict, results: list[ExternalResult], path: Path, fem: ExternalR
         curves.append((fem, score["fem_level"], f"workbench FEM ({Path(fem.path).name})", "m:"))
     for r, lv, label, style in curves:
         bx.plot(r.x / lv["theory"]["half_width"], r.p / lv["theory"]["p0"], style, ms=3, lw=0.9, label=label)
-    bx.plot(xx / th.half_width, th.pressure(xx) / th.p_ref, "k--", lw=1.2, label=t["kind"])
     bx.set_xlim(-1.5, 1.5)
-    bx.set(xlabel="x / a (theory at each curve's own load)", ylabel="p / p0", title="each at its own load")
+    bx.set(xlabel="x / a (theory at each curve's own load)", ylabel="p / p0 (Hertz)", title="each at its own load")
     bx.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def theory_curves(theory: dict, x: np.ndarray) -> list[tuple[str, np.ndarray, float, str]]:
+    """The theory curves of a level's ``theory`` record at ``x`` (mm): (label, pressure MPa, Hertz p0 MPa, style).
+    A circle indenter's theory is the exact circle (:mod:`analytic.circle`; the case's own), with Hertz, its
+    parabolic approximation, drawn thinner beside it; other indenters their classical theory."""
+    from workbench.scenes.block_theory import BlockTheory
+
+    th = BlockTheory(theory["kind"], theory["P"], theory["E_star"], theory["half_width"], theory["p0"], R=theory["R"])
+    ex = theory.get("exact_circle")
+    if not ex:
+        return [(theory["kind"], th.pressure(x), theory["p0"], "k--")]
+    from analytic.circle import circle_pressure
+
+    return [("exact circle", circle_pressure(x, b=ex["half_width"], R=theory["R"], E_star=theory["E_star"]),
+             theory["p0"], "k--"), ("Hertz (parabola)", th.pressure(x), theory["p0"], "0.6")]
 
 
 def write_score(score: dict, results: list[ExternalResult], folder: Path, *, fem: ExternalResult | None = None) -> None:
