@@ -135,6 +135,11 @@ def test_own_pressure_csv_reproduces_the_case_numbers(tmp_path):
         assert lv["P_integral"] == pytest.approx(m["P_pressure"], rel=5e-4)
     assert lv["P"] == pytest.approx(m["P"], rel=1e-12)
     assert lv["errors"]["rms"] == pytest.approx(m["errors"]["rms"], rel=1e-6)
+    # the case's own error numbers (relative errors against Hertz and the exact circle at its load) to 1e-9: as
+    # differences of relative errors (the csv's 10 digits leave 1e-10 of p_max, ~5e-7 of a 1.6e-4 error)
+    for key in ("p_max", "half_width", "p_max_vs_exact_circle", "half_width_vs_exact_circle", "rms",
+                "rms_vs_exact_circle"):
+        assert abs(lv["errors"][key]) == pytest.approx(m["errors"][key], rel=0, abs=1e-9), key
     # the run's full-precision samples (vtk/<run>/contact_surface.csv: X_mm, p_MPa, q_MPa, weight_mm; a half
     # model) with no load column: every number of the case to 1e-9 (measured: 0 for p_max, half-width and the
     # pressure integral; the virtual-work P is 1.1e-12 from the integral)
@@ -145,6 +150,9 @@ def test_own_pressure_csv_reproduces_the_case_numbers(tmp_path):
     for key, mk in (("P", "P"), ("P_integral", "P_pressure"), ("p_max", "p_max"), ("half_width", "patch_half_width")):
         assert lv[key] == pytest.approx(m[mk], rel=1e-9), key
     assert lv["errors"]["rms"] == pytest.approx(m["errors"]["rms"], rel=1e-9)
+    for key in ("p_max", "half_width", "p_max_vs_exact_circle", "half_width_vs_exact_circle", "rms_vs_exact_circle"):
+        assert abs(lv["errors"][key]) == pytest.approx(m["errors"][key], rel=1e-9), key
+    assert abs(lv["errors"]["load_balance"]) == pytest.approx(m["errors"]["load_balance"], rel=1e-3, abs=1e-11)
     # the run's VTK contact surface (.pvd -> its last .vtp, zlib-compressed binary; P from its FieldData)
     pvd = own.with_name("contact_surface.pvd")
     assert score_main(["hertz_cylinder", str(pvd), "--format", "vtu", "--out", str(tmp_path / "s3")]) == 0
