@@ -220,3 +220,23 @@ def test_circle_theory_is_drawn_as_the_exact_circle():
     assert [c[0] for c in curves] == ["exact circle", "Hertz (parabola)"]
     assert curves[0][1].max() == pytest.approx(5770.132422825063, rel=1e-4)
     assert [c[0] for c in theory_curves(th | {"exact_circle": None}, x)] == ["hertz"]
+
+
+def test_saved_model_bands_match_the_case_and_refuse_another_scene():
+    """The saved bands were solved on the case as it is now (its scene key), hold every model of the hierarchy
+    with finite values, and are not used for a changed case (another E here)."""
+    from dataclasses import replace
+
+    from cases import load_case
+    from workbench.external.models import load_model_bands
+    from workbench.studies.config import VALIDITY_MODELS
+
+    run = load_case("hertz_cylinder").runs()[0]
+    bands = load_model_bands("hertz_cylinder", run=run)
+    assert bands is not None
+    assert [(m["traction"], m["kinematics"]) for m in bands["models"]] == list(VALIDITY_MODELS)
+    for m in bands["models"]:
+        for st in m["study"].values():
+            assert math.isfinite(st["extrapolated"]) and 0 <= st["band"] < 5e-3
+    other = replace(run, material=replace(run.material, E=run.material.E * 2))
+    assert load_model_bands("hertz_cylinder", run=other) is None

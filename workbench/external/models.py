@@ -22,7 +22,7 @@ import math
 import sys
 from pathlib import Path
 
-__all__ = ["BANDS_DIR", "MEASURES", "load_model_bands", "consistent_models", "describe", "compute", "main"]
+__all__ = ["BANDS_DIR", "MEASURES", "scene_key", "load_model_bands", "consistent_models", "describe", "compute", "main"]
 
 BANDS_DIR = Path(__file__).resolve().parent / "model_bands"
 MEASURES = {"p_max": 2.0, "half_width_moment": 2.0, "half_width": 1.5}  # measure -> formal order
@@ -43,12 +43,24 @@ def describe(model: dict) -> str:
     return f"{key[0]}/{key[1]} ({DESCRIPTION.get(key, 'see docs/models.md')})"
 
 
-def load_model_bands(case: str, *, folder: Path | None = None) -> dict | None:
-    """The saved model bands of ``case`` (None when none are saved)."""
+def scene_key(run) -> dict:
+    """What the saved bands depend on in a case run (mm, MPa): compared before they are used."""
+    g, m, ld = run.geometry, run.material, run.loading
+    return {"E": m.E, "nu": m.nu, "indenter": g.indenter, "radius": g.radius, "half_width": ld.half_width,
+            "P": ld.P, "width_factor": g.width_factor, "height_factor": g.height_factor,
+            "half_model": g.half_model, "budget_levels": list(run.discretisation.budget_levels)}
+
+
+def load_model_bands(case: str, *, run=None, folder: Path | None = None) -> dict | None:
+    """The saved model bands of ``case``: None when none are saved, or when ``run`` (the case's run) no longer
+    matches the scene they were solved on (a changed case file: regenerate them)."""
     f = (folder or BANDS_DIR) / f"{case}.json"
     if not f.is_file():
         return None
-    return json.loads(f.read_text())
+    data = json.loads(f.read_text())
+    if run is not None and data.get("scene") != json.loads(json.dumps(scene_key(run))):
+        return None
+    return data
 
 
 def consistent_models(bands: dict, *, measure: str, value: float, uncertainty: float) -> list[dict]:
@@ -122,8 +134,9 @@ def compute(case_name: str, *, mesh_cache: Path, progress=print) -> dict:
                                  "observed_order": gs.observed_order if math.isfinite(gs.observed_order) else None}
         models.append(rec)
     run = case.runs()[0]
-    return {"case": case.name, "levels_h_over_a": levels, "a_over_R": None if run.geometry.radius is None else
-            case.runs()[0].loading.half_width / run.geometry.radius, "nu": run.material.nu,
+    g, a = run.geometry, run.loading.half_width
+    return {"case": case.name, "scene": scene_key(run), "levels_h_over_a": levels, "nu": run.material.nu,
+            "a_over_R": None if g.radius is None or a is None else a / g.radius,
             "theory": "ratios to Hertz (p0, a) at each run's measured load P", "models": models,
             "command": f"python -m workbench.external.models {case.name}"}
 

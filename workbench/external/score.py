@@ -250,7 +250,7 @@ def score_levels(case_name: str, results: list[ExternalResult], *, h: list[float
     kind = levels[0]["theory"]["kind"]
     from workbench.external.models import load_model_bands
 
-    match = model_match(study, load_model_bands(case.name))
+    match = model_match(study, load_model_bands(case.name, run=run))
     fine = min(levels, key=lambda lv: lv["h"])
     ex = fine["theory"]["exact_circle"]
     exact = ex["p0"] / fine["theory"]["p0"] if ex else None
