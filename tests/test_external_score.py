@@ -68,6 +68,10 @@ def test_three_levels_extrapolate_the_known_offset(tmp_path):
     st = score["grid_study"]["p_max"]
     assert abs(st["extrapolated"] - 0.995) < 1e-9 and abs(st["observed_order"] - 2.0) < 1e-6
     assert st["outside_band"] and "obstacle" in score["verdict"] and "-0.500%" in score["verdict"]
+    assert score["headline"].startswith("The peak extrapolates to -0.50% from Hertz") and "obstacle/convective" in \
+        score["headline"]
+    md = (tmp_path / "score_hertz_cylinder" / "report.md").read_text().splitlines()
+    assert md[2] == f"**{score['headline']}**" and md[4].startswith("**Verdict.**")  # read first
     for name in ("report.md", "report.html", "pressure.png"):
         assert (tmp_path / "score_hertz_cylinder" / name).stat().st_size > 0
     from workbench.reports.external_summary import scored_markdown

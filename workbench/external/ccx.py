@@ -172,5 +172,6 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     print(f"external ccx {case.name}: {len(levels)} level(s) -> {folder}")
+    print(score.get("headline", ""))
     print(score["verdict"])
     return 0

@@ -227,6 +227,21 @@ def verdict(study: dict | None, kind: str, match: dict | None = None, exact: flo
     return text
 
 
+def headline(study: dict | None, match: dict | None) -> str:
+    """One sentence to read first: how far the peak is, how much is discretisation, which models hold it."""
+    if study is None or "p_max" not in study:
+        return "Fewer than three mesh levels: no extrapolation, no verdict."
+    s = study["p_max"]
+    part = "not discretisation" if s["outside_band"] else "within it"
+    text = (f"The peak extrapolates to {s['deviation']:+.2%} from Hertz; the discretisation band is "
+            f"+-{s['band']:.2%}, so the difference is {part}")
+    if match is not None:
+        inside = [r["model"] for r in match["models"] if r["contains"]]
+        text += (f"; it lies within the band of the workbench's {', '.join(inside)}" if inside
+                 else "; no model of the workbench's hierarchy holds it")
+    return text + "."
+
+
 def fmt_order(v) -> str:
     return "-" if v is None or not math.isfinite(v) else f"{v:.3g}"
 
@@ -257,13 +272,15 @@ def score_levels(case_name: str, results: list[ExternalResult], *, h: list[float
     theory = "exact circle" if ex else kind
     return {"case": case.name, "theory": theory, "ratios_to": kind,
             "units": {"length": "mm", "load": "N/mm", "pressure": "MPa"},
-            "levels": levels, "grid_study": study, "models": match, "verdict": verdict(study, kind, match, exact)}
+            "levels": levels, "grid_study": study, "models": match, "headline": headline(study, match),
+            "verdict": verdict(study, kind, match, exact)}
 
 
 def _report_md(score: dict) -> str:
     from workbench.reports.markdown import fmt
 
-    lines = [f"# External result scored against `{score['case']}`", "", f"**Verdict.** {score['verdict']}", "",
+    lines = [f"# External result scored against `{score['case']}`", "", f"**{score.get('headline', '')}**", "",
+             f"**Verdict.** {score['verdict']}", "",
              "| file | h (mm) | P (N/mm) | p_max (MPa) | a edge (mm) | a moment (mm) | p_max err (Hertz) | a err | "
              "a_mom err | RMS/p0 |", "|---|---|---|---|---|---|---|---|---|---|"]
     for lv in score["levels"]:
@@ -436,5 +453,6 @@ def main(argv: list[str] | None = None) -> int:
     folder = Path(root) / f"score_{score['case']}"
     write_score(score, results, folder, fem=fem)
     print(f"score {score['case']}: {len(results)} level(s) -> {folder}")
+    print(score.get("headline", ""))
     print(score["verdict"])
     return 0
