@@ -128,3 +128,7 @@ def test_external_ccx_two_levels_scores(tmp_path):
     assert score["grid_study"] is None and "fewer than three" in score["verdict"]
     for lv in score["levels"]:
         assert abs(lv["errors"]["load_balance"]) < 5e-3 and abs(lv["errors"]["p_max"]) < 0.02
+        cal = lv["load_calibration"]  # the estimate carried 11 % less; the calibrated run within 0.5 %
+        assert cal["within_rtol"] and abs(lv["P"] / cal["target_P"] - 1.0) <= 0.005
+        assert len(cal["runs"]) >= 2 and cal["runs"][0]["P"] / cal["target_P"] < 0.95
+        assert lv["P"] == cal["runs"][-1]["P"]

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import os
 import subprocess
 import sys
@@ -67,12 +68,16 @@ def test_three_levels_extrapolate_the_known_offset(tmp_path):
     st = score["grid_study"]["p_max"]
     assert abs(st["extrapolated"] - 0.995) < 1e-9 and abs(st["observed_order"] - 2.0) < 1e-6
     assert st["outside_band"] and "obstacle" in score["verdict"] and "-0.500%" in score["verdict"]
+    assert score["headline"].startswith("The peak extrapolates to -0.50% from Hertz") and "obstacle/convective" in \
+        score["headline"]
+    md = (tmp_path / "score_hertz_cylinder" / "report.md").read_text().splitlines()
+    assert md[2] == f"**{score['headline']}**" and md[4].startswith("**Verdict.**")  # read first
     for name in ("report.md", "report.html", "pressure.png"):
         assert (tmp_path / "score_hertz_cylinder" / name).stat().st_size > 0
     from workbench.reports.external_summary import scored_markdown
 
     rows = [ln for ln in scored_markdown(tmp_path) if ln.startswith("| [score_hertz_cylinder]")]
-    assert len(rows) == 1 and "0.99500" in rows[0] and "obstacle traction" in rows[0]
+    assert len(rows) == 1 and "0.99500" in rows[0] and "obstacle/convective" in rows[0]
 
 
 def test_exact_hertz_is_within_band_and_half_model_mirrors(tmp_path):
@@ -134,6 +139,11 @@ def test_own_pressure_csv_reproduces_the_case_numbers(tmp_path):
         assert lv["P_integral"] == pytest.approx(m["P_pressure"], rel=5e-4)
     assert lv["P"] == pytest.approx(m["P"], rel=1e-12)
     assert lv["errors"]["rms"] == pytest.approx(m["errors"]["rms"], rel=1e-6)
+    # the case's own error numbers (relative errors against Hertz and the exact circle at its load) to 1e-9: as
+    # differences of relative errors (the csv's 10 digits leave 1e-10 of p_max, ~5e-7 of a 1.6e-4 error)
+    for key in ("p_max", "half_width", "p_max_vs_exact_circle", "half_width_vs_exact_circle", "rms",
+                "rms_vs_exact_circle"):
+        assert abs(lv["errors"][key]) == pytest.approx(m["errors"][key], rel=0, abs=1e-9), key
     # the run's full-precision samples (vtk/<run>/contact_surface.csv: X_mm, p_MPa, q_MPa, weight_mm; a half
     # model) with no load column: every number of the case to 1e-9 (measured: 0 for p_max, half-width and the
     # pressure integral; the virtual-work P is 1.1e-12 from the integral)
@@ -144,6 +154,9 @@ def test_own_pressure_csv_reproduces_the_case_numbers(tmp_path):
     for key, mk in (("P", "P"), ("P_integral", "P_pressure"), ("p_max", "p_max"), ("half_width", "patch_half_width")):
         assert lv[key] == pytest.approx(m[mk], rel=1e-9), key
     assert lv["errors"]["rms"] == pytest.approx(m["errors"]["rms"], rel=1e-9)
+    for key in ("p_max", "half_width", "p_max_vs_exact_circle", "half_width_vs_exact_circle", "rms_vs_exact_circle"):
+        assert abs(lv["errors"][key]) == pytest.approx(m["errors"][key], rel=1e-9), key
+    assert abs(lv["errors"]["load_balance"]) == pytest.approx(m["errors"]["load_balance"], rel=1e-3, abs=1e-11)
     # the run's VTK contact surface (.pvd -> its last .vtp, zlib-compressed binary; P from its FieldData)
     pvd = own.with_name("contact_surface.pvd")
     assert score_main(["hertz_cylinder", str(pvd), "--format", "vtu", "--out", str(tmp_path / "s3")]) == 0
@@ -166,3 +179,68 @@ def test_external_ccx_levels_out_of_range_one_line_exit_2(tmp_path, levels):
     assert proc.stderr.strip().splitlines() == [f"error: --levels {levels}; allowed: 1 to 4 (the case's levels from "
                                                 "ci_level 0.1 down)"]
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("model", ["halfplane/convective", "obstacle/convective", "obstacle/finite"])
+def test_verdict_names_the_model_whose_band_holds_the_result(tmp_path, model):
+    """The verdict is derived from the saved model bands (workbench/external/model_bands/hertz_cylinder.json),
+    not a fixed sentence: three levels converging to a model's own extrapolated p_max/p0 are named with it, and
+    the traction it shares is put in words."""
+    from workbench.external.models import load_model_bands
+
+    bands = {f"{m['traction']}/{m['kinematics']}": m for m in load_model_bands("hertz_cylinder")["models"]}
+    target = bands[model]["study"]["p_max"]["extrapolated"]
+    E_star = materials.plane_strain_modulus(210000.0, 0.3)
+    files = []
+    for h in (0.04, 0.02, 0.01):  # p = A sqrt(1 - x^2/a^2), the load column its own trapezoid integral (load
+        x = np.arange(-int(round(0.8 / h)), int(round(0.8 / h)) + 1) * h  # balance 0) and p_max/p0(P) = r
+        shape = np.sqrt(np.clip(1 - (x / 0.5) ** 2, 0, None))
+        integral = float(np.trapezoid(shape, x))
+        r = target * (1.0 + math.copysign(5.0, target - 1.0) * h**2)  # away from 1: no "crossing"
+        A = r**2 * integral * E_star / (np.pi * 10.0)  # p0(P) = sqrt(P E* / (pi R)) with P = A * integral
+        f = tmp_path / f"level_{h}.csv"
+        f.write_text("x_mm,p_MPa,P_N_per_mm\n" + "".join(f"{xi!r},{A * si!r},{A * integral!r}\n"
+                                                          for xi, si in zip(x.tolist(), shape.tolist(), strict=True)))
+        files.append(str(f))
+    assert score_main(["hertz_cylinder", *files, "--out", str(tmp_path)]) == 0
+    score = json.loads((tmp_path / "score_hertz_cylinder" / "score.json").read_text())
+    inside = [r["model"] for r in score["models"]["models"] if r["contains"]]
+    assert model in inside and "halfplane/small" not in inside
+    assert f"Consistent with the workbench's model(s) {', '.join(inside)}" in score["verdict"]
+    words = "vertical (half-plane) traction" if model.startswith("halfplane") else "obstacle's normal"
+    assert words in score["verdict"]
+    assert score["theory"] == "exact circle" and "from the exact circle" in score["verdict"]
+
+
+def test_circle_theory_is_drawn_as_the_exact_circle():
+    """The score plot's theory of a circle indenter is the exact circle (the case's own theory), Hertz beside it."""
+    from workbench.external.score import theory_curves
+
+    th = {"kind": "hertz", "P": 4531.143250369892, "E_star": 230769.23076923075, "half_width": 0.5,
+          "p0": 5769.230769230768, "R": 10.0,
+          "exact_circle": {"p0": 5770.132422825063, "half_width": 0.499765643338218}}
+    x = np.linspace(-0.6, 0.6, 241)
+    curves = theory_curves(th, x)
+    assert [c[0] for c in curves] == ["exact circle", "Hertz (parabola)"]
+    assert curves[0][1].max() == pytest.approx(5770.132422825063, rel=1e-4)
+    assert [c[0] for c in theory_curves(th | {"exact_circle": None}, x)] == ["hertz"]
+
+
+def test_saved_model_bands_match_the_case_and_refuse_another_scene():
+    """The saved bands were solved on the case as it is now (its scene key), hold every model of the hierarchy
+    with finite values, and are not used for a changed case (another E here)."""
+    from dataclasses import replace
+
+    from cases import load_case
+    from workbench.external.models import load_model_bands
+    from workbench.studies.config import VALIDITY_MODELS
+
+    run = load_case("hertz_cylinder").runs()[0]
+    bands = load_model_bands("hertz_cylinder", run=run)
+    assert bands is not None
+    assert [(m["traction"], m["kinematics"]) for m in bands["models"]] == list(VALIDITY_MODELS)
+    for m in bands["models"]:
+        for st in m["study"].values():
+            assert math.isfinite(st["extrapolated"]) and 0 <= st["band"] < 5e-3
+    other = replace(run, material=replace(run.material, E=run.material.E * 2))
+    assert load_model_bands("hertz_cylinder", run=other) is None

@@ -7,20 +7,30 @@ half model); the level size h is the exported h_c (exact, ``h_source`` "export l
 levels goes to ``<out>/external_ccx_<case>/score/`` (:mod:`workbench.external.score`), with the workbench's own
 ``<out>/<case>/pressure.csv`` drawn beside it when a ``workbench run`` left one there. Without ``ccx`` on
 the PATH: one line, exit 2, nothing written (``make external`` installs Debian's ``calculix-ccx``).
+
+Load calibration: the deck is displacement driven, and the approach estimate
+(:func:`workbench.external.inp.approach_estimate`) carried 11 % less than the case's target load on
+hertz_cylinder. When the measured load is more than ``LOAD_RTOL`` (0.5 %) off the target, ccx runs again with
+the approach corrected (by the 2D approach law first, then by the secant through the last two runs), at most
+``MAX_RUNS`` runs per level. The last run is scored, at its measured load either way; ``score.json`` keeps
+every run's (d, P) per level under ``load_calibration``.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import shutil
 import subprocess
 import sys
 from pathlib import Path
 
-__all__ = ["main", "ccx_executable", "run_ccx", "dat_total_force", "CcxError"]
+__all__ = ["main", "ccx_executable", "run_ccx", "dat_total_force", "deck_approach", "calibrated_level", "CcxError"]
 
 CCX_TIMEOUT_S = 1800
+LOAD_RTOL = 0.005  # relative distance of the measured load from the case's target that ends the calibration
+MAX_RUNS = 4  # ccx runs per level at most (the first one and three secant corrections)
 
 
 class CcxError(RuntimeError):
@@ -56,6 +66,41 @@ def dat_total_force(dat: Path, *, component: int = 1) -> float:
     return float(hits[-1].group(1 + component))
 
 
+def deck_approach(inp: Path) -> float:
+    """The prescribed approach d (mm, > 0 downwards) of an exported deck (its ``CYL, 2, 2, -d`` line)."""
+    hit = re.search(r"^CYL, 2, 2, (\S+)$", inp.read_text(), flags=re.MULTILINE)
+    if hit is None:
+        raise CcxError(f"{inp}: no prescribed approach (CYL, 2, 2, -d) in the deck")
+    return -float(hit.group(1))
+
+
+def calibrated_level(case_name: str, level: float, folder: Path, *, exe: str, mesh_cache: Path, target: float,
+                     half: float, log_term: float) -> tuple[Path, float, list[dict]]:
+    """Export and run one level, re-running with a corrected approach until the load is within ``LOAD_RTOL`` of
+    ``target`` (N/mm) or ``MAX_RUNS`` runs are done. The first correction follows the 2D approach law
+    ``d ~ P (f_t - ln(P/P_t))``, ``f_t = log_term = 2 ln(2 H/a) - nu/(1 - nu)`` at the target (a ~ sqrt(P)),
+    later ones the secant through the last two runs. Returns the deck, the last load (N/mm) and every run's
+    ``{"d": mm, "P": N/mm}``."""
+    from workbench.external.export import export_case
+
+    runs, d = [], None
+    for _ in range(MAX_RUNS):
+        (inp,) = export_case(case_name, fmt="inp", h_contact=level, folder=folder, mesh_cache=mesh_cache, approach=d)
+        used = deck_approach(inp)
+        run_ccx(inp, exe=exe)
+        load = -dat_total_force(inp.with_suffix(".dat")) * half
+        runs.append({"d": used, "P": load})
+        print(f"  d = {used:.6g} mm: P = {load:.6g} N/mm ({load / target - 1:+.2%} from the target)", flush=True)
+        if abs(load / target - 1.0) <= LOAD_RTOL or not load > 0:
+            break
+        if len(runs) == 1:
+            d = used * target * log_term / (load * (log_term - math.log(load / target)))
+        else:
+            (d0, p0), (d1, p1) = ((r["d"], r["P"]) for r in runs[-2:])
+            d = d1 + (target - p1) * (d1 - d0) / (p1 - p0) if p1 != p0 else d1 * target / p1
+    return inp, load, runs
+
+
 def _parser() -> argparse.ArgumentParser:
     from workbench.cli import _Parser
 
@@ -72,7 +117,7 @@ def main(argv: list[str] | None = None) -> int:
     import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
     from cases import CaseError, load_case
     from workbench.atomic import atomic_dir
-    from workbench.external.export import ExportError, export_case, supported
+    from workbench.external.export import ExportError, supported
     from workbench.external.frd import read_frd_result
     from workbench.external.results import ResultError, read_csv_result
     from workbench.external.score import ScoreError, level_measures, score_levels, write_score
@@ -98,24 +143,27 @@ def main(argv: list[str] | None = None) -> int:
     folder = Path(root) / f"external_ccx_{case.name}"
     try:
         with atomic_dir(folder) as stage:
-            results = []
+            results, calibration = [], []
             for lv in levels:
                 sub = stage / f"h{lv:g}"
                 sub.mkdir()
-                (inp,) = export_case(case.name, fmt="inp", h_contact=lv, folder=sub,
-                                     mesh_cache=Path(root) / "mesh_cache")
-                print(f"ccx {case.name} h_c/a = {lv:g}: {inp.name}", flush=True)
-                run_ccx(inp, exe=exe)
                 run = case.runs(h_contact=lv)[0]
                 half = 2.0 if run.geometry.half_model else 1.0
-                load = -dat_total_force(inp.with_suffix(".dat")) * half
                 ld = run.loading
-                a = (block_theory(run.geometry, run.material, P=ld.P) if ld.P is not None
-                     else block_theory(run.geometry, run.material, half_width=ld.half_width)).half_width
-                results.append(read_frd_result(inp.with_suffix(".frd"), load=load, h=lv * a))
+                target = (block_theory(run.geometry, run.material, P=ld.P) if ld.P is not None
+                          else block_theory(run.geometry, run.material, half_width=ld.half_width))
+                print(f"ccx {case.name} h_c/a = {lv:g} (target load {target.P:.6g} N/mm)", flush=True)
+                nu = run.material.nu
+                log_term = 2.0 * math.log(2.0 * run.geometry.height_factor) - nu / (1.0 - nu)
+                inp, load, runs = calibrated_level(case.name, lv, sub, exe=exe, mesh_cache=Path(root) / "mesh_cache",
+                                                   target=target.P, half=half, log_term=log_term)
+                calibration.append({"target_P": target.P, "rtol": LOAD_RTOL, "runs": runs,
+                                    "within_rtol": abs(load / target.P - 1.0) <= LOAD_RTOL})
+                results.append(read_frd_result(inp.with_suffix(".frd"), load=load, h=lv * target.half_width))
             score = score_levels(case.name, results)
-            for lvl in score["levels"]:
+            for lvl, cal in zip(score["levels"], calibration, strict=True):
                 lvl["h_source"] = "export level (h_c of the exported mesh)"
+                lvl["load_calibration"] = cal
             own = Path(root) / case.name / "pressure.csv"  # the workbench's own run in the same --out, if any
             fem = read_csv_result(own) if own.is_file() else None
             if fem is not None:
@@ -125,5 +173,6 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     print(f"external ccx {case.name}: {len(levels)} level(s) -> {folder}")
+    print(score.get("headline", ""))
     print(score["verdict"])
     return 0

@@ -74,8 +74,10 @@ def description(case, run, theory, *, level: float, mesh_stats: dict) -> dict:
     }
 
 
-def export_case(case_name: str, *, fmt: str, h_contact: float | None, folder: Path, mesh_cache: Path) -> list[Path]:
-    """Write the export files of one level into ``folder`` (created by the caller); returns their paths."""
+def export_case(case_name: str, *, fmt: str, h_contact: float | None, folder: Path, mesh_cache: Path,
+                approach: float | None = None) -> list[Path]:
+    """Write the export files of one level into ``folder`` (created by the caller); returns their paths.
+    ``approach``: the deck's prescribed approach d (mm) instead of the estimate (a calibration run)."""
     import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
     from cases import load_case
     from workbench.external.inp import approach_estimate, inp_deck, read_block_msh
@@ -102,8 +104,9 @@ def export_case(case_name: str, *, fmt: str, h_contact: float | None, folder: Pa
 
         mesh = read_block_msh(files.msh)
         a = theory.half_width
-        d = approach_estimate(P=theory.P, E_star=plane_strain_modulus(run.material.E, run.material.nu),
-                              nu=run.material.nu, a=a, depth=g.height_factor * a)
+        d = approach if approach is not None else approach_estimate(
+            P=theory.P, E_star=plane_strain_modulus(run.material.E, run.material.nu), nu=run.material.nu, a=a,
+            depth=g.height_factor * a)
         text = inp_deck(mesh, E=run.material.E, nu=run.material.nu, R=g.radius, a=a, d=d, h_contact=level * a,
                         half_model=g.half_model, title=f"{case.name} h_c/a = {level:g} (workbench export)")
         (folder / f"{stem}.inp").write_text(text)

@@ -40,8 +40,9 @@ def scored_markdown(results: Path) -> list[str]:
         elif not st.get("outside_band"):
             verdict = "within the discretisation band"
         else:
+            inside = [m["model"] for m in (s.get("models") or {}).get("models", []) if m.get("contains")]
             verdict = f"remainder {st.get('remainder', 0.0):+.3%} outside the band" + (
-                "; consistent with obstacle traction / deformed normal" if "obstacle" in str(s.get("verdict")) else "")
+                f"; within the band of the workbench's {', '.join(inside)}" if inside else "")
         lines.append(f"| [{folder}]({folder}/report.md) | {s.get('case')} | {len(levels)} | {pm} | {rms} | {ext} | "
                      f"{verdict} |")
     return [*lines, ""]
