@@ -562,6 +562,16 @@ def _build(cls: type, table: Any, where: str, *, partial_ok: bool = False) -> An
     if cls is Geometry:
         return _build_geometry(table, where)
     known = {f.name: f for f in fields(cls)}
+    values = _table_values(table, known, where, choices=lambda name: _CHOICES.get((section, name)),
+                           value_range=lambda name: _RANGES.get((section, name)),
+                           item_range=lambda name: _SEQ_RANGES.get((section, name)))
+    return cls(**values)
+
+
+def _table_values(table: dict, known: dict, where: str, *, choices, value_range, item_range=None) -> dict:
+    """The values of a TOML table for the fields ``known`` (name -> dataclass Field): unknown keys, missing required
+    fields, types (:func:`_coerce`), ``choices(name)``, ``value_range(name)`` and the range of every item of a
+    sequence ``item_range(name)`` checked in field order, each refused with one line (:class:`CaseError`)."""
     for key in table:
         if key not in known:
             raise CaseError(f"{where}.{_r(key)[1:-1]} is an unknown key; allowed keys: {', '.join(known)}")
@@ -575,18 +585,18 @@ def _build(cls: type, table: Any, where: str, *, partial_ok: bool = False) -> An
             raise CaseError(f"{where}.{name} is a required field and is missing")
         value = _coerce(raw, f.type, f"{where}.{name}")
         if value is not None:
-            choices = _CHOICES.get((section, name))
-            if choices is not None and value not in choices:
-                allowed = ", ".join(repr(c) for c in choices)
-                raise CaseError(f"{where}.{name} = {_r(value)} is not allowed; allowed values: {allowed}")
-            spec = _RANGES.get((section, name))
+            allowed = choices(name)
+            if allowed is not None and value not in allowed:
+                text = ", ".join(repr(c) for c in allowed)
+                raise CaseError(f"{where}.{name} = {_r(value)} is not allowed; allowed values: {text}")
+            spec = value_range(name)
             if spec is not None and not _in_range(value, spec):
                 raise CaseError(f"{where}.{name} = {_r(value)} is out of range; allowed: {spec[4]}")
-            spec = _SEQ_RANGES.get((section, name))
+            spec = item_range(name) if item_range is not None else None
             if spec is not None and not all(_in_range(v, spec) for v in value):
                 raise CaseError(f"{where}.{name} = {_r(list(value))} is out of range; allowed: {spec[4]}")
         values[name] = value
-    return cls(**values)
+    return values
 
 
 def _build_geometry(table: dict, where: str) -> Geometry:
@@ -596,27 +606,8 @@ def _build_geometry(table: dict, where: str) -> Geometry:
     scene = table.get("scene")
     scene = scene if isinstance(scene, str) and scene in _SCENE_SCHEMAS else None
     known = _geometry_specs(scene)
-    for key in table:
-        if key not in known:
-            raise CaseError(f"{where}.{_r(key)[1:-1]} is an unknown key; allowed keys: {', '.join(known)}")
-    values = {}
-    for name, f in known.items():
-        if name in table:
-            raw = table[name]
-        elif f.default is not MISSING or f.default_factory is not MISSING:
-            continue
-        else:
-            raise CaseError(f"{where}.{name} is a required field and is missing")
-        value = _coerce(raw, f.type, f"{where}.{name}")
-        if value is not None:
-            choices = _geometry_choices(scene, name)
-            if choices is not None and value not in choices:
-                allowed = ", ".join(repr(c) for c in choices)
-                raise CaseError(f"{where}.{name} = {_r(value)} is not allowed; allowed values: {allowed}")
-            spec = _geometry_range(scene, name)
-            if spec is not None and not _in_range(value, spec):
-                raise CaseError(f"{where}.{name} = {_r(value)} is out of range; allowed: {spec[4]}")
-        values[name] = value
+    values = _table_values(table, known, where, choices=lambda name: _geometry_choices(scene, name),
+                           value_range=lambda name: _geometry_range(scene, name))
     cls = _SCENE_SCHEMAS[values["scene"]].geometry
     own = {f.name for f in fields(cls)}
     return cls(**{k: v for k, v in values.items() if k in own})

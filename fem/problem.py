@@ -47,6 +47,7 @@ from fem.far_field import HalfPlaneFarField
 from fem.hyperelastic import bulk_law
 from fem.linear_solver import configure as configure_linear_solver
 from fem.linear_solver import snes_options
+from fem.newton_controls import NewtonControls
 from fem.options import SUPPORT_KINDS, ContactOptions
 from fem.postprocess import (
     LOCKING_NU,
@@ -92,7 +93,7 @@ def _ghost_forward(vec) -> None:
     vec.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
 
 
-class ContactProblem:
+class ContactProblem(NewtonControls):
     """One frictionless contact problem (the body meshed in ``mesh_data``, a rigid ``obstacle``).
 
     Attributes (main ones):
@@ -309,15 +310,6 @@ class ContactProblem:
         return out
 
     # -- solves ---------------------------------------------------------------------------------------------
-    @contextmanager
-    def max_iterations(self, n: int):
-        """Temporarily limit the SNES to ``n`` iterations."""
-        self.snes.setTolerances(max_it=n)
-        try:
-            yield
-        finally:
-            self.snes.setTolerances(max_it=self.options.max_it)
-
     def newton(self, *, force_iteration: bool = False) -> tuple[int, int]:
         """One SNES solve from the current state: (converged reason, iterations).
 
@@ -349,12 +341,6 @@ class ContactProblem:
             yield
         finally:
             mask[0].value = 0.0
-
-    def predictor_iteration(self, zones: Sequence[tuple[float, float]]) -> None:
-        """One Newton iteration with the prescribed active set ``lo_k < X1 < hi_k`` (at most :data:`MAX_ZONES`
-        runs); the mask is off afterwards."""
-        with self.prescribed_active_set(zones), self.max_iterations(1):
-            self.problem.solve()
 
     def solve_once(self, d_value: float, state: np.ndarray, *, rest=None, zone=None) -> tuple[int, int, dict]:
         """Solve at obstacle displacement ``d_value`` (mm) from ``state``.

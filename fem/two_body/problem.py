@@ -54,6 +54,7 @@ from analytic import materials
 from fem.elasticity import Lame
 from fem.linear_solver import configure as configure_linear_solver
 from fem.linear_solver import snes_options
+from fem.newton_controls import NewtonControls
 from fem.options import ContactOptions
 from fem.postprocess import LOCKING_NU, SurfaceSamples, contact_edges, oscillation_warnings, resolution_warnings
 from fem.two_body.geometry import exact_master_gaps, mortar_points, node_points
@@ -132,7 +133,7 @@ class _Value:
         self.value = value
 
 
-class TwoBodyProblem:
+class TwoBodyProblem(NewtonControls):
     """Two elastic bodies in frictionless contact (module docstring).
 
     Attributes (main ones):
@@ -399,14 +400,6 @@ class TwoBodyProblem:
         return out
 
     # -- solves ---------------------------------------------------------------------------------------------
-    @contextmanager
-    def max_iterations(self, n: int):
-        self.snes.setTolerances(max_it=n)
-        try:
-            yield
-        finally:
-            self.snes.setTolerances(max_it=self.options.max_it)
-
     def newton(self, *, force_iteration: bool = False) -> tuple[int, int]:
         """One SNES solve from the current state: (converged reason, iterations)."""
         u = self.u.x.array
@@ -427,10 +420,6 @@ class TwoBodyProblem:
             yield
         finally:
             self.method.zones = None
-
-    def predictor_iteration(self, zones) -> None:
-        with self.prescribed_active_set(zones), self.max_iterations(1):
-            self.newton()
 
     def solve_once(self, d_value: float, state: np.ndarray, *, rest=None, zone=None) -> tuple[int, int, dict]:
         """Solve at driven displacement ``d_value`` (mm) from ``state`` (as the rigid problem's)."""
