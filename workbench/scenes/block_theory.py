@@ -65,7 +65,7 @@ def block_theory(geometry, material, *, P: float | None = None, half_width: floa
     """Classical half-plane prediction for a block scene, from the load or from the half-width.
 
     Args:
-        geometry: The run's :class:`cases.schema.Geometry`.
+        geometry: The run's :class:`workbench.scenes.block_schema.BlockGeometry`.
         material: The run's :class:`cases.schema.Material`.
         P: Load per unit thickness (N/mm); give exactly one of ``P`` and ``half_width``.
         half_width: Classical half-width (mm).

@@ -1,7 +1,8 @@
 """The one place where a case run becomes solver options (a :class:`fem.options.ContactOptions` record).
 
-Every caller (the case pipeline, the studies) goes through :func:`solver_options` and :func:`solve_run`, so a
-new field of :class:`cases.schema.Solver` or a new contact method is wired here once.
+Every caller (the case pipeline, the studies) goes through :func:`solver_options` and :func:`solve_run`. The
+options are derived from the record by field name: a new field of :class:`cases.schema.Solver` that is a
+ContactOptions field of the same name passes through with no line here (any other is a TypeError).
 """
 
 from __future__ import annotations
