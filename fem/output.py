@@ -91,8 +91,8 @@ class FrameRecorder:
 
 
 def solve_recording(mesh_data, obstacle, *, options):
-    """:func:`fem.partners.solve` with a :class:`FrameRecorder` attached: ``(ContactResult, frames)``; ``obstacle``
-    is any contact partner (a rigid curve or a :class:`fem.two_body.problem.MeshedPartner`)."""
+    """:func:`fem.solver.solve_contact` with a :class:`FrameRecorder` attached: ``(ContactResult, frames)``;
+    ``obstacle`` is any contact partner (a rigid curve or a :class:`fem.two_body.problem.MeshedPartner`)."""
     from fem.partners import contact_problem
     from fem.solver import solve_problem
 
@@ -277,6 +277,8 @@ def write_vtk(result, out_dir, *, frames: list[Frame] | None = None,
         surf_entries.append((float(fr.step), sname))
         box = _contact_box(surf)
         steps.append({"step": fr.step, "time": float(fr.step), "d_mm": fr.d, "P_N_per_mm": fr.P, "kind": fr.kind,
+                      "bounds_mm": [float(pts[:, 0].min()), float(pts[:, 0].max()), float(pts[:, 1].min()),
+                                    float(pts[:, 1].max())],
                       "recorded": recorded, "body": bname, "surface": sname, "contact_box_mm": box,
                       "contact_box_deformed_mm": _contact_box(surf, deformed=True),
                       "p_max_MPa": float(surf["p"].max()) if n else 0.0,

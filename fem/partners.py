@@ -9,19 +9,17 @@ Two kinds of partner (units mm, N, MPa):
   same mesh, with its own material, paired across non-matching facets by mortar or node-to-segment; the contact
   terms couple both bodies' dofs (:class:`fem.two_body.problem.TwoBodyProblem`).
 
-Both problems offer the interface :class:`fem.stepping.LoadStepper` drives, so :func:`solve` is one Newton
-(PETSc SNES with the linear solver of :mod:`fem.linear_solver`), one load-stepping driver, one active-set logic
-(the prescribed-active-set predictor on runs of X1) and one results contract
-(:class:`fem.solver.ContactResult`) for every partner.
+Both problems offer the interface :class:`fem.stepping.LoadStepper` drives, so
+:func:`fem.solver.solve_contact` (which builds the problem here) is one Newton (PETSc SNES with the linear solver
+of :mod:`fem.linear_solver`), one load-stepping driver, one active-set logic (the prescribed-active-set predictor
+on runs of X1) and one results contract (:class:`fem.solver.ContactResult`) for every partner.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-
 from fem.options import ContactOptions
 
-__all__ = ["contact_problem", "solve", "partner_kind"]
+__all__ = ["contact_problem", "partner_kind"]
 
 
 def partner_kind(partner) -> str:
@@ -43,11 +41,3 @@ def contact_problem(mesh_data, partner, options: ContactOptions):
     check_options(options, mesh_data=mesh_data, obstacle=partner)
     return ContactProblem(mesh_data, partner, options)
 
-
-def solve(mesh_data, partner, *, options: ContactOptions,
-          step_callbacks: Sequence[Callable[[dict], None]] = ()):
-    """Solve the contact of ``mesh_data`` against ``partner`` along the load path of ``options``; returns a
-    :class:`fem.solver.ContactResult`."""
-    from fem.solver import solve_problem
-
-    return solve_problem(contact_problem(mesh_data, partner, options), step_callbacks=step_callbacks)

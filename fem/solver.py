@@ -95,11 +95,12 @@ class ContactResult:
 
 
 def solve_contact(mesh_data, obstacle, options: ContactOptions | None = None, **fields) -> ContactResult:
-    """Solve frictionless contact of the meshed body against a rigid obstacle.
+    """Solve frictionless contact of the meshed body against its contact partner (:mod:`fem.partners`).
 
     Args:
-        mesh_data: dolfinx ``MeshData`` (mesh, facet_tags, physical_groups) of the elastic body.
-        obstacle: rigid obstacle from :mod:`fem.obstacles`.
+        mesh_data: dolfinx ``MeshData`` (mesh, facet_tags, physical_groups) of the elastic body (or bodies).
+        obstacle: the partner: a rigid obstacle from :mod:`fem.obstacles`, or a second meshed elastic body in the
+            same mesh (:class:`fem.two_body.problem.MeshedPartner`).
         options: the solve's :class:`ContactOptions` (every field, its units and default are documented there).
         **fields: instead of ``options``, its fields as keywords (``E``, ``nu`` and ``target`` required); the
             accepted names are :meth:`ContactOptions.field_names`, nothing else.

@@ -24,7 +24,11 @@ OWN = {"workbench.studies.bench": {"workbench.studies.bench_report", "workbench.
        "workbench.studies.stability": {"workbench.studies.stability_plot"},
        "workbench.studies.convective_table": set(),
        "workbench.studies.validity": {"workbench.studies.validity_report", "workbench.studies.validity_plot"}}
-SHARED = {"workbench.studies.config", "workbench.studies.rates"}
+# the shared pieces every study may import: config and rates, the point runner and its executor (local processes or
+# mpi4py.futures ranks), the reference solve measured in the same run, the block scene's point helpers, and the
+# time-and-where section every report ends with
+SHARED = {"workbench.studies.config", "workbench.studies.rates", "workbench.studies.executor",
+          "workbench.studies.reference", "workbench.studies.scene_point", "workbench.studies.where_report"}
 
 
 @pytest.fixture(scope="module")
@@ -46,9 +50,11 @@ def test_a_study_imports_no_other_study(graph, study):
 
 
 @pytest.mark.parametrize("module", ["bench_report", "bench_plot", "convergence_report", "convergence_plot",
-                                    "stability_plot", "validity_report", "validity_plot", "config", "rates"])
+                                    "stability_plot", "validity_report", "validity_plot", "config", "rates",
+                                    "executor", "reference", "scene_point", "where_report"])
 def test_reports_plots_and_shared_modules_import_no_study(graph, module):
-    """Reports and plots read the study JSON; config and rates are leaves every study may import."""
+    """Reports and plots read the study JSON; the shared modules are leaves every study may import: none of them
+    imports a study."""
     assert _studies_imported_by(graph, f"workbench.studies.{module}") <= SHARED
 
 

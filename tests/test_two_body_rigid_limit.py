@@ -20,7 +20,7 @@ from analytic.hertz import hertz_load_from_half_width
 from analytic.materials import plane_strain_modulus
 from fem.obstacles import CircleObstacle
 from fem.options import ContactOptions
-from fem.partners import solve
+from fem.solver import solve_contact
 from fem.two_body.geometry import CircleSurface
 from fem.two_body.problem import Body, MeshedPartner
 from meshes.two_body import build_cylinder_on_block
@@ -48,7 +48,7 @@ def _options(**extra):
 @pytest.fixture(scope="module")
 def rigid(meshes):
     block, _ = meshes
-    return solve(block, CircleObstacle(center=(0.0, R), radius=R),
+    return solve_contact(block, CircleObstacle(center=(0.0, R), radius=R),
                  options=_options(traction="halfplane", contact_group="contact_lower"))
 
 
@@ -68,7 +68,7 @@ def test_stiff_cylinder_reproduces_the_rigid_indenter(meshes, rigid, ratio, p_to
     partner = MeshedPartner(bodies=(Body(name="lower", E=E, nu=NU), Body(name="upper", E=ratio * E, nu=NU)),
                             slave="contact_lower", master="contact_upper", driven="driven", driven_body="upper",
                             pairing="node_to_segment", master_surface=CircleSurface((0.0, R), R))
-    res = solve(two, partner, options=_options())
+    res = solve_contact(two, partner, options=_options())
     s_r, s_t = rigid.samples, res.samples
     assert np.allclose(s_r.s, s_t.s, rtol=0.0, atol=1e-12 * R)
     assert abs(res.P / rigid.P - 1) < 1e-9

@@ -18,7 +18,7 @@ from mpi4py import MPI
 from analytic.circle import circle_contact
 from analytic.hertz import hertz_load_from_half_width
 from fem.options import ContactOptions
-from fem.partners import solve
+from fem.solver import solve_contact
 from fem.two_body.geometry import CircleSurface
 from fem.two_body.problem import Body, MeshedPartner
 from meshes.two_body import build_cylinder_on_block
@@ -45,7 +45,7 @@ def test_extreme_pairs_converge(mesh, ratio, nu_lower, nu_upper, p_tol, max_its)
     opts = ContactOptions(E=E, nu=nu_lower, target=hertz_load_from_half_width(A, R, E_star), degree=2,
                           method="penalty", control="force", n_steps=1, predictor="extrapolate", active_set="geometry",
                           active_set_update="edge_fit")
-    res = solve(mesh, partner, options=opts)
+    res = solve_contact(mesh, partner, options=opts)
     th = circle_contact(res.P, R, E_star)
     assert abs(res.P - res.P_pressure) <= 1e-9 * res.P
     assert max(res.newton_iterations) <= max_its

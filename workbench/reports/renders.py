@@ -44,6 +44,10 @@ def colour_range(stats: dict) -> tuple[tuple[float, float], bool]:
     return (0.0, max(stats["p99"], 1e-12)), False
 
 
+# width / height of the render views (ParaView's 0.62 x 1600 by 700 window; pyvista's renders are wider)
+VIEW_ASPECT = 1.4
+
+
 def view_window(step: dict, *, bounds) -> tuple[float, float, float]:
     """(centre x, centre y, half-height) in mm of a window a few contact half-widths wide around the contact
     box of ``step`` (the whole body when there is no contact)."""
@@ -52,7 +56,13 @@ def view_window(step: dict, *, bounds) -> tuple[float, float, float]:
         return (0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[3] - bounds[2]))
     a = max(0.5 * (box[1] - box[0]), 0.5 * (box[3] - box[2]), 1e-6)
     half_height = 1.6 * a
-    return 0.5 * (box[0] + box[1]), box[3] - 0.75 * half_height, half_height
+    cx = 0.5 * (box[0] + box[1])
+    body = step.get("bounds_mm")  # (undeformed) body bounds: a contact as wide as the body is framed on the body
+    if body is not None:
+        half_width = 0.5 * (body[1] - body[0])
+        half_height = min(half_height, half_width / VIEW_ASPECT)
+        cx = min(max(cx, body[0] + VIEW_ASPECT * half_height), body[1] - VIEW_ASPECT * half_height)
+    return cx, box[3] - 0.75 * half_height, half_height
 
 
 def _load(folder: Path):

@@ -48,14 +48,14 @@ def solver_options(run: Run, load: LoadPath, **overrides) -> ContactOptions:
 def solve_run(run: Run, mesh_data, obstacle, load: LoadPath, *, case: str, on_step: Callable | None = None,
               frames: list | None = None, **overrides):
     """Solve one run's contact problem against its partner ``obstacle`` (a rigid curve or a meshed body,
-    :func:`fem.partners.solve`): :func:`solver_options` plus any study-specific ``overrides``
+    :func:`fem.solver.solve_contact`): :func:`solver_options` plus any study-specific ``overrides``
     (e.g. ``petsc_options``, ``predictor``, ``formulation``). ``frames``: a list that receives the converged
     state of every step (:class:`fem.output.Frame`, for the VTK time series); the result is the same."""
-    from fem.partners import solve
+    from fem.solver import solve_contact
 
     options = solver_options(run, load, on_step=on_step, case=case, **overrides)
     if frames is None:
-        return solve(mesh_data, obstacle, options=options)
+        return solve_contact(mesh_data, obstacle, options=options)
     from fem.output import solve_recording
 
     result, recorded = solve_recording(mesh_data, obstacle, options=options)
