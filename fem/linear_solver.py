@@ -20,11 +20,13 @@ state changes (and, for curved obstacles, smoothly with u). Kinds (``linear_solv
   :func:`rigid_body_modes`); no factorisation, memory ~ linear in the dofs. The Hertz predictor's linear solve
   uses it too. Displacement formulation only (the mixed u-p system is a saddle point).
 * ``"auto"``: chosen by the global number of unknowns ``ndofs`` (:func:`resolve`): ``"lu_reuse"`` with MUMPS's
-  QAMD ordering (``mat_mumps_icntl_7`` = :data:`AUTO_MUMPS_ORDERING`) up to :data:`AUTO_GAMG_NDOFS`, ``"gamg"``
-  above (never for a saddle point, never without ``ndofs``). QAMD: at 88k P2 dofs (graded hertz_cylinder mesh)
-  MUMPS's analysis took 0.16 s against 0.61 s with its default ordering, the numeric factorisation and the
-  triangular solves the same within the noise (one run, loaded 2-core machine). A different ordering changes
-  the factors' round-off, so ``"auto"`` is a kind of its own: ``"lu"`` and ``"lu_reuse"`` keep MUMPS's default.
+  AMF ordering (``mat_mumps_icntl_7`` = :data:`AUTO_MUMPS_ORDERING`) up to :data:`AUTO_GAMG_NDOFS`, ``"gamg"``
+  above (never for a saddle point, never without ``ndofs``). AMF against MUMPS's own choice (METIS here), one
+  run each on a loaded 2-core machine, P2 plane elasticity: graded 173k dofs (bench mesh h_c = a/2560) analysis
+  0.086 s against 0.48 s, factor entries 18.6M against 19.6M, numeric factorisation 0.34 s both; uniform 161k
+  dofs analysis 0.059 s against 0.46 s, factor entries 29.0M against 31.4M (QAMD: 37.6M, slower numeric
+  factorisation). A different ordering changes the factors' round-off, so ``"auto"`` is a kind of its own:
+  ``"lu"`` and ``"lu_reuse"`` keep MUMPS's default.
 
 PETSc keeps MUMPS's symbolic analysis across Newton iterations and load steps (the Jacobian's nonzero state does
 not change: :class:`fem.split_jacobian.SplitJacobian` copies K's values into J): one ``MatLUFactorSymbolic`` per
@@ -49,8 +51,8 @@ __all__ = ["LINEAR_SOLVERS", "AUTO_GAMG_NDOFS", "AUTO_MUMPS_ORDERING", "resolve"
 LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg", "auto")
 # auto: GAMG above this many unknowns (global), LU below (measured crossover: workbench bench, section scale)
 AUTO_GAMG_NDOFS = 400_000
-# auto: MUMPS ordering of its LU kind (ICNTL(7) = 6: QAMD; MUMPS's default chooses METIS or AMF itself)
-AUTO_MUMPS_ORDERING = 6
+# auto: MUMPS ordering of its LU kind (ICNTL(7) = 2: AMF; MUMPS's default ICNTL(7) = 7 chose METIS here)
+AUTO_MUMPS_ORDERING = 2
 # lu_reuse: relative Krylov tolerance of a Newton step (the Newton tolerance is snes_rtol 1e-10).
 REUSE_KSP_RTOL = 1e-12
 # lu_reuse: a Krylov solve that needed more iterations than this factors the next Jacobian again. A MUMPS
@@ -76,7 +78,7 @@ def resolve(kind: str, *, ndofs: int | None = None, saddle: bool = False) -> str
 
 
 def _auto_extra(kind: str, concrete: str) -> dict:
-    """The options ``"auto"`` adds to its concrete kind: the QAMD ordering of its MUMPS LU."""
+    """The options ``"auto"`` adds to its concrete kind: the AMF ordering of its MUMPS LU."""
     return {"mat_mumps_icntl_7": AUTO_MUMPS_ORDERING} if kind == "auto" and concrete != "gamg" else {}
 
 

@@ -99,7 +99,7 @@ def test_scale_rows_switch_to_gamg_above_threshold():
 
 
 def test_auto_chooses_by_size():
-    """``auto``: lu_reuse with the QAMD ordering up to AUTO_GAMG_NDOFS unknowns, gamg above; never gamg for a
+    """``auto``: lu_reuse with the AMF ordering up to AUTO_GAMG_NDOFS unknowns, gamg above; never gamg for a
     saddle point or without a size; the other kinds keep MUMPS's default ordering."""
     from fem.linear_solver import AUTO_GAMG_NDOFS, linear_options, resolve, snes_options
 
@@ -109,11 +109,11 @@ def test_auto_chooses_by_size():
     assert resolve("auto") == "lu_reuse"
     assert resolve("lu", ndofs=10**9) == "lu"
     small = snes_options("auto", ndofs=1000)
-    assert small["mat_mumps_icntl_7"] == 6 and small["snes_lag_preconditioner"] == -2
+    assert small["mat_mumps_icntl_7"] == 2 and small["snes_lag_preconditioner"] == -2
     assert snes_options("auto", ndofs=10**7)["pc_type"] == "gamg"
     assert "mat_mumps_icntl_7" not in snes_options("auto", ndofs=10**7)
     assert "mat_mumps_icntl_7" not in snes_options("lu") and "mat_mumps_icntl_7" not in linear_options("lu_reuse")
-    assert linear_options("auto", ndofs=1000)["mat_mumps_icntl_7"] == 6
+    assert linear_options("auto", ndofs=1000)["mat_mumps_icntl_7"] == 2
     with pytest.raises(ValueError, match="linear_solver must be one of"):
         resolve("cholesky")
 

@@ -133,7 +133,7 @@ def _md_linear(lin: dict, targets: list, cfg: BenchConfig) -> list[str]:
 
 def _switch(cfg: BenchConfig) -> str:
     if cfg.scale_linear_solver == "auto":
-        return ("linear_solver = auto at every size: MUMPS LU (lu_reuse, QAMD ordering) up to "
+        return ("linear_solver = auto at every size: MUMPS LU (lu_reuse, AMF ordering) up to "
                 "fem.linear_solver.AUTO_GAMG_NDOFS dofs, gamg above")
     return f"above {cfg.krylov_threshold} dofs linear_solver = gamg"
 
@@ -173,7 +173,7 @@ def _md_scale(sc: dict, targets: list, cfg: BenchConfig) -> list[str]:
         f"in-process solves below {cfg.small_ndofs} dofs, else of 2. Peak RSS = VmHWM of that process "
         "(ru_maxrss is inherited from the parent on Linux): after the mesh, after the first contact solve, and "
         "at the end (reference solves and the linear solve included). 'LU / GAMG linear': one linear solve with "
-        "each kind (MUMPS LU with the auto ordering QAMD, GAMG), up to crossover_max_ndofs dofs. Only the ratios "
+        "each kind (MUMPS LU with the auto ordering AMF, GAMG), up to crossover_max_ndofs dofs. Only the ratios "
         "inside one row mean something on a shared machine (the rows run at different times).",
         "",
         "| mesh | h/a | ndofs | options | its | solver (s) | linear (s) | solver/linear | case/linear | "
