@@ -26,8 +26,11 @@ Sections:
 3. Cost growth: P2, the case's Nitsche scene, on graded meshes of decreasing h_c and on uniform meshes up
    to ~1e6 dofs, one subprocess per size. Each size is solved with the row's options
    (:func:`scale_overrides`: ``scale_predictor``, ``scale_linear_solver``, and ``linear_solver="gamg"`` above
-   ``krylov_threshold`` dofs) and compared with one linear elastic solve on the same mesh with the same kind of
-   linear solver; below the threshold the case solver runs too (its cost in linear solves and the relative
+   ``krylov_threshold`` dofs; with ``scale_linear_solver="auto"``, the default, the solver's own choice by size
+   at every row: one configuration) and compared with one linear elastic solve on the same mesh with the same
+   linear solver (``"auto"``: the same choice and MUMPS ordering), in "linear solves per contact solve"; up to
+   ``crossover_max_ndofs`` one LU and one GAMG linear solve are timed too (the crossover of ``"auto"``); below
+   the threshold the case solver runs too (its cost in linear solves and the relative
    differences of P, p_max and the half-width). Peak memory = the high-water mark VmHWM of that process after
    the mesh, after the first contact solve, and at the end (``ru_maxrss`` is inherited from the parent across
    fork/exec on Linux, so after a big section it only shows the parent's peak; both are kept). Fitted exponent
