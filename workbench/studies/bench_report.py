@@ -159,6 +159,28 @@ def _crossover(sc: dict) -> list[str]:
     return L + ([""] if L else [])
 
 
+def _why(sc: dict) -> list[str]:
+    """Per family, what the measured rows say about the cost above one linear solve: linear solves (Newton and
+    tangent solves) and triangular solves per contact solve, and whether the largest three rows mix LU and GAMG."""
+    L = []
+    for family, fam in sc.items():
+        rows = fam["rows"]
+        if not rows:
+            continue
+        parts = []
+        for r in rows:
+            ev = r.get("events") or {}
+            tri = (ev.get("MatSolve") or {}).get("count")
+            parts.append(f"{r['ndofs']}: {sum(r['newton_iterations'])} Newton its"
+                         + (f", {tri} triangular solves" if tri and r.get("linear_kind") == "lu" else ""))
+        kinds = {r.get("linear_kind", "lu") for r in rows[-3:]}
+        mix = (" The largest three rows mix LU and GAMG (the solver switches kind by size), so their exponent "
+               "includes the switch." if len(kinds) > 1 else "")
+        L.append(f"- Where the cost goes ({family}; first contact solve of each row): " + "; ".join(parts) + "."
+                 + mix)
+    return L + ([""] if L else [])
+
+
 def _md_scale(sc: dict, targets: list, cfg: BenchConfig) -> list[str]:
     L = [
         "## 3. Cost growth (P2, the case's Nitsche scene, one process per size)",
@@ -197,6 +219,7 @@ def _md_scale(sc: dict, targets: list, cfg: BenchConfig) -> list[str]:
             )
     L.append("")
     L += _crossover(sc)
+    L += _why(sc)
     for family, fam in sc.items():
         f = fam["fits"]
         k = {key: (_f(f[key]["all"]["exponent"]), _f((f[key]["largest3"] or {}).get("exponent"))) for key in f}
