@@ -49,7 +49,11 @@ __all__ = ["LINEAR_SOLVERS", "AUTO_GAMG_NDOFS", "AUTO_MUMPS_ORDERING", "resolve"
            "linear_options", "configure", "rigid_body_modes", "set_near_nullspace"]
 
 LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg", "auto")
-# auto: GAMG above this many unknowns (global), LU below (measured crossover: workbench bench, section scale)
+# auto: GAMG above this many unknowns (global), LU below. Chosen by MEMORY, not time: by time MUMPS LU beat GAMG
+# at every size measured (one linear solve, P2, one run each, loaded 2-core machine: GAMG cost 2.0-5.9 LU solves
+# on the graded bench meshes 2.6k-173k dofs, 3.2-4.2 on uniform meshes 41k-362k, about 1.5-2 at 642k), but
+# the LU's peak memory after one contact solve reached 1.38 GB at 362k uniform dofs and one linear LU solve
+# 3.5-4.2 GB at 642k, against the 2 GB budget at 1M dofs (GAMG: 1.7 GB at 1M).
 AUTO_GAMG_NDOFS = 400_000
 # auto: MUMPS ordering of its LU kind (ICNTL(7) = 2: AMF; MUMPS's default ICNTL(7) = 7 chose METIS here)
 AUTO_MUMPS_ORDERING = 2
