@@ -126,3 +126,18 @@ def test_scale_rows_auto_is_one_configuration():
     assert scale_overrides(cfg, 10**7) == {"predictor": "hertz_zone", "linear_solver": "auto"}
     with pytest.raises(ValueError, match="crossover_max_ndofs"):
         BenchConfig(crossover_max_ndofs=-1)
+
+
+def test_mumps_analysis_once_per_problem(mesh10):
+    """PETSc keeps MUMPS's symbolic analysis across the Newton iterations and force corrections of one solve
+    (the split Jacobian keeps J's nonzero state): one MatLUFactorSymbolic (no Hertz predictor KSP with
+    ``hertz_zone``), one MatLUFactorNumeric per Newton iteration (``lu``)."""
+    from petsc4py import PETSc
+
+    PETSc.Log.begin()
+    events = [PETSc.Log.Event(name) for name in ("MatLUFactorSym", "MatLUFactorNum")]
+    before = [e.getPerfInfo()["count"] for e in events]
+    res = _solve(mesh10, predictor="hertz_zone", force_rtol=1e-12)
+    sym, num = (e.getPerfInfo()["count"] - b for e, b in zip(events, before, strict=True))
+    assert sum(res.newton_iterations) >= 2, res.newton_iterations
+    assert sym == 1 and num == sum(res.newton_iterations), (sym, num, res.newton_iterations)
