@@ -19,6 +19,19 @@ state changes (and, for curved obstacles, smoothly with u). Kinds (``linear_solv
   plane rigid-body near-nullspace (translations ``(1, 0)``, ``(0, 1)`` and the rotation ``(-y, x)`` about the centroid,
   :func:`rigid_body_modes`); no factorisation, memory ~ linear in the dofs. The Hertz predictor's linear solve
   uses it too. Displacement formulation only (the mixed u-p system is a saddle point).
+* ``"auto"``: chosen by the global number of unknowns ``ndofs`` (:func:`resolve`): ``"lu_reuse"`` with MUMPS's
+  AMF ordering (``mat_mumps_icntl_7`` = :data:`AUTO_MUMPS_ORDERING`) up to :data:`AUTO_GAMG_NDOFS`, ``"gamg"``
+  above (never for a saddle point, never without ``ndofs``). AMF against MUMPS's own choice (METIS here), one
+  run each on a loaded 2-core machine, P2 plane elasticity: graded 173k dofs (bench mesh h_c = a/2560) analysis
+  0.086 s against 0.48 s, factor entries 18.6M against 19.6M, numeric factorisation 0.34 s both; uniform 161k
+  dofs analysis 0.059 s against 0.46 s, factor entries 29.0M against 31.4M (QAMD: 37.6M, slower numeric
+  factorisation). A different ordering changes the factors' round-off, so ``"auto"`` is a kind of its own:
+  ``"lu"`` and ``"lu_reuse"`` keep MUMPS's default.
+
+PETSc keeps MUMPS's symbolic analysis across Newton iterations and load steps (the Jacobian's nonzero state does
+not change: :class:`fem.split_jacobian.SplitJacobian` copies K's values into J): one ``MatLUFactorSymbolic`` per
+KSP (measured with PETSc's log events: the SNES's KSP and the Hertz predictor's, 2 per contact solve with
+``predictor="auto"``, 1 with ``"hertz_zone"``), one ``MatLUFactorNumeric`` per Newton iteration (``"lu"``).
 
 The converged Newton answer does not depend on the kind (SNES checks the same nonlinear residual tolerances);
 the Krylov tolerances are well below the Newton ones.
@@ -31,10 +44,19 @@ import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
 import numpy as np
 from petsc4py import PETSc
 
-__all__ = ["LINEAR_SOLVERS", "REUSE_KSP_RTOL", "REUSE_MAX_KRYLOV", "GAMG_KSP_RTOL", "snes_options",
+__all__ = ["LINEAR_SOLVERS", "AUTO_GAMG_NDOFS", "AUTO_MUMPS_ORDERING", "resolve",
+           "REUSE_KSP_RTOL", "REUSE_MAX_KRYLOV", "GAMG_KSP_RTOL", "snes_options",
            "linear_options", "configure", "rigid_body_modes", "set_near_nullspace"]
 
-LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg")
+LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg", "auto")
+# auto: GAMG above this many unknowns (global), LU below. Chosen by MEMORY, not time: by time MUMPS LU beat GAMG
+# at every size measured (one linear solve, P2, one run each, loaded 2-core machine: GAMG cost 2.0-5.9 LU solves
+# on the graded bench meshes 2.6k-173k dofs, 3.2-4.2 on uniform meshes 41k-362k, about 1.5-2 at 642k), but
+# the LU's peak memory after one contact solve reached 1.38 GB at 362k uniform dofs and one linear LU solve
+# 3.5-4.2 GB at 642k, against the 2 GB budget at 1M dofs (GAMG: 1.7 GB at 1M).
+AUTO_GAMG_NDOFS = 400_000
+# auto: MUMPS ordering of its LU kind (ICNTL(7) = 2: AMF; MUMPS's default ICNTL(7) = 7 chose METIS here)
+AUTO_MUMPS_ORDERING = 2
 # lu_reuse: relative Krylov tolerance of a Newton step (the Newton tolerance is snes_rtol 1e-10).
 REUSE_KSP_RTOL = 1e-12
 # lu_reuse: a Krylov solve that needed more iterations than this factors the next Jacobian again. A MUMPS
@@ -49,8 +71,29 @@ GAMG_KSP_MAX_IT = 1000
 _MUMPS = {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
 
 
-def snes_options(kind: str) -> dict:
-    """PETSc options (without prefix) of the Newton iterations' KSP/PC (and SNES lagging) for ``kind``."""
+def resolve(kind: str, *, ndofs: int | None = None, saddle: bool = False) -> str:
+    """The concrete kind (``"lu"``, ``"lu_reuse"`` or ``"gamg"``) of ``kind`` for a system of ``ndofs`` global
+    unknowns (``saddle``: the mixed u-p system, no GAMG); only ``"auto"`` depends on them (module docstring)."""
+    if kind not in LINEAR_SOLVERS:
+        raise ValueError(f"linear_solver must be one of {LINEAR_SOLVERS}, got {kind!r}")
+    if kind != "auto":
+        return kind
+    return "gamg" if (ndofs is not None and ndofs > AUTO_GAMG_NDOFS and not saddle) else "lu_reuse"
+
+
+def _auto_extra(kind: str, concrete: str) -> dict:
+    """The options ``"auto"`` adds to its concrete kind: the AMF ordering of its MUMPS LU."""
+    return {"mat_mumps_icntl_7": AUTO_MUMPS_ORDERING} if kind == "auto" and concrete != "gamg" else {}
+
+
+def snes_options(kind: str, *, ndofs: int | None = None, saddle: bool = False) -> dict:
+    """PETSc options (without prefix) of the Newton iterations' KSP/PC (and SNES lagging) for ``kind`` (``ndofs``,
+    ``saddle``: :func:`resolve`)."""
+    concrete = resolve(kind, ndofs=ndofs, saddle=saddle)
+    return {**_snes_options(concrete), **_auto_extra(kind, concrete)}
+
+
+def _snes_options(kind: str) -> dict:
     if kind == "lu":
         return dict(_MUMPS)
     if kind == "lu_reuse":
@@ -64,11 +107,11 @@ def snes_options(kind: str) -> dict:
     raise ValueError(f"linear_solver must be one of {LINEAR_SOLVERS}, got {kind!r}")
 
 
-def linear_options(kind: str) -> dict:
-    """PETSc options of a plain linear elastic solve (the Hertz predictor) for ``kind`` (lu_reuse: LU)."""
-    if kind not in LINEAR_SOLVERS:
-        raise ValueError(f"linear_solver must be one of {LINEAR_SOLVERS}, got {kind!r}")
-    return _gamg() if kind == "gamg" else dict(_MUMPS)
+def linear_options(kind: str, *, ndofs: int | None = None) -> dict:
+    """PETSc options of a plain linear elastic solve (the Hertz predictor) of ``ndofs`` global unknowns for
+    ``kind`` (lu_reuse: LU; auto: :func:`resolve`, with its ordering)."""
+    concrete = resolve(kind, ndofs=ndofs)
+    return _gamg() if concrete == "gamg" else {**_MUMPS, **_auto_extra(kind, concrete)}
 
 
 def _gamg() -> dict:
@@ -109,9 +152,11 @@ def set_near_nullspace(A, V) -> None:
     A.setNearNullSpace(ns)
 
 
-def configure(snes, A, V, kind: str) -> None:
+def configure(snes, A, V, kind: str, *, ndofs: int | None = None, saddle: bool = False) -> None:
     """Set-up beyond the options: ``lu_reuse`` refactors adaptively (module docstring); ``gamg`` attaches the
-    near-nullspace to the Jacobian matrix ``A`` of the displacement space ``V``."""
+    near-nullspace to the Jacobian matrix ``A`` of the displacement space ``V`` (``auto``: :func:`resolve` with
+    ``ndofs`` and ``saddle``, as for :func:`snes_options`)."""
+    kind = resolve(kind, ndofs=ndofs, saddle=saddle)
     if kind == "gamg":
         set_near_nullspace(A, V)
         snes.setUpdate(_rebuild_when_slow(GAMG_MAX_KRYLOV))

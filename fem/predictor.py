@@ -25,7 +25,7 @@ from petsc4py import PETSc
 
 from analytic.hertz import hertz, hertz_pressure
 from fem.elasticity import sigma
-from fem.linear_solver import linear_options, set_near_nullspace
+from fem.linear_solver import linear_options, resolve, set_near_nullspace
 
 __all__ = ["HertzPredictor"]
 
@@ -46,6 +46,7 @@ class HertzPredictor:
         self.uh = dolfinx.fem.Function(V)
         self._forms = (ufl.inner(sigma(du, lame), ufl.grad(v)) * ufl.dx, -p_h * v[1] * ds_c, bcs)
         self._linear_solver, self._prefix, self._problem = linear_solver, prefix, None
+        self._ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs  # linear_solver="auto" decides by it
         # First-contact dof: the Gamma_c dof nearest to (x_c, y_low), decided globally.
         fdim = mesh.topology.dim - 1
         dofs = dolfinx.fem.locate_dofs_topological(V, fdim, facets)
@@ -68,8 +69,8 @@ class HertzPredictor:
             a, L, bcs = self._forms
             self._problem = dolfinx.fem.petsc.LinearProblem(
                 a, L, bcs=bcs, u=self.uh, petsc_options_prefix=self._prefix,
-                petsc_options=linear_options(self._linear_solver))
-            if self._linear_solver == "gamg":
+                petsc_options=linear_options(self._linear_solver, ndofs=self._ndofs))
+            if resolve(self._linear_solver, ndofs=self._ndofs) == "gamg":
                 set_near_nullspace(self._problem.A, self.uh.function_space)
         return self._problem
 

@@ -199,7 +199,9 @@ class ContactProblem(NewtonControls):
         self.prefix = opts.petsc_prefix or f"fem_contact_{next(_counter)}_"
         x_all = self.mesh.geometry.x
         L = comm.allreduce(float(np.max(np.ptp(x_all[:, :2], axis=0))) if x_all.size else 0.0, op=MPI.MAX)
-        petsc = {"snes_type": "newtonls", "snes_linesearch_type": "basic", **snes_options(opts.linear_solver),
+        solver_kw = dict(ndofs=self.ndofs, saddle=self.ph is not None)  # linear_solver="auto" decides by these
+        petsc = {"snes_type": "newtonls", "snes_linesearch_type": "basic", **snes_options(opts.linear_solver,
+                                                                                          **solver_kw),
                  "snes_rtol": opts.snes_rtol, "snes_atol": 1e-13 * opts.E * L, "snes_stol": 0.0,
                  "snes_max_it": opts.max_it}
         petsc.update(opts.petsc_options or {})
@@ -214,7 +216,7 @@ class ContactProblem(NewtonControls):
                                                               petsc_options_prefix=self.prefix,
                                                               petsc_options=petsc)
         self.snes = self.problem.solver
-        configure_linear_solver(self.snes, self.problem.A, self.V, opts.linear_solver)
+        configure_linear_solver(self.snes, self.problem.A, self.V, opts.linear_solver, **solver_kw)
         # J = K (assembled once) + contact terms per iteration; not for a hyperelastic bulk (K depends on u)
         if self.ph is None and opts.split_jacobian and opts.material_model == "linear":
             self.split_jacobian = SplitJacobian(u=self.u, bulk_residual=forms.F - forms.F_c,

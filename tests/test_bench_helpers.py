@@ -119,3 +119,26 @@ def test_the_report_does_not_import_the_study():
             "bad = [m for m in ('workbench.studies.bench', 'dolfinx') if m in sys.modules]; "
             "sys.exit(1 if bad else 0)")
     assert subprocess.run([sys.executable, "-c", code], timeout=120).returncode == 0
+
+
+def _scale_row(ndofs, kind, lu, gamg, its, tri):
+    return {"family": "graded", "h_over_a": 0.1, "ndofs": ndofs, "overrides": {"linear_solver": "auto"},
+            "linear_kind": kind, "newton_iterations": its, "solve_s": 1.0, "linear_s": 0.5,
+            "linear_resolve_s": 0.3, "linear_solves_equivalent": 2.0, "rms": 0.001, "peak_rss_mb": 100.0,
+            "events": {"MatLUFactorSym": {"count": 1}, "MatLUFactorNum": {"count": 1}, "MatSolve": {"count": tri}},
+            "linear_by_kind_s": {} if lu is None else {"lu": lu, "gamg": gamg}}
+
+
+def test_report_names_the_crossover_and_where_the_cost_goes():
+    """Section 3 states the measured LU/GAMG crossover, the Newton and triangular solves per row, and warns
+    when the largest three rows mix LU and GAMG."""
+    from workbench.studies.bench_report import _crossover, _why
+
+    rows = [_scale_row(1000, "lu", 0.1, 0.3, [2], 6), _scale_row(4000, "lu", 0.5, 0.4, [5, 1, 1], 42),
+            _scale_row(9000, "gamg", None, None, [2], 0)]
+    sc = {"graded": {"rows": rows, "fits": {}}}
+    cross = "\n".join(_crossover(sc))
+    assert "GAMG faster from 4000 dofs" in cross and "1000: 3" in cross
+    why = "\n".join(_why(sc))
+    assert "4000: 7 Newton its, 42 triangular solves" in why and "mix LU and GAMG" in why
+    assert "mix LU and GAMG" not in "\n".join(_why({"graded": {"rows": rows[:2], "fits": {}}}))

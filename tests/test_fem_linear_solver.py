@@ -1,4 +1,4 @@
-"""Solver options of issue 16 that change only the cost: ``linear_solver`` (``lu``, ``lu_reuse``, ``gamg``),
+"""Solver options of issue 16 that change only the cost: ``linear_solver`` (``lu``, ``lu_reuse``, ``gamg``, ``auto``),
 ``split_jacobian`` (K assembled once) and ``predictor="hertz_zone"`` (no stiffness solve). Each gives the same
 answer as the default path (P, peak pressure and half-width to 1e-8 relative); bad values are refused with a
 ValueError naming the option.
@@ -43,8 +43,9 @@ def reference(mesh10):
 
 @pytest.mark.parametrize("kw", [dict(), dict(linear_solver="lu_reuse"), dict(linear_solver="gamg"),
                                 dict(predictor="hertz_zone"),
-                                dict(predictor="hertz_zone", linear_solver="lu_reuse")],
-                         ids=["split", "lu_reuse", "gamg", "hertz_zone", "hertz_zone_lu_reuse"])
+                                dict(predictor="hertz_zone", linear_solver="lu_reuse"),
+                                dict(linear_solver="auto")],
+                         ids=["split", "lu_reuse", "gamg", "hertz_zone", "hertz_zone_lu_reuse", "auto"])
 def test_same_answer(mesh10, reference, kw):
     res = _solve(mesh10, **kw)
     ref = reference
@@ -95,3 +96,48 @@ def test_scale_rows_switch_to_gamg_above_threshold():
     cfg = BenchConfig(krylov_threshold=1000, scale_linear_solver="lu_reuse")
     assert scale_overrides(cfg, 1000)["linear_solver"] == "lu_reuse"
     assert scale_overrides(cfg, 1001) == {"predictor": "hertz_zone", "linear_solver": "gamg"}
+
+
+def test_auto_chooses_by_size():
+    """``auto``: lu_reuse with the AMF ordering up to AUTO_GAMG_NDOFS unknowns, gamg above; never gamg for a
+    saddle point or without a size; the other kinds keep MUMPS's default ordering."""
+    from fem.linear_solver import AUTO_GAMG_NDOFS, linear_options, resolve, snes_options
+
+    assert resolve("auto", ndofs=AUTO_GAMG_NDOFS) == "lu_reuse"
+    assert resolve("auto", ndofs=AUTO_GAMG_NDOFS + 1) == "gamg"
+    assert resolve("auto", ndofs=AUTO_GAMG_NDOFS + 1, saddle=True) == "lu_reuse"
+    assert resolve("auto") == "lu_reuse"
+    assert resolve("lu", ndofs=10**9) == "lu"
+    small = snes_options("auto", ndofs=1000)
+    assert small["mat_mumps_icntl_7"] == 2 and small["snes_lag_preconditioner"] == -2
+    assert snes_options("auto", ndofs=10**7)["pc_type"] == "gamg"
+    assert "mat_mumps_icntl_7" not in snes_options("auto", ndofs=10**7)
+    assert "mat_mumps_icntl_7" not in snes_options("lu") and "mat_mumps_icntl_7" not in linear_options("lu_reuse")
+    assert linear_options("auto", ndofs=1000)["mat_mumps_icntl_7"] == 2
+    with pytest.raises(ValueError, match="linear_solver must be one of"):
+        resolve("cholesky")
+
+
+def test_scale_rows_auto_is_one_configuration():
+    from workbench.studies.bench import scale_overrides
+    from workbench.studies.config import BenchConfig
+
+    cfg = BenchConfig(krylov_threshold=1000, scale_linear_solver="auto")
+    assert scale_overrides(cfg, 10**7) == {"predictor": "hertz_zone", "linear_solver": "auto"}
+    with pytest.raises(ValueError, match="crossover_max_ndofs"):
+        BenchConfig(crossover_max_ndofs=-1)
+
+
+def test_mumps_analysis_once_per_problem(mesh10):
+    """PETSc keeps MUMPS's symbolic analysis across the Newton iterations and force corrections of one solve
+    (the split Jacobian keeps J's nonzero state): one MatLUFactorSymbolic (no Hertz predictor KSP with
+    ``hertz_zone``), one MatLUFactorNumeric per Newton iteration (``lu``)."""
+    from petsc4py import PETSc
+
+    PETSc.Log.begin()
+    events = [PETSc.Log.Event(name) for name in ("MatLUFactorSym", "MatLUFactorNum")]
+    before = [e.getPerfInfo()["count"] for e in events]
+    res = _solve(mesh10, predictor="hertz_zone", force_rtol=1e-12)
+    sym, num = (e.getPerfInfo()["count"] - b for e, b in zip(events, before, strict=True))
+    assert sum(res.newton_iterations) >= 2, res.newton_iterations
+    assert sym == 1 and num == sum(res.newton_iterations), (sym, num, res.newton_iterations)

@@ -26,8 +26,11 @@ Sections:
 3. Cost growth: P2, the case's Nitsche scene, on graded meshes of decreasing h_c and on uniform meshes up
    to ~1e6 dofs, one subprocess per size. Each size is solved with the row's options
    (:func:`scale_overrides`: ``scale_predictor``, ``scale_linear_solver``, and ``linear_solver="gamg"`` above
-   ``krylov_threshold`` dofs) and compared with one linear elastic solve on the same mesh with the same kind of
-   linear solver; below the threshold the case solver runs too (its cost in linear solves and the relative
+   ``krylov_threshold`` dofs; with ``scale_linear_solver="auto"``, the default, the solver's own choice by size
+   at every row: one configuration) and compared with one linear elastic solve on the same mesh with the same
+   linear solver (``"auto"``: the same choice and MUMPS ordering), in "linear solves per contact solve"; up to
+   ``crossover_max_ndofs`` one LU and one GAMG linear solve are timed too (the crossover of ``"auto"``); below
+   the threshold the case solver runs too (its cost in linear solves and the relative
    differences of P, p_max and the half-width). Peak memory = the high-water mark VmHWM of that process after
    the mesh, after the first contact solve, and at the end (``ru_maxrss`` is inherited from the parent across
    fork/exec on Linux, so after a big section it only shows the parent's peak; both are kept). Fitted exponent
@@ -402,7 +405,8 @@ def _block_mesh_data(run, cfg: BenchConfig, *, comm):
     return read_mesh(files.msh, comm)
 
 
-def linear_solve(mesh_data, run, *, repeats: int = 3, linear_solver: str = "lu") -> dict:
+def linear_solve(mesh_data, run, *, repeats: int = 3, linear_solver: str = "lu",
+                 petsc_options: dict | None = None) -> dict:
     """Warm time of one linear elastic solve (assembly of A and b, MUMPS LU, solve) on ``mesh_data``.
 
     ``linear_s``: a new problem each time (symbolic + numeric factorisation); ``linear_resolve_s``: the same
@@ -410,7 +414,9 @@ def linear_solve(mesh_data, run, *, repeats: int = 3, linear_solver: str = "lu")
 
     Weak form: ``a(u, v) = -int_Gc p_H v_y ds`` with the Hertz pressure of the case load (MPa), clamped
     bottom, roller symmetry edge; options ``preonly`` / ``lu`` / ``mumps`` as the contact Newton iterations
-    (``linear_solver="gamg"``: GMRES + GAMG with the rigid-body near-nullspace, :mod:`fem.linear_solver`).
+    (``linear_solver="gamg"``: GMRES + GAMG with the rigid-body near-nullspace; ``"auto"``: the choice of
+    :func:`fem.linear_solver.resolve` for this size, with its ordering, :mod:`fem.linear_solver`).
+    ``petsc_options``: these options instead (GAMG when their ``pc_type`` is ``"gamg"``).
     """
     import dolfinx
     import dolfinx.fem.petsc
@@ -447,18 +453,19 @@ def linear_solve(mesh_data, run, *, repeats: int = 3, linear_solver: str = "lu")
         pb = dolfinx.fem.petsc.LinearProblem(
             a_form, L_form, bcs=bcs, petsc_options_prefix=f"bench_lin_{next(_ids)}_", petsc_options=opts
         )
-        if linear_solver == "gamg":
+        if opts.get("pc_type") == "gamg":
             set_near_nullspace(pb.A, V)
         pb.solve()
         return pb
 
     a_form = ufl.inner(sigma(du, lm), ufl.grad(v)) * ufl.dx
     L_form = -p_h * v[1] * ds(mesh_data.physical_groups["contact"].tag)
-    opts = linear_options(linear_solver)
+    ndofs = V.dofmap.index_map.size_global * 2
+    opts = dict(petsc_options) if petsc_options is not None else linear_options(linear_solver, ndofs=ndofs)
     pb = fresh()  # warm-up: forms loaded
     best, pb = _best_of(fresh, repeats=repeats, budget_s=5.0)
     again, _ = _best_of(pb.solve, repeats=1, budget_s=0.0)
-    return {"ndofs": V.dofmap.index_map.size_global * 2, "linear_s": best, "linear_resolve_s": again}
+    return {"ndofs": ndofs, "linear_s": best, "linear_resolve_s": again}
 
 
 def _case_P(run) -> float:
@@ -525,8 +532,9 @@ def _ndofs(md, run) -> int:
 
 def scale_overrides(cfg: BenchConfig, ndofs: int) -> dict:
     """Solver overrides of a cost-growth row of ``ndofs`` dofs: ``scale_predictor`` and ``scale_linear_solver``,
-    ``"gamg"`` above ``krylov_threshold``."""
-    kind = "gamg" if ndofs > cfg.krylov_threshold else cfg.scale_linear_solver
+    ``"gamg"`` above ``krylov_threshold`` (``"auto"``: the solver decides at every size)."""
+    auto = cfg.scale_linear_solver == "auto"
+    kind = "gamg" if ndofs > cfg.krylov_threshold and not auto else cfg.scale_linear_solver
     return {"predictor": cfg.scale_predictor, "linear_solver": kind}
 
 
@@ -553,8 +561,18 @@ def _worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
     times = [res.wall_time_s]
     small = res.ndofs < cfg.small_ndofs
     times += [_solve_case(run, md, **over).wall_time_s for _ in range(2 if small else 1)]  # warm: forms loaded
-    kind = "gamg" if over["linear_solver"] == "gamg" else "lu"
-    lin = linear_solve(md, run, repeats=3 if small else 1, linear_solver=kind)
+    from fem.linear_solver import linear_options, resolve
+
+    kind = "gamg" if resolve(over["linear_solver"], ndofs=res.ndofs) == "gamg" else "lu"
+    # the same linear solver as the row's Newton iterations (auto: its choice and ordering at this size)
+    lin = linear_solve(md, run, repeats=3 if small else 1,
+                       linear_solver="auto" if over["linear_solver"] == "auto" else kind)
+    by_kind = {}
+    if res.ndofs <= cfg.crossover_max_ndofs:  # the LU/GAMG crossover: one linear solve of each kind
+        for label, popts in (("lu", linear_options("auto", ndofs=0)), ("gamg", linear_options("gamg"))):
+            same = (label == kind) and over["linear_solver"] == "auto"
+            by_kind[label] = lin["linear_s"] if same else linear_solve(md, run, repeats=2 if small else 1,
+                                                                      petsc_options=popts)["linear_s"]
     its = list(res.newton_iterations)
     pt = max(res.patches, key=lambda p: p.P) if res.patches else None
     row = {
@@ -563,6 +581,7 @@ def _worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
         "ndofs": res.ndofs,
         "overrides": over,
         "linear_kind": kind,
+        "linear_by_kind_s": by_kind,
         "mesh_read_s": mesh_s,
         "solve_s": min(times),
         "solve_first_s": times[0],

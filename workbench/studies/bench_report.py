@@ -131,24 +131,76 @@ def _md_linear(lin: dict, targets: list, cfg: BenchConfig) -> list[str]:
     ]
 
 
+def _switch(cfg: BenchConfig) -> str:
+    if cfg.scale_linear_solver == "auto":
+        return ("linear_solver = auto at every size: MUMPS LU (lu_reuse, AMF ordering) up to "
+                "fem.linear_solver.AUTO_GAMG_NDOFS dofs, gamg above")
+    return f"above {cfg.krylov_threshold} dofs linear_solver = gamg"
+
+
+def _by_kind(r: dict) -> str:
+    b = r.get("linear_by_kind_s") or {}
+    return f"{_f(b['lu'])} / {_f(b['gamg'])}" if {"lu", "gamg"} <= set(b) else "-"
+
+
+def _crossover(sc: dict) -> list[str]:
+    """One line per family: where one GAMG linear solve became cheaper than one LU solve (measured rows)."""
+    L = []
+    for family, fam in sc.items():
+        rows = [r for r in fam["rows"] if {"lu", "gamg"} <= set(r.get("linear_by_kind_s") or {})]
+        if not rows:
+            continue
+        faster = [r["ndofs"] for r in rows if r["linear_by_kind_s"]["gamg"] < r["linear_by_kind_s"]["lu"]]
+        ratio = ", ".join(f"{r['ndofs']}: {_f(r['linear_by_kind_s']['gamg'] / r['linear_by_kind_s']['lu'])}"
+                          for r in rows)
+        where = (f"GAMG faster from {min(faster)} dofs" if faster
+                 else f"LU faster at every measured size (up to {rows[-1]['ndofs']} dofs)")
+        L.append(f"- LU/GAMG crossover ({family}): {where}; one GAMG linear solve in LU solves: {ratio}.")
+    return L + ([""] if L else [])
+
+
+def _why(sc: dict) -> list[str]:
+    """Per family, what the measured rows say about the cost above one linear solve: linear solves (Newton and
+    tangent solves) and triangular solves per contact solve, and whether the largest three rows mix LU and GAMG."""
+    L = []
+    for family, fam in sc.items():
+        rows = fam["rows"]
+        if not rows:
+            continue
+        parts = []
+        for r in rows:
+            ev = r.get("events") or {}
+            tri = (ev.get("MatSolve") or {}).get("count")
+            parts.append(f"{r['ndofs']}: {sum(r['newton_iterations'])} Newton its"
+                         + (f", {tri} triangular solves" if tri and r.get("linear_kind") == "lu" else ""))
+        kinds = {r.get("linear_kind", "lu") for r in rows[-3:]}
+        mix = (" The largest three rows mix LU and GAMG (the solver switches kind by size), so their exponent "
+               "includes the switch." if len(kinds) > 1 else "")
+        L.append(f"- Where the cost goes ({family}; first contact solve of each row): " + "; ".join(parts) + "."
+                 + mix)
+    return L + ([""] if L else [])
+
+
 def _md_scale(sc: dict, targets: list, cfg: BenchConfig) -> list[str]:
     L = [
         "## 3. Cost growth (P2, the case's Nitsche scene, one process per size)",
         "",
         f"graded: meshes.block at decreasing h_c (W = H = 40 a); uniform: the baseline's half box W = H = "
         f"{cfg.scale_box:g} a. Each row is solved with the row's options (column 'options': the predictor and "
-        f"the linear solver; above {cfg.krylov_threshold} dofs linear_solver = gamg) and compared with ONE linear "
+        f"the linear solver; {_switch(cfg)}) and compared with ONE linear "
         "elastic solve on the same mesh with the same kind of linear solver (assembly + factorisation or AMG set-up "
         "+ solve; column 'linear'). 'case' = the case settings (Hertz predictor, MUMPS LU per Newton iteration) on "
         "the same mesh, in linear solves, and the largest relative difference of P, p_max and the half-width "
         "between the two (below the threshold only). Times: fresh process with warm JIT cache, best of 3 "
         f"in-process solves below {cfg.small_ndofs} dofs, else of 2. Peak RSS = VmHWM of that process "
         "(ru_maxrss is inherited from the parent on Linux): after the mesh, after the first contact solve, and "
-        "at the end (reference solves and the linear solve included).",
+        "at the end (reference solves and the linear solve included). 'LU / GAMG linear': one linear solve with "
+        "each kind (MUMPS LU with the auto ordering AMF, GAMG), up to crossover_max_ndofs dofs. Only the ratios "
+        "inside one row mean something on a shared machine (the rows run at different times).",
         "",
         "| mesh | h/a | ndofs | options | its | solver (s) | linear (s) | solver/linear | case/linear | "
-        "max rel diff vs case | LU sym/num | peak RSS mesh / 1st solve / end (MB) | rms |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "max rel diff vs case | LU sym/num | peak RSS mesh / 1st solve / end (MB) | rms | LU / GAMG linear (s) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for family, fam in sc.items():
         for r in fam["rows"]:
@@ -163,9 +215,11 @@ def _md_scale(sc: dict, targets: list, cfg: BenchConfig) -> list[str]:
                 f"{_f(max(diff.values()), '.1e') if diff else '-'} | "
                 f"{_events(r['events'])} | {_f(r.get('peak_rss_mesh_mb'), '.0f')} / "
                 f"{_f(r.get('peak_rss_first_solve_mb'), '.0f')} / "
-                f"{_f(r['peak_rss_mb'], '.0f')} | {_f(r['rms'])} |"
+                f"{_f(r['peak_rss_mb'], '.0f')} | {_f(r['rms'])} | {_by_kind(r)} |"
             )
     L.append("")
+    L += _crossover(sc)
+    L += _why(sc)
     for family, fam in sc.items():
         f = fam["fits"]
         k = {key: (_f(f[key]["all"]["exponent"]), _f((f[key]["largest3"] or {}).get("exponent"))) for key in f}

@@ -257,7 +257,7 @@ def _solver_variants() -> dict:
 BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free")
 ACTIVE_SETS = ("extrapolate", "geometry")  # fem.options.ACTIVE_SETS (a study config imports no fem)
 ACTIVE_SET_UPDATES = ("newton", "edge_fit")  # fem.options.ACTIVE_SET_UPDATES
-LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg")  # fem.linear_solver.LINEAR_SOLVERS
+LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg", "auto")  # fem.linear_solver.LINEAR_SOLVERS
 SCALE_PREDICTORS = ("auto", "hertz_zone")  # the force-control predictors of the cost-growth rows
 SCALE_FAMILIES = ("graded", "uniform")
 
@@ -282,7 +282,11 @@ class BenchConfig:
         mpi_levels: h_c of the MPI comparisons (None: the case default).
         option_level: h_c of the solver-options comparison (graded, ~9e4 dofs).
         scale_linear_solver: The ``linear_solver`` of the cost-growth rows up to ``krylov_threshold`` dofs
-            (:mod:`fem.linear_solver`; ``"lu"`` is the case default).
+            (:mod:`fem.linear_solver`; ``"lu"`` is the case default). ``"auto"`` (default): one configuration at
+            every size, the solver's own choice by size (``fem.linear_solver.AUTO_GAMG_NDOFS``; then
+            ``krylov_threshold`` does not apply), and the row's linear solve uses the same choice.
+        crossover_max_ndofs: Cost-growth rows up to this many dofs also time one linear solve with each of the
+            two kinds (MUMPS LU with the ``"auto"`` ordering, and GAMG): the measured LU/GAMG crossover; >= 0.
         scale_predictor: The ``predictor`` of the cost-growth rows: ``"auto"`` (the case: the Hertz predictor, a
             stiffness solve) or ``"hertz_zone"`` (the Hertz zone prescribed from the unloaded state, no stiffness
             solve). Each row below ``krylov_threshold`` also runs the case solver, as the reference.
@@ -325,7 +329,8 @@ class BenchConfig:
     small_ndofs: int = 50_000
     mpi_levels: tuple[float | None, ...] = (None, 0.00078125)
     option_level: float = 0.00078125
-    scale_linear_solver: str = "lu_reuse"
+    scale_linear_solver: str = "auto"
+    crossover_max_ndofs: int = 400_000
     scale_predictor: str = "hertz_zone"
     krylov_threshold: int = 400_000
     reuse_lu: dict = field(default_factory=lambda: {
@@ -380,6 +385,9 @@ class BenchConfig:
         if isinstance(self.krylov_threshold, bool) or int(self.krylov_threshold) != self.krylov_threshold \
                 or self.krylov_threshold < 0:
             raise ValueError(f"krylov_threshold must be an integer >= 0 (dofs), got {self.krylov_threshold!r}")
+        if isinstance(self.crossover_max_ndofs, bool) or int(self.crossover_max_ndofs) != self.crossover_max_ndofs \
+                or self.crossover_max_ndofs < 0:
+            raise ValueError(f"crossover_max_ndofs must be an integer >= 0 (dofs), got {self.crossover_max_ndofs!r}")
         if not self.predictor_free_target > 0:
             raise ValueError(f"predictor_free_target must be > 0, got {self.predictor_free_target!r}")
         if not set(self.sections) <= set(BENCH_SECTIONS):
