@@ -475,7 +475,7 @@ _CHOICES = {
     ("solver", "traction"): ("halfplane", "obstacle"),
     ("solver", "theta"): (1, 0, -1),
     ("solver", "formulation"): ("auto", "displacement", "mixed"),
-    ("solver", "linear_solver"): ("lu", "lu_reuse", "gamg"),
+    ("solver", "linear_solver"): ("lu", "lu_reuse", "gamg", "auto"),
 }
 # (low, high, low_inclusive, high_inclusive, text)
 _RANGES = {

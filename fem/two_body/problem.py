@@ -281,7 +281,8 @@ class TwoBodyProblem(NewtonControls):
         x_all = self.mesh.geometry.x
         L = float(np.max(np.ptp(x_all[:, :2], axis=0)))
         E_max = max(b.E for b in self.setup.bodies)
-        petsc = {"snes_type": "newtonls", "snes_linesearch_type": "basic", **snes_options(opts.linear_solver),
+        petsc = {"snes_type": "newtonls", "snes_linesearch_type": "basic",
+                 **snes_options(opts.linear_solver, ndofs=self.ndofs),
                  "snes_rtol": opts.snes_rtol, "snes_atol": 1e-13 * E_max * L, "snes_stol": 0.0,
                  "snes_max_it": opts.max_it, **(opts.petsc_options or {})}
         self.snes = PETSc.SNES().create(self.comm)
@@ -292,7 +293,7 @@ class TwoBodyProblem(NewtonControls):
         self.snes.setFunction(self._residual, self.b)
         self.snes.setJacobian(self._jacobian, self.A, self.A)
         self.snes.setFromOptions()
-        configure_linear_solver(self.snes, self.A, self.V, opts.linear_solver)
+        configure_linear_solver(self.snes, self.A, self.V, opts.linear_solver, ndofs=self.ndofs)
         for k in petsc:
             o.delValue(f"{self.prefix}{k}")
 
