@@ -57,10 +57,10 @@ def _metrics(name="demo_case", passed=True):
 def test_pressure_csv_columns_and_formatting():
     rows = list(csv.reader(pressure_csv(_outcomes()).splitlines()))
     assert rows[0] == ["run", "coordinate_mm", "p_fem_MPa", "sigma_nn_MPa", "p_hertz_measured_p_MPa",
-                       "p_wedge_converged_MPa"]
-    assert rows[1] == ["small", "-1", "0", "0.001", "0", ""]  # no wedge prediction for this series
-    assert rows[7] == ["convective", "-0.5", "75", "75", "86.60254038", "10"]
-    assert rows[6][-1] == "" and rows[10][-1] == ""  # NaN and inf leave the cell empty
+                       "p_wedge_converged_MPa", "weight_mm", "q_MPa"]
+    assert rows[1] == ["small", "-1", "0", "0.001", "0", "", "", ""]  # no wedge prediction, no weights here
+    assert rows[7] == ["convective", "-0.5", "75", "75", "86.60254038", "10", "", ""]
+    assert rows[6][-3] == "" and rows[10][-3] == ""  # NaN and inf leave the cell empty
     assert len(rows) == 1 + 2 * 5
 
 

@@ -5,7 +5,10 @@ These are the only files made from live Python objects besides ``metrics.json``;
 
 ``pressure.csv``: one row per surface point of every series: ``run`` (series label), ``coordinate_mm``,
 ``p_fem_MPa``, ``sigma_nn_MPa``, then ``p_<prediction>_MPa`` for every analytic prediction of any series
-(empty where a series has no such prediction or its value is not finite). Numbers have 10 significant digits.
+(empty where a series has no such prediction or its value is not finite), then ``weight_mm`` (each sample's
+quadrature weight: ``sum(weight_mm * p_fem_MPa)`` is the load the samples carry, full body) and ``q_MPa`` (the
+contact law's argument, ``p = [q]_+``: its zero crossings are the edges), empty where the scene gives none. Numbers
+have 10 significant digits, the weights 17 (the load they sum to is then exact to round-off).
 
 ``series.json``: ``{"series": [...]}``, one record per pressure curve (one plot panel) with ``label``,
 ``x`` (mm), ``p`` (MPa), ``sigma_nn`` (MPa), ``predictions`` (name -> MPa at ``x``), ``xlabel`` and
@@ -41,13 +44,14 @@ def pressure_csv(outcomes) -> str:
     names = list(dict.fromkeys(k for sr in series for k in sr.predictions))
     buf = io.StringIO()
     w = csv.writer(buf)
-    w.writerow(["run", "coordinate_mm", "p_fem_MPa", "sigma_nn_MPa", *[f"p_{_slug(n)}_MPa" for n in names]])
+    w.writerow(["run", "coordinate_mm", "p_fem_MPa", "sigma_nn_MPa", *[f"p_{_slug(n)}_MPa" for n in names],
+                "weight_mm", "q_MPa"])
     for sr in series:
         for i in range(len(sr.x)):
             row = [sr.label, f"{sr.x[i]:.10g}", f"{sr.p[i]:.10g}", f"{sr.sigma_nn[i]:.10g}"]
-            for n in names:
-                v = sr.predictions.get(n)
-                row.append("" if v is None or not np.isfinite(v[i]) else f"{v[i]:.10g}")
+            for v in [sr.predictions.get(n) for n in names] + [sr.weight, sr.q]:
+                row.append("" if v is None or not np.isfinite(v[i]) else f"{v[i]:.17g}" if v is sr.weight
+                           else f"{v[i]:.10g}")
             w.writerow(row)
     return buf.getvalue()
 

@@ -50,6 +50,9 @@ class Series(NamedTuple):
         predictions: Prediction name -> pressure at ``x`` (MPa).
         xlabel: Axis label of ``x``.
         xlim: Plot range of ``x`` (mm).
+        weight: Quadrature weight of each sample (mm: ``sum(weight * p)`` is the load the samples carry), or None.
+        q: The contact law's pressure argument ``p = [q]_+`` at each sample (MPa: its zero crossings are the
+            edges), or None.
     """
 
     label: str
@@ -59,6 +62,8 @@ class Series(NamedTuple):
     predictions: dict
     xlabel: str
     xlim: tuple[float, float]
+    weight: Any = None
+    q: Any = None
 
 
 class Outcome(NamedTuple):

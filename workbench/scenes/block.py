@@ -44,6 +44,8 @@ class BlockComparison(NamedTuple):
     p_max: float
     theory: BlockTheory
     errors: dict
+    weight: np.ndarray | None = None
+    q: np.ndarray | None = None
 
 
 def compare_result(result, run: Run) -> BlockComparison:
@@ -60,19 +62,22 @@ def compare_result(result, run: Run) -> BlockComparison:
 
         smp = smp._replace(s=smp.x[:, 0].copy())
         patches = find_patches(smp, half=result.half)
-    x, p, snn = smp.s, smp.p, smp.sigma_nn
+    x, p, snn, w, q = smp.s, smp.p, smp.sigma_nn, smp.weight, smp.q
     if result.half:  # mirror the half model (x >= 0) to the full body for plots and errors
         keep = x > 0
+
+        def mirror(a):
+            return np.concatenate([a[keep][::-1], a])
+
         x = np.concatenate([-x[keep][::-1], x])
-        p = np.concatenate([p[keep][::-1], p])
-        snn = np.concatenate([snn[keep][::-1], snn])
+        p, snn, w, q = mirror(p), mirror(snn), mirror(w), mirror(q)
     main = max(patches, key=lambda pt: pt.P) if patches else None
     half_width = main.half_width if main else math.nan
     p_max = main.p_max if main else math.nan
     theory, errors = compare_block(x=x, p=p, P=result.P, P_pressure=result.P_pressure,
                                    half_width_fem=half_width, p_max_fem=p_max, geometry=run.geometry,
                                    material=run.material)
-    return BlockComparison(x, p, snn, half_width, p_max, theory, errors)
+    return BlockComparison(x, p, snn, half_width, p_max, theory, errors, w, q)
 
 
 def stress_based_errors(cmp: BlockComparison) -> dict:
@@ -204,7 +209,8 @@ class BlockScene:
                                                                           E_star=theory.E_star)
         lim = 1.6 * max(cmp.half_width if math.isfinite(cmp.half_width) else 0.0, theory.half_width)
         axis = "x (mm, current)" if run.solver.kinematics == "finite" else "x (mm, material)"
-        series = Series(run.label, x, p, snn, predictions, axis, (-lim, lim))
+        series = Series(run.label, x, p, snn, predictions, axis, (-lim, lim), weight=cmp.weight[order],
+                        q=cmp.q[order])
         return Outcome(run.label, run, metrics, [series], theory, cmp, result)
 
     def judge(self, case: Case, outcomes: list[Outcome]) -> CaseComparison:

@@ -186,7 +186,7 @@ class TwoBodyScene:
             theory = None
         metrics["errors"] = errors
         series = Series(run.label, smp.s, smp.p, smp.sigma_nn, predictions, "x (mm, material)",
-                        (-lim if g.indenter == "cylinder" else 0.0, lim))
+                        (-lim if g.indenter == "cylinder" else 0.0, lim), weight=smp.weight, q=smp.q)
         return Outcome(run.label, run, metrics, [series], theory, None, result)
 
     def judge(self, case: Case, outcomes: list[Outcome]) -> CaseComparison:
