@@ -2,8 +2,10 @@
 
 A contact problem (the rigid obstacle's :class:`fem.problem.ContactProblem`, the two bodies'
 :class:`fem.two_body.problem.TwoBodyProblem`) owns a PETSc SNES (``self.snes``), its options
-(``self.options.max_it``), a Newton solve ``newton()`` and a context ``prescribed_active_set(zones)``; this mixin
-adds the two controls built on them, the same for every partner.
+(``self.options.max_it``), the load parameter ``self.d`` (``.value``, mm), its state (``set_state``), a Newton
+solve ``newton()``, a context ``prescribed_active_set(zones)`` and its contact method or law (``self.method``, whose
+``solve(newton)`` is one Newton solve or an outer loop of them); this mixin adds the solve of one load level built
+on them, the same for every partner.
 """
 
 from __future__ import annotations
@@ -11,11 +13,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 from contextlib import contextmanager
 
+import numpy as np
+
 __all__ = ["NewtonControls"]
 
 
 class NewtonControls:
-    """Mixin: temporary iteration limits and the prescribed-active-set predictor iteration."""
+    """Mixin: temporary iteration limits, the prescribed-active-set predictor iteration and one load level's solve."""
 
     @contextmanager
     def max_iterations(self, n: int):
@@ -31,3 +35,24 @@ class NewtonControls:
         afterwards."""
         with self.prescribed_active_set(zones), self.max_iterations(1):
             self.newton()
+
+    def refresh(self) -> None:
+        """Hook before a solve (a problem whose gap data depend on the state refreshes them); default nothing."""
+
+    def solve_once(self, d_value: float, state: np.ndarray, *, rest=None, zone=None) -> tuple[int, int, dict]:
+        """Solve at load parameter ``d_value`` (mm: the obstacle's or the driven body's displacement) from
+        ``state``.
+
+        With ``zone`` (a sequence of runs (lo, hi)) one prescribed-active-set iteration comes first (counted).
+        Then the method's solve (one Newton solve, or the augmented Lagrangian's Uzawa loop). Returns (SNES
+        converged reason, Newton iterations, the method's extra record entries).
+        """
+        self.d.value = d_value
+        self.set_state(state, rest)
+        self.refresh()
+        pre = 0
+        if zone is not None:
+            self.predictor_iteration(zone)
+            pre = 1
+        reason, its, extra = self.method.solve(self.newton)
+        return reason, its + pre, extra

@@ -344,23 +344,10 @@ class ContactProblem(NewtonControls):
         finally:
             mask[0].value = 0.0
 
-    def solve_once(self, d_value: float, state: np.ndarray, *, rest=None, zone=None) -> tuple[int, int, dict]:
-        """Solve at obstacle displacement ``d_value`` (mm) from ``state``.
-
-        With ``zone`` (a sequence of runs (lo, hi)) one prescribed-active-set iteration comes first (counted).
-        Then the method's solve (one Newton solve, or the augmented Lagrangian's Uzawa loop). Returns (SNES
-        converged reason, Newton iterations, the method's extra record entries).
-        """
-        self.d.value = d_value
-        self.set_state(state, rest)
+    def refresh(self) -> None:
+        """Before a solve: the nodal gap data of a curve obstacle at the current state (others: nothing)."""
         if self.forms.update is not None:
             self.forms.update(self.u)
-        pre = 0
-        if zone is not None:
-            self.predictor_iteration(zone)
-            pre = 1
-        reason, its, extra = self.method.solve(self.newton)
-        return reason, its + pre, extra
 
     def tangent(self, state: np.ndarray, d0: float) -> tuple[np.ndarray, float] | None:
         """Tangent ``t = du/dd`` of the converged ``state`` at ``d0`` for its active set, and ``dP/dd`` (N/mm/mm).

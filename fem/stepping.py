@@ -251,8 +251,7 @@ class LoadStepper:
         pb = self.problem
         pb.d.value = d_new
         pb.set_state(x_pred, self.states[-1].x)
-        if pb.forms.update is not None:
-            pb.forms.update(pb.u)
+        pb.refresh()
         runs = pb.contact_zones()
         if not runs:
             return None
@@ -329,8 +328,7 @@ class LoadStepper:
         pb = self.problem
         pb.d.value = d_new
         pb.set_state(x_pred, self.states[-1].x)
-        if pb.forms.update is not None:
-            pb.forms.update(pb.u)
+        pb.refresh()
         pre, hist = 0, None
         while zone is not None and pre < EDGE_FIT_MAX:
             if not solved:

@@ -422,17 +422,6 @@ class TwoBodyProblem(NewtonControls):
         finally:
             self.method.zones = None
 
-    def solve_once(self, d_value: float, state: np.ndarray, *, rest=None, zone=None) -> tuple[int, int, dict]:
-        """Solve at driven displacement ``d_value`` (mm) from ``state`` (as the rigid problem's)."""
-        self.d.value = d_value
-        self.set_state(state, rest)
-        pre = 0
-        if zone is not None:
-            self.predictor_iteration(zone)
-            pre = 1
-        reason, its, extra = self.method.solve(self.newton)
-        return reason, its + pre, extra
-
     def tangent(self, state: np.ndarray, d0: float):
         """Tangent ``t = du/dd`` of the converged state for its active set and ``dP/dd`` (as the rigid
         problem's: ``J t = -dF/dd`` with the factors the last Newton solve left in the KSP)."""
