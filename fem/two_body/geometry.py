@@ -221,6 +221,12 @@ class CircleSurface(NamedTuple):
     center: tuple[float, float]
     radius: float
 
+    def height(self, x1: np.ndarray):
+        """(h, h', h'') of the circle's lower arc at abscissae x1 (mm): ``h = c2 - sqrt(R^2 - (x1 - c1)^2)``."""
+        dx = np.asarray(x1, dtype=float) - self.center[0]
+        root = np.sqrt(np.maximum(self.radius**2 - dx * dx, 1e-300))
+        return self.center[1] - root, dx / root, self.radius**2 / root**3
+
     def ray_distance(self, X: np.ndarray, nu: np.ndarray, s_near: np.ndarray) -> np.ndarray:
         """Signed distances s along the rays ``X + s nu`` to the circle, the root nearest to ``s_near``."""
         c = np.asarray(self.center, dtype=float)

@@ -59,12 +59,15 @@ from fem.options import ContactOptions
 from fem.postprocess import LOCKING_NU, SurfaceSamples, contact_edges, oscillation_warnings, resolution_warnings
 from fem.two_body.geometry import exact_master_gaps, mortar_points, node_points
 from fem.two_body.laws import law_for
-from fem.two_body.surfaces import cell_data, surface_of_group
+from fem.two_body.surfaces import cell_data, surface_of_group, tabulate2
 from fem.two_body.weighted_gap import WeightedGap, assemble_weighted_gap
 
 __all__ = ["Body", "MeshedPartner", "TwoBodyProblem", "PAIRINGS"]
 
 PAIRINGS = ("mortar", "node_to_segment")
+# convective kinematics: a slave point's partner may move this many master facets from its reference partner
+# before the Jacobian needs an entry outside the preallocated pattern (then PETSc allocates it, counted)
+CONVECTIVE_WINDOW = 3
 _COMPONENTS = {"clamped": (0, 1), "roller_x": (0,), "roller_y": (1,), "free": ()}
 _counter = itertools.count()
 
@@ -206,11 +209,21 @@ class TwoBodyProblem(NewtonControls):
             master_cells=cell_data(self.V, self.master_geom), n_dofs=self.n_u, degree=opts.degree)
         if self.gap.nodes.size == 0:
             raise ValueError(f"the contact surfaces {st.slave!r} and {st.master!r} do not face each other")
+        self.conv = None
+        if opts.kinematics == "convective":
+            from fem.two_body.convective import ConvectiveGap, MasterCells
+
+            self.conv = ConvectiveGap(pts, self.gap, slave=self.slave_geom,
+                                      slave_cells=cell_data(self.V, self.slave_geom),
+                                      master_geom=self.master_geom,
+                                      master=MasterCells(cell_data(self.V, self.master_geom),
+                                                         tabulate2(self.V), st.master_surface),
+                                      degree=opts.degree, n_dofs=self.n_u)
         h = float(np.min(self.slave_geom.length))
         kappa = opts.kappa0 * self.E_star / h
         self.method = law_for(opts.method)(kappa=kappa, n_nodes=self.gap.nodes.size, X1=self.gap.X[:, 0],
                                            uzawa_rtol=opts.uzawa_rtol, uzawa_max_it=opts.uzawa_max_it)
-        self.method.bind(gap=lambda: self.gap.gap(self.u.x.array),
+        self.method.bind(gap=lambda: self.weighted_gaps(self.u.x.array),
                          scale=lambda: float(np.max(np.abs(self.u.x.array), initial=0.0)))
 
     def _build_supports(self) -> None:
@@ -258,7 +271,7 @@ class TwoBodyProblem(NewtonControls):
         self.K0 = dolfinx.fem.petsc.assemble_matrix(self.a_form)
         self.K0.assemble()
         pattern = dolfinx.fem.create_sparsity_pattern(self.a_form)
-        D = self.gap.D.tocsr()
+        D = self.gap.D.tocsr() if self.conv is None else self.conv.pattern(window=CONVECTIVE_WINDOW)
         for i in range(D.shape[0]):
             blocks = np.unique(D.indices[D.indptr[i]:D.indptr[i + 1]] // 2).astype(np.int32)
             pattern.insert(blocks, blocks)
@@ -303,16 +316,30 @@ class TwoBodyProblem(NewtonControls):
         self.u.x.array[:] = arr
         return arr
 
+    def weighted_gaps(self, u: np.ndarray) -> np.ndarray:
+        """The nodal weighted gaps g~ (mm) of the dof array u (small or convective kinematics)."""
+        return self.gap.gap(u) if self.conv is None else self.conv.linearise(u)[0]
+
     def contact_residual(self, u: np.ndarray) -> np.ndarray:
-        """``F_c = -D^T p`` (N/mm per dof) of the dof array u."""
-        p, _ = self.method.pressure(self.gap.gap(u))
-        return -(self.gap.D.T @ p)
+        """``F_c = -D^T p`` (N/mm per dof) of the dof array u (D = D(u) for convective kinematics)."""
+        if self.conv is None:
+            g, D = self.gap.gap(u), self.gap.D
+        else:
+            g, D, _ = self.conv.linearise(u)
+        p, _ = self.method.pressure(g)
+        return -(D.T @ p)
 
     def contact_jacobian(self, u: np.ndarray) -> sp.csr_matrix:
-        """``dF_c/du = D^T diag(-dp/dg~ / W) D`` (exact; sparse, all dofs)."""
-        _, dp = self.method.pressure(self.gap.gap(u))
-        D = self.gap.D
-        return (D.T @ sp.diags(-dp / self.gap.W) @ D).tocsr()
+        """``dF_c/du = D^T diag(-dp/dg~ / W) D`` (small), plus ``- sum_i p_i d2(W_i g~_i)/du2`` (convective:
+        :mod:`fem.two_body.convective`); exact, sparse, all dofs."""
+        if self.conv is None:
+            _, dp = self.method.pressure(self.gap.gap(u))
+            D = self.gap.D
+            return (D.T @ sp.diags(-dp / self.gap.W) @ D).tocsr()
+        g, _, _ = self.conv.linearise(u)
+        p, dp = self.method.pressure(g)
+        g, D, H = self.conv.linearise(u, hessian_weights=-p)
+        return (D.T @ sp.diags(-dp / self.gap.W) @ D + H).tocsr()
 
     def _residual(self, snes, x, b) -> None:
         arr = self._take(x)
@@ -323,12 +350,14 @@ class TwoBodyProblem(NewtonControls):
 
     def _jacobian(self, snes, x, J, P) -> None:
         arr = self._take(x)
-        self.K_bc.copy(J, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+        structure = PETSc.Mat.Structure  # convective pairs may couple beyond the window: K_bc's pattern is a subset
+        self.K_bc.copy(J, structure=structure.SAME_NONZERO_PATTERN if self.conv is None
+                       else structure.SUBSET_NONZERO_PATTERN)
         Jc = self.contact_jacobian(arr)
         Jc = sp.diags(self.free.astype(float)) @ Jc @ sp.diags(self.free.astype(float))
         Jc = Jc.tocsr()
         Jc.eliminate_zeros()
-        J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
+        J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, self.conv is None)
         _add_csr(J, Jc)
         J.assemble()
 
@@ -370,7 +399,7 @@ class TwoBodyProblem(NewtonControls):
     # -- surface --------------------------------------------------------------------------------------------
     def sample(self, degree: int | None = None, rule=None) -> SurfaceSamples:
         """Samples at the slave contact nodes (where the law holds), sorted by X1."""
-        g = self.gap.gap(self.u.x.array)
+        g = self.weighted_gaps(self.u.x.array)
         q = self.method.argument(g)
         p, _ = self.method.pressure(g)
         X = self.gap.X
@@ -426,8 +455,7 @@ class TwoBodyProblem(NewtonControls):
         """Tangent ``t = du/dd`` of the converged state for its active set and ``dP/dd`` (as the rigid
         problem's: ``J t = -dF/dd`` with the factors the last Newton solve left in the KSP)."""
         self.set_state(state)
-        u = self.u.x.array.copy()
-        p_now, dp = self.method.pressure(self.gap.gap(u))
+        Jc = self.contact_jacobian(self.u.x.array.copy())
         rhs = np.zeros(self.n_u)
         rhs[self.bc_dofs] = self.bc_per_d  # dF/dd = -bc_per_d at the support rows
         f, t = self.x.duplicate(), self.x.duplicate()
@@ -443,9 +471,7 @@ class TwoBodyProblem(NewtonControls):
         self.x.setArray(t_arr)
         r = self.K0.createVecLeft()
         self.K0.mult(self.x, r)
-        D = self.gap.D
-        rc = D.T @ (dp * (D @ t_arr) / self.gap.W)  # -D^T dp/dg~ dg~/dd
-        dP = self.mult * float(np.dot(r.getArray() - rc, self.reaction_dir))
+        dP = self.mult * float(np.dot(r.getArray() + Jc @ t_arr, self.reaction_dir))
         r.destroy()
         self.set_state(state)
         if not (np.all(np.isfinite(t_arr)) and np.isfinite(dP) and dP > 0):
@@ -469,9 +495,10 @@ def _check(setup: MeshedPartner, opts: ContactOptions, mesh_data) -> None:
     if mesh_data.mesh.comm.size > 1:
         raise ValueError("two-body contact runs on one process (the pairing needs both surfaces there); "
                          "run it without mpiexec")
-    if opts.kinematics != "small":
-        raise ValueError(f"kinematics={opts.kinematics!r} is not available for two elastic bodies yet; "
-                         "use kinematics='small' (the pairing is fixed in the reference configuration)")
+    if opts.kinematics not in ("small", "convective"):
+        raise ValueError(f"kinematics={opts.kinematics!r} is not available for two elastic bodies; allowed: 'small' "
+                         "(pairing fixed in the reference configuration) or 'convective' (pairing follows the "
+                         "relative tangential displacement)")
     if opts.degree not in (1, 2):
         raise ValueError(f"degree must be 1 or 2 for two elastic bodies, got {opts.degree}")
     if opts.mixed:

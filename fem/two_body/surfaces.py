@@ -14,7 +14,7 @@ import numpy as np
 from fem.two_body.geometry import SurfaceGeometry
 from fem.two_body.weighted_gap import CellData
 
-__all__ = ["surface_of_group", "cell_data"]
+__all__ = ["surface_of_group", "cell_data", "tabulate2"]
 
 
 def surface_of_group(mesh_data, group: str) -> SurfaceGeometry:
@@ -47,3 +47,15 @@ def cell_data(V, geom: SurfaceGeometry) -> CellData:
         return element.tabulate(0, np.ascontiguousarray(xi, dtype=np.float64))[0, :, :, 0]
 
     return CellData(vertices=vertices, nodes=nodes.astype(np.int64), node_x=node_x, tabulate=tabulate)
+
+
+def tabulate2(V):
+    """``tabulate2(xi) -> (values (m, k), first (m, k, 2), second derivatives (m, k, 3): xx, xy, yy)`` of the
+    scalar basis of ``V`` at reference points (for :mod:`fem.two_body.convective`)."""
+    element = V.ufl_element().sub_elements[0].basix_element
+
+    def tab(xi: np.ndarray):
+        t = element.tabulate(2, np.ascontiguousarray(xi, dtype=np.float64))[..., 0]  # (6, m, k)
+        return t[0], np.stack([t[1], t[2]], axis=2), np.stack([t[3], t[4], t[5]], axis=2)
+
+    return tab
