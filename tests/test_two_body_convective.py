@@ -1,11 +1,14 @@
 """Convective kinematics of two elastic bodies (issue 24): the pairing follows the relative tangential
-displacement (:mod:`fem.two_body.convective`).
+displacement (:mod:`fem.two_body.convective`; the solver API only: case files refuse it until it is validated
+against the Ciavarella-Hills theory, issue 25).
 
 * the Jacobian (bulk + the u-dependent coupling + the pairing's second derivative) equals central differences
   of the residual, for dissimilar materials where the surfaces slip;
 * on flat surfaces of the same material (no slip) convective equals small kinematics and passes the patch test;
 * the Ciavarella-Hills sign: a stiff cylinder on a softer block (beta < 0) widens the contact against small
-  kinematics, a soft cylinder on a stiffer block (beta > 0) narrows it, at the same load.
+  kinematics, a soft cylinder on a stiffer block (beta > 0) narrows it, at the same load (measured h = a/5,
+  beta = -+0.26: b/b0 = 1.0027 and 0.9945). Known limit: with kappa0 = 1e3 the soft cylinder's convective Newton
+  diverges (DIVERGED_MAX_IT at the first step); kappa0 = 1e2 converges in <= 8 iterations per step.
 """
 
 from __future__ import annotations
@@ -104,11 +107,16 @@ def test_flat_surfaces_convective_equals_small(tmp_path):
 
 @pytest.mark.parametrize("E_upper", [20 * E, E / 20])
 def test_convective_shift_has_the_sign_opposite_to_beta(cylinder, E_upper):
+    """Displacement control (d = 0.02 mm, 4 steps), kappa0 = 1e2: with 1e3 the soft cylinder's convective Newton
+    diverges (measured); b compared at equal load through Hertz's b ~ sqrt(P)."""
     partner = _partner(E_upper)
     b = {}
     for kin in ("small", "convective"):
-        res = solve(cylinder, partner, options=_options(partner, kin))
-        b[kin] = moment_half_width(res.samples.s, res.samples.p, res.samples.weight, center=0.0)
+        opts = ContactOptions(E=E, nu=NU, target=0.02, degree=2, method="penalty", control="displacement",
+                              n_steps=4, kinematics=kin, predictor="extrapolate", active_set="geometry",
+                              kappa0=1e2)
+        res = solve(cylinder, partner, options=opts)
+        b[kin] = moment_half_width(res.samples.s, res.samples.p, res.samples.weight, center=0.0) / np.sqrt(res.P)
     beta = bimaterial(E1=E_upper, nu1=NU, E2=E, nu2=NU).beta  # body 1 the indenter, body 2 the block
     shift = b["convective"] / b["small"] - 1
     assert abs(beta) > 0.1

@@ -351,8 +351,15 @@ def _node_at(cells: CellData, P: np.ndarray) -> np.ndarray:
 
 
 def _root_in_01(coef: np.ndarray, c: float) -> float | None:
-    """The root t in [0, 1] of ``polyval(t, coef) = c`` (a monotone low-degree polynomial on [0, 1])."""
-    roots = np.polynomial.polynomial.polyroots(np.concatenate([[coef[0] - c], coef[1:]]))
-    real = roots[np.abs(roots.imag) <= 1e-12].real
-    inside = real[(real > 1e-13) & (real < 1.0 - 1e-13)]
-    return float(inside[0]) if inside.size else None
+    """The root t in (0, 1) of ``polyval(t, coef) = c`` for a monotone, nearly linear polynomial on [0, 1] (the
+    current abscissa along a facet): Newton from the linear root (a companion-matrix solve loses the root when the
+    quadratic coefficient is round-off small)."""
+    P = np.polynomial.polynomial
+    d = P.polyder(coef)
+    t = (c - coef[0]) / (P.polyval(1.0, coef) - coef[0])
+    for _ in range(20):
+        step = (P.polyval(t, coef) - c) / P.polyval(t, d)
+        t -= step
+        if abs(step) <= 1e-15:
+            break
+    return float(t) if 1e-13 < t < 1.0 - 1e-13 else None

@@ -10,8 +10,11 @@ Weak form: find u with the supports such that for every admissible v
     F(u; v) = int_O1+O2 sigma(u) : eps(v) dx  +  F_c(u; v) = 0 ,      F_c = -(D v) . p(g~(u))
 
 with the weighted gaps ``g~ = (G0 + D u) / W`` of the slave surface's nodes (:mod:`fem.two_body.weighted_gap`,
-pairing by :mod:`fem.two_body.geometry`, fixed in the reference configuration: ``small`` kinematics) and the
-nodal contact law ``p`` (:mod:`fem.two_body.laws`: penalty or augmented Lagrangian).
+pairing by :mod:`fem.two_body.geometry`, fixed in the reference configuration: ``small`` kinematics; or, for
+``convective``, re-paired in the current configuration by :mod:`fem.two_body.convective`, so that D = D(u) and the
+Jacobian carries the pairing's second derivative) and the nodal contact law ``p`` (:mod:`fem.two_body.laws`:
+penalty or augmented Lagrangian). Convective kinematics needs a flat slave surface (normal (0, 1)); measured
+limit: a soft master with kappa0 = 1e3 diverged, kappa0 = 1e2 converged (tests/test_two_body_convective.py).
 
 Assembly (what a dolfinx form cannot express: the contact couples dofs of both bodies across non-matching
 facets): the bulk stiffness K is a dolfinx form; its sparsity pattern is extended by the paired slave-master
