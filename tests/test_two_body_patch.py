@@ -116,6 +116,10 @@ def test_refusals(stacked):
         _problem(stacked, method="nitsche")
     with pytest.raises(ValueError, match="pairing"):
         _problem(stacked, pairing="segment")
+    setup = _problem(stacked).setup  # slave: the upper block's bottom, normal (0, -1)
     with pytest.raises(ValueError, match="kinematics"):
-        setup = _problem(stacked).setup
-        TwoBodyProblem(stacked, setup, ContactOptions(E=1.0, nu=0.3, target=1.0, kinematics="convective"))
+        TwoBodyProblem(stacked, setup, ContactOptions(E=1.0, nu=0.3, target=1.0, method="penalty", kinematics="finite",
+                                                      material_model="neo_hookean"))
+    with pytest.raises(ValueError, match="flat slave surface with normal"):
+        TwoBodyProblem(stacked, setup, ContactOptions(E=1.0, nu=0.3, target=1.0, method="penalty",
+                                                      kinematics="convective"))
