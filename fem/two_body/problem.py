@@ -115,8 +115,7 @@ class MeshedPartner:
     def combined_modulus(self) -> float:
         """E* (MPa): ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` (:mod:`analytic.materials`)."""
         b1, b2 = self.bodies
-        return 1.0 / (1.0 / materials.plane_strain_modulus(b1.E, b1.nu)
-                      + 1.0 / materials.plane_strain_modulus(b2.E, b2.nu))
+        return materials.composite_modulus(b2.E, b2.nu, E1=b1.E, nu1=b1.nu)
 
 
 class TwoBodyForms(NamedTuple):
@@ -206,7 +205,6 @@ class TwoBodyProblem(NewtonControls):
         else:
             pts = node_points(self.slave_geom, self.master_geom, degree=opts.degree)
         pts = exact_master_gaps(pts, st.master_surface)
-        self.points = pts
         self.gap: WeightedGap = assemble_weighted_gap(
             pts, slave=self.slave_geom, slave_cells=cell_data(self.V, self.slave_geom),
             master_cells=cell_data(self.V, self.master_geom), n_dofs=self.n_u, degree=opts.degree)
@@ -415,10 +413,6 @@ class TwoBodyProblem(NewtonControls):
     def contact_zones(self) -> tuple[tuple[float, float], ...]:
         smp = self.sample()
         return tuple(((-np.inf if i == 0 else left), right) for left, right, i, _ in contact_edges(smp.s, smp.q))
-
-    def contact_zone(self):
-        runs = self.contact_zones()
-        return runs[0] if len(runs) == 1 else None
 
     def quality_warnings(self, smp: SurfaceSamples, d_now: float) -> list[str]:
         opts = self.options

@@ -27,7 +27,7 @@ import numpy as np
 
 from analytic.circle import circle_contact, circle_pressure
 from analytic.hertz import hertz_load_from_half_width
-from analytic.materials import plane_strain_modulus
+from analytic.materials import composite_modulus
 from cases.schema import Case, Run
 from measures.contact import moment_half_width, rms_error
 from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
@@ -46,9 +46,9 @@ _WHOLE_SURFACE = ("contact unresolved", "contact truncated")
 
 
 def combined_modulus(run: Run) -> float:
-    """E* (MPa) of the two bodies: ``1/E* = 1/E1' + 1/E2'`` with the plane-strain moduli."""
+    """E* (MPa) of the two bodies: ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` (:mod:`analytic.materials`)."""
     g, m = run.geometry, run.material
-    return 1.0 / (1.0 / plane_strain_modulus(m.E, m.nu) + 1.0 / plane_strain_modulus(g.upper_E, g.upper_nu))
+    return composite_modulus(m.E, m.nu, E1=g.upper_E, nu1=g.upper_nu)
 
 
 def partner_for(run: Run):
