@@ -217,9 +217,10 @@ class ConvectiveGap:
         return x_s, j, np.clip(r, 0.0, 1.0)
 
     # -- gap, gradient, Hessian ----------------------------------------------------------------------------
-    def linearise(self, u: np.ndarray, *, hessian_weights: np.ndarray | None = None):
+    def linearise(self, u: np.ndarray, *, hessian_weights: Callable[[np.ndarray], np.ndarray] | None = None):
         """(g~ (m,), D (m x n_dofs) CSR, H (n_dofs x n_dofs) CSR or None): the weighted gaps, their gradient and
-        ``sum_i c_i d2(W_i g~_i)/du2`` for the nodal weights ``c = hessian_weights``."""
+        ``sum_i c_i d2(W_i g~_i)/du2`` for the nodal weights ``c = hessian_weights(g~)`` (e.g. minus the law's
+        pressures at these gaps: one pass of the pairing for the whole Jacobian)."""
         self.segment(u)
         x_s, j, r = self.pair(u)
         x, x1, x2, N_m, Nr, Nrr, nodes_m = self._master_at(j, r, u)
@@ -259,7 +260,8 @@ class ConvectiveGap:
         D.sum_duplicates()
         H = None
         if hessian_weights is not None:
-            c_pt = np.einsum("np,np->n", wphi, np.where(valid, hessian_weights[np.maximum(rows, 0)], 0.0))
+            c = hessian_weights(gt)
+            c_pt = np.einsum("np,np->n", wphi, np.where(valid, c[np.maximum(rows, 0)], 0.0))
             r_u = -C_u / C_r[:, None]
             a = G_ur - s[:, None] * C_ur
             hess = (a[:, :, None] * r_u[:, None, :] + r_u[:, :, None] * a[:, None, :]
@@ -268,7 +270,7 @@ class ConvectiveGap:
             Hi = np.broadcast_to(dofs[:, :, None], hess.shape)
             Hj = np.broadcast_to(dofs[:, None, :], hess.shape)
             H = sp.csr_matrix((hess.ravel(), (Hi.ravel(), Hj.ravel())), shape=(self.n_dofs, self.n_dofs))
-            H = H + self._cut_hessian(u, hessian_weights)
+            H = H + self._cut_hessian(u, c)
             H.sum_duplicates()
         return gt, D, H
 

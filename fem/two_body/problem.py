@@ -337,9 +337,8 @@ class TwoBodyProblem(NewtonControls):
             _, dp = self.method.pressure(self.gap.gap(u))
             D = self.gap.D
             return (D.T @ sp.diags(-dp / self.gap.W) @ D).tocsr()
-        g, _, _ = self.conv.linearise(u)
-        p, dp = self.method.pressure(g)
-        g, D, H = self.conv.linearise(u, hessian_weights=-p)
+        g, D, H = self.conv.linearise(u, hessian_weights=lambda gaps: -self.method.pressure(gaps)[0])
+        _, dp = self.method.pressure(g)
         return (D.T @ sp.diags(-dp / self.gap.W) @ D + H).tocsr()
 
     def _residual(self, snes, x, b) -> None:
