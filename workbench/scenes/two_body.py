@@ -31,6 +31,7 @@ from analytic.materials import composite_modulus
 from cases.schema import Case, Run
 from measures.contact import moment_half_width, rms_error
 from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
+from workbench.scenes.budget_theory import circle_moment_half_width
 from workbench.scenes.two_body_schema import TWO_BODY_SCHEMA
 
 __all__ = ["TwoBodyScene", "combined_modulus", "partner_for"]
@@ -153,9 +154,7 @@ class TwoBodyScene:
         if g.indenter == "cylinder":
             th = circle_contact(result.P, g.radius, metrics["E_star"])
             main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
-            x = np.linspace(-th.half_width, th.half_width, 4001)
-            p_th = circle_pressure(x, b=th.half_width, R=g.radius, E_star=metrics["E_star"])
-            m_th = math.sqrt(np.trapezoid(p_th * x * x, x) / np.trapezoid(p_th, x))
+            m_th = circle_moment_half_width(b=th.half_width, R=g.radius, E_star=metrics["E_star"])
             m_fe = moment_half_width(smp.s, smp.p, smp.weight, center=0.0) if main else math.nan
             p_max = main.p_max if main else math.nan
             b_fe = main.half_width if main else math.nan
