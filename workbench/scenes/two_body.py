@@ -85,13 +85,13 @@ class TwoBodyScene:
 
     def estimate_cells(self, run: Run) -> float:
         """Model triangle count of both bodies before meshing (:func:`meshes.sizing.graded_triangles`)."""
-        from meshes.sizing import graded_triangles
+        from meshes.sizing import TRI_PER_H2, graded_triangles
 
         g, disc = run.geometry, run.discretisation
         if g.indenter == "stacked":
             h = disc.h_contact * g.block_width
             areas = g.block_width * g.height_lower / h**2 + g.block_width * g.height_upper / (g.size_ratio * h) ** 2
-            return areas * 4 / 3**0.5
+            return areas * TRI_PER_H2
         _, a0 = _estimate(run)
         W, H, h0 = g.width_factor * a0, g.height_factor * a0, 0.9 * disc.h_contact * a0
         block = graded_triangles(L=3 * a0, h0=h0, h_far=W / 10, growth=disc.growth, area=W * H, c=math.pi)
@@ -158,20 +158,18 @@ class TwoBodyScene:
             m_fe = moment_half_width(smp.s, smp.p, smp.weight, center=0.0) if main else math.nan
             p_max = main.p_max if main else math.nan
             b_fe = main.half_width if main else math.nan
+            p_th = circle_pressure(smp.s, b=th.half_width, R=g.radius, E_star=metrics["E_star"])
             errors |= {"p_max": abs(p_max / th.p0 - 1.0), "half_width": abs(b_fe / th.half_width - 1.0),
                        "half_width_moment": abs(m_fe / m_th - 1.0),
-                       "rms": rms_error(smp.s, smp.p, circle_pressure(smp.s, b=th.half_width, R=g.radius,
-                                                                      E_star=metrics["E_star"]),
-                                        center=0.0, half_width=max(th.half_width, b_fe if main else 0.0),
-                                        p_ref=th.p0)}
+                       "rms": rms_error(smp.s, smp.p, p_th, center=0.0,
+                                        half_width=max(th.half_width, b_fe if main else 0.0), p_ref=th.p0)}
             metrics |= {"p_max": p_max, "patch_half_width": b_fe, "half_width_moment": m_fe,
                         "analytic": {"kind": "exact_circle", "P": result.P, "E_star": metrics["E_star"],
                                      "half_width": th.half_width, "p0": th.p0, "R": g.radius,
                                      "half_width_moment": m_th,
                                      "signed": {"p_max": p_max / th.p0 - 1.0,
                                                 "half_width_moment": m_fe / m_th - 1.0}}}
-            predictions = {"exact circle (at measured P)": circle_pressure(smp.s, b=th.half_width, R=g.radius,
-                                                                           E_star=metrics["E_star"])}
+            predictions = {"exact circle (at measured P)": p_th}
             lim = 1.6 * th.half_width
             theory = th
         else:
