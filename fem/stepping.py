@@ -340,7 +340,7 @@ class LoadStepper:
             if not sign or same_active_points(smp.s, sign, zone):
                 break  # the iterate's own active set is the prescribed one: the true law accepts it
             h = float(np.median(np.diff(smp.s))) if smp.s.size > 1 else 0.0
-            fit = extrapolated_runs(smp.s, smp.q)
+            fit = extrapolated_runs(smp.s, smp.q, zone=zone)
             if len(sign) > 1:  # fragments of one run (the sign of tiny gaps): their envelope
                 sign, fit = merged_runs(sign, MERGE_POINTS * h), merged_runs(fit, MERGE_POINTS * h)
                 if len(sign) != len(fit):

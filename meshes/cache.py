@@ -56,9 +56,11 @@ def cache_key(params: dict) -> str:
 
 
 def cache_paths(cache_dir, name: str, key: str) -> dict[str, Path]:
-    """Paths of the cached files of one mesh."""
-    base = Path(cache_dir) / f"{name}-{key}"
-    return {ext: base.with_suffix("." + ext) for ext in ("msh", "xdmf", "h5", "json")}
+    """Paths of the cached files of one mesh: ``<name>-<key>.<ext>``. The extension is appended, not put in
+    place of a suffix: ``Path.with_suffix`` took a name with a dot (``cyl_0.05``) for a suffix and dropped the
+    key with it, so a mesh of other parameters under that name was served from the cache."""
+    folder, stem = Path(cache_dir), f"{name}-{key}"
+    return {ext: folder / f"{stem}.{ext}" for ext in ("msh", "xdmf", "h5", "json")}
 
 
 def make_cache_dir(cache_dir) -> Path:

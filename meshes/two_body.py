@@ -29,11 +29,13 @@ from meshes.pipeline import build_cached
 from meshes.portable import GmshInputs
 from meshes.sizing import apply_background, growth_field, validate_common
 
-__all__ = ["build_stacked_blocks", "build_cylinder_on_block", "ARC_SPLIT_DEG"]
+__all__ = ["build_stacked_blocks", "build_cylinder_on_block", "ARC_SPLIT"]
 
-# The disk's arc is split at these angles (degrees from the lowest point, left and right): not symmetric, so the
-# central arc's nodes do not fall on x = 0 where the block's might.
-ARC_SPLIT_DEG = (23.0, 29.0)
+# The disk's refined central arc spans x = -ARC_SPLIT[0] b ... +ARC_SPLIT[1] b (b = a (1 + margin), the block's
+# refined window): not symmetric, so its nodes do not fall on x = 0 where the block's might. (Until 2026-11 the split
+# was at fixed angles, 23 and 29 degrees: a refined arc of 0.9 R, 18 a at a/R = 0.05, that made the disk 4x the
+# block's cells at a/R = 0.05 and 17x at a/R = 0.0125.)
+ARC_SPLIT = (1.0, 1.17)
 
 
 def _positive(**vals) -> None:
@@ -117,16 +119,17 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
     h_far = max(h_far, h_contact)
     validate_common(h_contact=h_contact, h_far=h_far, growth=growth)
     b = a * (1.0 + margin)
-    if not width / 2.0 > b or not radius > b:
-        raise ValueError(f"width / 2 and radius must be > a (1 + margin) = {b} (mm)")
+    if not width / 2.0 > b or not radius > ARC_SPLIT[1] * b:
+        raise ValueError(f"width / 2 must be > a (1 + margin) = {b} (mm) and radius > {ARC_SPLIT[1] * b} (mm)")
     gi = GmshInputs(scale=max(width, height, 2.0 * radius))
     R, W, H, a = gi.length(radius), gi.length(width), gi.length(height), gi.length(a)
     b = gi.length(a * (1.0 + margin))
     h_c, h_far, growth = gi.size(0.9 * h_contact), gi.size(h_far), gi.size(growth)
     h_d = gi.size(0.9 * h_contact * disk_size_ratio)
     params = dict(radius=R, width=W, height=H, a=a, b=b, h_contact=h_c, h_disk=h_d, h_far=h_far, growth=growth,
-                  margin=float(margin), split=ARC_SPLIT_DEG, indenter=bool(indenter))
-    angles = [math.radians(-90.0 - ARC_SPLIT_DEG[0]), math.radians(-90.0 + ARC_SPLIT_DEG[1])]
+                  margin=float(margin), split=ARC_SPLIT, indenter=bool(indenter))
+    angles = [-0.5 * math.pi - math.asin(min(1.0, ARC_SPLIT[0] * b / R)),
+              -0.5 * math.pi + math.asin(min(1.0, ARC_SPLIT[1] * b / R))]
     arc_pts = [(gi.length(R * math.cos(t)), gi.length(R + R * math.sin(t))) for t in angles]
 
     def make(gmsh):
@@ -153,7 +156,7 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
             up = geo.addPlaneSurface([geo.addCurveLoop([*arcs, flat])])
             geo.synchronize()
             fields.append(growth_field(gmsh, h0=h_d, h_max=h_far, growth=growth, curves=[arcs[1]],
-                                       curve_length=R * math.radians(sum(ARC_SPLIT_DEG)),
+                                       curve_length=R * (angles[1] - angles[0]),
                                        sampling_size=gi.size(h_d / 4.0)))
             bodies.append((up, arcs))
         else:

@@ -51,6 +51,21 @@ def test_extrapolated_edges_of_a_hertz_pressure():
     assert abs(hi - b) < 0.25 * h and abs(lo + b) < 0.25 * h, (lo, hi)
 
 
+def test_the_fit_leaves_out_the_penetration_beyond_a_prescribed_set():
+    """Outside the prescribed set no law acts: a positive q there is a penetration, not a pressure. Fitted
+    through it, the edge lands at the end of the penetration; with ``zone`` it is the set's own pressure's root."""
+    b, h = 1.0, 0.05
+    s, q = _hertz_samples(b, h)
+    zone = ((-0.8, 0.8),)
+    # a too-small set: the pressure of the set inside, a penetration growing outwards to 1.6 b outside it
+    pen = np.where(np.abs(s) >= 0.8, 0.6 * np.clip(1.6 - np.abs(s), 0.0, None) ** 1.5, 0.0)
+    q_it = np.where(np.abs(s) < 0.8, q, pen - (np.abs(s) >= 1.6) * (np.abs(s) - 1.6))
+    (_, hi_all), = extrapolated_runs(s, q_it)
+    (_, hi_zone), = extrapolated_runs(s, q_it, zone=zone)
+    assert hi_all > 1.2 * b  # the overshoot: the penetration's own zero
+    assert abs(hi_zone - b) < 0.1 * b, hi_zone  # the pressure's root, near the true edge
+
+
 def test_safeguard_takes_the_sign_change_when_the_fit_moves_against_it():
     zone, sign = ((-1.0, 1.0),), ((-1.1, 1.2),)  # the set was too small: both edges move out
     assert safeguarded_runs(zone, sign, ((-1.3, 0.9),)) == ((-1.3, 1.2),)

@@ -123,3 +123,16 @@ def test_bad_arguments_raise_value_error(tmp_path):
         build_block_mesh(**kw, growth=1.0)
     with pytest.raises(ValueError, match="refine_at"):
         build_concave_mesh(design="symmetric", h_contact=0.1, refine_at=[(0.5, 0.4)], out_dir=tmp_path)
+
+
+def test_a_name_with_a_dot_keeps_the_parameters_in_the_cache_key(tmp_path):
+    """``cyl_0.05`` once lost its key to ``Path.with_suffix``: another mesh under that name came from the cache."""
+    from meshes.cache import cache_paths
+    from meshes.two_body import build_stacked_blocks
+
+    assert cache_paths(tmp_path, "cyl_0.05", "abc")["msh"].name == "cyl_0.05-abc.msh"
+    kw = dict(width=1.0, height_lower=1.0, height_upper=0.5, out_dir=tmp_path, name="blocks_h_0.25")
+    coarse = build_stacked_blocks(h_lower=0.25, h_upper=0.4, **kw)
+    fine = build_stacked_blocks(h_lower=0.125, h_upper=0.2, **kw)
+    assert not fine.cached and fine.msh != coarse.msh
+    assert fine.stats["cells"] > 2 * coarse.stats["cells"]

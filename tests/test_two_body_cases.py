@@ -18,7 +18,7 @@ BAD = {
     "size_ratio": (CYL, "size_ratio = 0.77", "size_ratio = 9.0", ["geometry.size_ratio", "size_ratio < 5"]),
     "upper_E": (CYL, "upper_E = 210000.0", "upper_E = -1.0", ["geometry.upper_E", "upper_E"]),
     "upper_nu": (CYL, "upper_nu = 0.3", "upper_nu = 0.5", ["geometry.upper_nu", "upper_nu < 0.5"]),
-    "missing_radius": (CYL, "radius = 10.0 ", "# radius = 10.0", ["geometry.radius", "required"]),
+    "missing_radius": (CYL, "radius = 40.0 ", "# radius = 10.0", ["geometry.radius", "required"]),
     "convective": (CYL, 'kinematics = "small"', 'kinematics = "convective"', ["solver.kinematics", "'small'"]),
     "nitsche": (CYL, 'method = "penalty"', 'method = "nitsche"', ["solver.method", "penalty"]),
     "patch_force": (PATCH, 'control = "displacement"\nd = [0.001]', 'control = "force"\nP = 10.0',

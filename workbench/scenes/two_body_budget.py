@@ -12,7 +12,8 @@ For every run of the case the scene is solved again:
 * the finest level on W_max again at the solver tolerances / 100 (``iterative``).
 
 Rows (dimensionless, FEM over the exact circle's half-plane theory at the run's measured load and combined
-modulus): ``p_max`` (largest nodal pressure) and ``half_width_moment`` (sqrt(M2/M0)). Theory 1; ``alt_theory`` is
+modulus): ``p_max`` (largest nodal pressure), ``half_width`` (the contact edge b, square-root edge model between the
+nodes) and ``half_width_moment`` (sqrt(M2/M0)). Theory 1; ``alt_theory`` is
 Hertz's parabola at the same load (its p0 and a/2 over the exact circle's). The half disk's own size is not
 varied: its departure from a half-plane (order (a/R)^2) stays in the extrapolated value, and the row's
 ``theory_in_band`` says whether the theory holds to within the band anyway.
@@ -36,7 +37,7 @@ from workbench.scenes.base import SceneBudget
 
 __all__ = ["two_body_error_budget", "QUANTITIES"]
 
-QUANTITIES = ("p_max", "half_width_moment")
+QUANTITIES = ("p_max", "half_width", "half_width_moment")
 _TITLE = "Error budget (three grids, three block sizes; the half disk as it is)"
 
 
@@ -51,8 +52,10 @@ def _ratios(outcome) -> dict[str, float]:
     """FEM over the exact circle at the measured load, and Hertz over the exact circle (the alternative)."""
     an = outcome.metrics["analytic"]
     hz = hertz(an["P"], an["R"], an["E_star"])
-    return {"p_max": 1.0 + an["signed"]["p_max"], "half_width_moment": 1.0 + an["signed"]["half_width_moment"],
-            "alt p_max": hz.p0 / an["p0"], "alt half_width_moment": 0.5 * hz.half_width / an["half_width_moment"]}
+    return {"p_max": 1.0 + an["signed"]["p_max"], "half_width": 1.0 + an["signed"]["half_width"],
+            "half_width_moment": 1.0 + an["signed"]["half_width_moment"],
+            "alt p_max": hz.p0 / an["p0"], "alt half_width": hz.half_width / an["half_width"],
+            "alt half_width_moment": 0.5 * hz.half_width / an["half_width_moment"]}
 
 
 def two_body_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:

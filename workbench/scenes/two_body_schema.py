@@ -101,7 +101,7 @@ TWO_BODY_SCHEMA = SceneSchema(
         "patch_uniformity": "max |p / (P/W) - 1| over the contact nodes (mortar run)",
         "newton_iterations": "largest number of Newton iterations of a load step (absolute)",
     },
-    band_quantities=("p_max", "half_width_moment"),
+    band_quantities=("p_max", "half_width", "half_width_moment"),
     check_geometry=_check_geometry,
     check_load=_check_load,
 )
