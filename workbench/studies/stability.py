@@ -473,11 +473,11 @@ def _two_body_run(spec: TwoBodySpec, cfg: StabilityConfig):
     from cases.schema import load_case
 
     run = load_case(cfg.two_body_case).runs(h_contact=1.0 / spec.h_ratio)[0]
-    E = run.material.E
-    return dataclasses.replace(
-        run, material=dataclasses.replace(run.material, nu=spec.nu_lower),
-        geometry=dataclasses.replace(run.geometry, upper_E=spec.ratio * E, upper_nu=spec.nu_upper),
-        solver=dataclasses.replace(run.solver, formulation="displacement"))
+    lower, upper = run.bodies  # the case's [[body]] tables: the lower body first
+    bodies = (dataclasses.replace(lower, nu=spec.nu_lower),
+              dataclasses.replace(upper, E=spec.ratio * lower.E, nu=spec.nu_upper))
+    return dataclasses.replace(run, bodies=bodies, material=bodies[0].material,
+                               solver=dataclasses.replace(run.solver, formulation="displacement"))
 
 
 def run_two_body_spec(spec: TwoBodySpec, cfg: StabilityConfig, *, comm) -> dict:
