@@ -28,6 +28,7 @@ def test_both_timings_at_equal_dofs(section):
         two, rigid = r["two_body"], r["rigid"]
         for side in (two, rigid, r["rigid_predictor_free"]):
             assert side["total_s"] > 0 and side["solve_s"] > 0 and side["repeats"] == 1
+            assert side["lu_numeric"] >= 1 and side["lu_numeric_s"] > 0  # where a Newton iteration's cost goes
         assert rigid["ndofs"] == r["rigid_predictor_free"]["ndofs"]
         assert abs(rigid["ndofs"] / two["ndofs"] - 1.0) <= cfg.match_rtol  # dofs of the solves, not the estimate
         assert math.isclose(r["ratio_total"], two["total_s"] / rigid["total_s"])

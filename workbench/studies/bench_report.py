@@ -388,15 +388,16 @@ def two_body_markdown(tb: dict, targets: list) -> list[str]:
          f"A second rigid timing runs without its analytic predictor ({cfg.get('rigid_free')}), as the two-body "
          "load path does: its ratio separates the coupling's cost from the predictor's gain.", "",
          "| two-body run | dofs | rigid h_c | rigid dofs | two-body s (solver) | rigid s (solver) | ratio (solver) | "
-         "rigid predictor-free s: ratio | two-body Newton its per step | rigid its (predictor-free) |",
-         "|---|---|---|---|---|---|---|---|---|---|"]
+         "rigid predictor-free s: ratio | two-body Newton its per step | rigid its (predictor-free) | "
+         "numeric LU: two-body / rigid / predictor-free (count, s) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in tb["rows"]:
         t, g, fr = r["two_body"], r["rigid"], r["rigid_predictor_free"]
         L.append(f"| {r['case']} [{r['run']}] | {t['ndofs']} | {_f(g['h_contact'], '.4g')} | {g['ndofs']} "
                  f"({r['ndofs_rel_diff']:+.1%}) | {_f(t['total_s'])} ({_f(t['solve_s'])}) | {_f(g['total_s'])} "
                  f"({_f(g['solve_s'])}) | {r['ratio_total']:.2f} ({r['ratio_solve']:.2f}) | "
                  f"{_f(fr['total_s'])}: {r['ratio_total_predictor_free']:.2f} | "
-                 f"{t['newton_iterations']} | {g['newton_iterations']} ({fr['newton_iterations']}) |")
+                 f"{t['newton_iterations']} | {g['newton_iterations']} ({fr['newton_iterations']}) | "
+                 + " / ".join(f"{x.get('lu_numeric', '-')} ({_f(x.get('lu_numeric_s'))})" for x in (t, g, fr)) + " |")
         targets.append((f"two-body cost <= {ct:g} x rigid at equal dofs: {r['case']} [{r['run']}]",
                         f"{r['ratio_total']:.2f}", r["cost_met"]))
         targets.append((f"two-body Newton its <= {nt} per load step: {r['case']} [{r['run']}]",
