@@ -19,6 +19,14 @@ kinematics needs ``traction = "obstacle"``, the displacement formulation and a s
 combinations are refused. Magnitudes the solver cannot represent are refused with their cause (E beyond
 ``E_MAX``; a scene adds its own, e.g. a contact too small for the indenter's size).
 
+Bodies: a single-body scene takes its material from ``[material]``. A scene with several elastic bodies
+(:attr:`SceneSchema.bodies` names their roles, in order) takes them from a ``[[body]]`` array of tables instead, one
+per body in that order, each with ``name`` (its label in reports and ``metrics.json``: 1 to 64 letters, digits,
+``_`` or ``-``, distinct), ``E``, ``nu`` and ``model`` (ranges and choices as ``[material]``'s); ``[material]`` and
+``[[body]]`` are never both given, and ``run.material`` is the first body's material (the body the solver options'
+E and nu describe). A variant overrides bodies with ``body = [{...}, {...}]``: one table per body, in order, each
+holding only the fields it changes (``{}`` keeps a body as it is).
+
 A case may carry ``[[variant]]`` tables. Each variant overrides fields of the base case (same section
 layout, e.g. ``[variant.solver] kinematics = "convective"``) and is run as its own FEM run; the case's
 ``metrics.json`` holds one entry per variant.
@@ -62,6 +70,7 @@ __all__ = [
     "short_repr",
     "CASE_LEVEL_DEFAULTS",
     "Analytic",
+    "Body",
     "Case",
     "CaseError",
     "Discretisation",
@@ -162,6 +171,26 @@ class Material:
     E: float
     nu: float
     model: str = "linear"
+
+
+@dataclass(frozen=True)
+class Body:
+    """One elastic body of a scene with several (``[[body]]``), plane strain.
+
+    Attributes:
+        name: Its label in reports and ``metrics.json`` (1 to 64 letters, digits, ``_`` or ``-``; distinct).
+        E, nu, model: Its material, with the ranges and choices of :class:`Material`.
+    """
+
+    name: str
+    E: float
+    nu: float
+    model: str = "linear"
+
+    @property
+    def material(self) -> Material:
+        """The body's material record."""
+        return Material(E=self.E, nu=self.nu, model=self.model)
 
 
 @dataclass(frozen=True)
@@ -295,6 +324,8 @@ class SceneSchema:
         mixed: The scene supports the mixed formulation (it needs an analytic obstacle).
         budget_widths: None if the scene's error budget takes ``budget_widths`` (then required with
             ``budget_levels``), else the reason it refuses them.
+        bodies: The roles of the scene's elastic bodies, in ``[[body]]`` order (one text each), or empty: a
+            single-body scene whose material is ``[material]``.
         check_geometry: ``(run, where) -> None``: the scene's own checks of a run, before the loading's.
         check_load: ``(run, where) -> None``: the scene's checks of the load, after the loading's.
         check_case: ``(case, runs, where) -> None``: case-level checks (e.g. a prediction that compares two runs).
@@ -313,6 +344,7 @@ class SceneSchema:
     finite: bool = False
     mixed: bool = False
     budget_widths: str | None = None
+    bodies: tuple[str, ...] = ()
     check_geometry: Callable[[Any, str], None] | None = None
     check_load: Callable[[Any, str], None] | None = None
     check_case: Callable[[Any, tuple, str], None] | None = None
@@ -413,6 +445,7 @@ class Run:
     loading: Loading
     discretisation: Discretisation
     solver: Solver
+    bodies: tuple[Body, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -431,6 +464,7 @@ class Case:
     tolerances: dict[str, float] = field(default_factory=dict)
     bands: dict[str, tuple[str, ...]] = field(default_factory=dict)
     variants: tuple[dict[str, Any], ...] = ()
+    bodies: tuple[Body, ...] = ()
 
     def runs(self, *, h_contact: float | None = None) -> tuple[Run, ...]:
         """The runs of this case: one per variant (or the base case alone), optionally at another h_c."""
@@ -449,7 +483,10 @@ class Case:
             if h_contact is not None:
                 d = sections["discretisation"]
                 sections["discretisation"] = replace(d, h_contact=h_contact)
-            run = Run(label=str(var.get("label", f"variant{i}")), **sections)
+            bodies = _variant_bodies(self.bodies, var.get("body"), where)
+            if bodies:
+                sections["material"] = bodies[0].material
+            run = Run(label=str(var.get("label", f"variant{i}")), **sections, bodies=bodies)
             _check_run(run, where)
             out.append(run)
         return tuple(out)
@@ -463,7 +500,7 @@ _SECTIONS = {
     "solver": Solver,
     "analytic": Analytic,
 }
-_REQUIRED_SECTIONS = ("material", "geometry", "loading")
+_REQUIRED_SECTIONS = ("geometry", "loading")  # and [material] or [[body]] (_check_bodies)
 
 # allowed values and ranges, checked per field (a scene's geometry keys: SceneSchema.choices / ranges)
 _CHOICES = {
@@ -765,7 +802,7 @@ def load_case(path: str | Path) -> Case:
         p = CASE_DIR / f"{path}.toml"
     where = _r(p.name)[1:-1]
     raw = _read_toml(p, str(path), known)
-    allowed_top = {"case", *_SECTIONS, "tolerances", "bands", "variant"}
+    allowed_top = {"case", *_SECTIONS, "tolerances", "bands", "variant", "body"}
     for key in raw:
         if key not in allowed_top:
             raise CaseError(f"{where}: {_r(key)[1:-1]} is an unknown key; "
@@ -788,9 +825,14 @@ def load_case(path: str | Path) -> Case:
     for sec in _REQUIRED_SECTIONS:
         if sec not in raw:
             raise CaseError(f"{where}: [{sec}] is a required section and is missing")
+    bodies = _parse_bodies(raw, where)
     records = {
         sec: _build(cls, raw.get(sec, {}), f"{where}: {sec}") for sec, cls in _SECTIONS.items()
+        if sec != "material" or sec in raw
     }
+    _check_bodies(records["geometry"].scene, bodies, "material" in raw, where)
+    if bodies:
+        records["material"] = bodies[0].material
     tolerances = raw.get("tolerances", {})
     if not isinstance(tolerances, dict):
         raise CaseError(f"{where}: tolerances must be a table")
@@ -820,6 +862,13 @@ def load_case(path: str | Path) -> Case:
                 if not isinstance(value, str) or not 0 < len(value) <= MAX_LABEL or not value.isprintable():
                     raise CaseError(f"{where}: variant[{i}].label = {_r(value)} is not allowed; allowed: a string of "
                                     f"1 to {MAX_LABEL} printable characters")
+            elif key == "body" and bodies:
+                continue  # checked with the runs (_variant_bodies)
+            elif key in ("body", "material") and (key == "body") != bool(bodies):
+                allowed = ("material (a single-body case)" if key == "body"
+                           else "body = [{...}, ...] (one table per body)")
+                raise CaseError(f"{where}: variant[{i}].{key} is not allowed in a case with "
+                                f"{'[material]' if key == 'body' else '[[body]]'}; allowed: {allowed}")
             elif key not in _SECTIONS or key == "analytic":
                 raise CaseError(
                     f"{where}: variant[{i}].{_r(key)[1:-1]} is an unknown key; allowed keys: label, "
@@ -834,6 +883,7 @@ def load_case(path: str | Path) -> Case:
         tolerances=tol,
         bands=_parse_bands(raw.get("bands", {}), where),
         variants=tuple(copy.deepcopy(variants)),
+        bodies=bodies,
         **records,
     )
     runs = case.runs()  # validate every variant now, so no run starts on a bad file
@@ -885,6 +935,69 @@ def _read_toml(p: Path, given: str, known: str) -> dict:
         raise CaseError(f"{where}: malformed TOML: arrays or tables nested too deeply; allowed: a case file "
                         "(its deepest nesting is 3)") from None
     return raw
+
+
+_BODY_FIELDS = {f.name: f for f in fields(Body)}
+
+
+def _body(table: Any, where: str) -> Body:
+    """One ``[[body]]`` table: keys, types, the material's choices and ranges, and a slug ``name``."""
+    if not isinstance(table, dict):
+        raise CaseError(f"{where} must be a table (name, E, nu, model)")
+    values = _table_values(table, _BODY_FIELDS, where, choices=lambda n: _CHOICES.get(("material", n)),
+                           value_range=lambda n: _RANGES.get(("material", n)))
+    if not CASE_NAME_RE.fullmatch(values["name"]):
+        raise CaseError(f"{where}.name = {_r(values['name'])} is not allowed; allowed: 1 to 64 letters, digits, '_' "
+                        "or '-' (it labels the body in reports)")
+    return Body(**values)
+
+
+def _parse_bodies(raw: dict, where: str) -> tuple[Body, ...]:
+    """The ``[[body]]`` array of tables (empty if not given)."""
+    if "body" not in raw:
+        return ()
+    tables = raw["body"]
+    if not isinstance(tables, list) or not tables or len(tables) > MAX_LIST:
+        raise CaseError(f"{where}: body must be an array of tables ([[body]], 1 to {MAX_LIST} entries)")
+    bodies = tuple(_body(t, f"{where}: body[{i}]") for i, t in enumerate(tables))
+    names = [b.name for b in bodies]
+    if len(set(names)) != len(names):
+        raise CaseError(f"{where}: body names must be distinct; got {_r(names)}")
+    return bodies
+
+
+def _check_bodies(scene: str, bodies: tuple[Body, ...], material_given: bool, where: str) -> None:
+    """A scene with several bodies takes exactly its number of ``[[body]]`` tables and no ``[material]``; any other
+    scene takes ``[material]`` and no ``[[body]]``."""
+    roles = scene_schema(scene).bodies
+    if bodies and material_given:
+        raise CaseError(f"{where}: [material] and [[body]] are both given; allowed: one of them ([[body]] for a "
+                        f"{scene} scene)" if roles else f"{where}: [material] and [[body]] are both given; allowed: "
+                        f"[material] (the {scene} scene has one body)")
+    if not roles:
+        if bodies:
+            raise CaseError(f"{where}: [[body]] is not allowed for the {scene} scene (one body); allowed: [material]")
+        if not material_given:
+            raise CaseError(f"{where}: [material] is a required section and is missing")
+        return
+    if len(bodies) != len(roles):
+        got = f"{len(bodies)} [[body]] tables" if bodies else "[material]" if material_given else "no [[body]]"
+        raise CaseError(f"{where}: the {scene} scene needs {len(roles)} [[body]] tables (name, E, nu, model), in "
+                        f"order: {'; '.join(roles)}; got {got}")
+
+
+def _variant_bodies(base: tuple[Body, ...], over: Any, where: str) -> tuple[Body, ...]:
+    """The bodies of a variant: ``body = [{...}, ...]`` (one table per body, in order) overrides the given fields."""
+    if over is None:
+        return base
+    if not isinstance(over, list) or len(over) != len(base) or any(not isinstance(t, dict) for t in over):
+        raise CaseError(f"{where}: body = {_r(over)} is not allowed; allowed: a list of {len(base)} tables (one per "
+                        "[[body]], in order; {} keeps a body)")
+    bodies = tuple(_body({f.name: getattr(b, f.name) for f in fields(b)} | t, f"{where}: body[{i}]")
+                   for i, (b, t) in enumerate(zip(base, over, strict=True)))
+    if len({b.name for b in bodies}) != len(bodies):
+        raise CaseError(f"{where}: body names must be distinct; got {_r([b.name for b in bodies])}")
+    return bodies
 
 
 def _parse_bands(raw: Any, where: str) -> dict[str, tuple[str, ...]]:

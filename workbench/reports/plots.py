@@ -15,7 +15,7 @@ import numpy as np  # noqa: E402
 
 from workbench.atomic import atomic_path  # noqa: E402
 
-__all__ = ["load_study_json", "plot_load_indentation", "plot_pressure_panels", "save_figure"]
+__all__ = ["has_curve", "load_study_json", "plot_load_indentation", "plot_pressure_panels", "save_figure"]
 
 
 def load_study_json(argv: list[str], default: Path, *, producer: str):
@@ -54,6 +54,15 @@ def _singular(p) -> bool:
     return on.size > 3 and float(on.max()) > SINGULAR_RATIO * float(on.mean())
 
 
+def has_curve(values) -> bool:
+    """A curve exists when it has at least one finite value: a run without it (e.g. the two-body scene's samples,
+    which have no stress-based pressure: all NaN) draws no line and lists nothing in the legend."""
+    if values is None:
+        return False
+    a = np.asarray(values, dtype=float)
+    return a.size > 0 and bool(np.isfinite(a).any())
+
+
 def plot_pressure_panels(panels: list[dict], path: Path, *, title: str) -> None:
     """One column per run: FEM pressure against every analytic prediction, and below it the residual
     (FEM - theory) / p0 of the first prediction, or of the convective one where present (p0: that
@@ -67,7 +76,7 @@ def plot_pressure_panels(panels: list[dict], path: Path, *, title: str) -> None:
         title: Figure title.
 
     A pressure axis is logarithmic where a singularity dominates it (:data:`SINGULAR_RATIO`); legends sit to
-    the right of the axes, never on the data.
+    the right of the axes, never on the data. Only curves that exist are drawn and listed (:func:`has_curve`).
     """
     n = len(panels)
     ncol = min(n, 2)
@@ -81,9 +90,9 @@ def plot_pressure_panels(panels: list[dict], path: Path, *, title: str) -> None:
         x = np.asarray(panel["x"], dtype=float)
         p = np.asarray(panel["p_fem"], dtype=float)
         ax.plot(x, p, "k.", ms=2.5, label="FEM (contact law)")
-        if panel.get("sigma_nn") is not None:
+        if has_curve(panel.get("sigma_nn")):
             ax.plot(x, panel["sigma_nn"], "-", color="0.6", lw=0.8, label=r"FEM $-\sigma_{nn}$")
-        preds = list(panel.get("predictions", {}).items())
+        preds = [(name, xy) for name, xy in panel.get("predictions", {}).items() if has_curve(xy[1])]
         for (name, (xp, pp)), style in zip(preds, ("-", "--", "-.", ":"), strict=False):
             ax.plot(xp, pp, style, lw=1.4, label=name)
         for (name, xm), colour in zip(panel.get("marks", []), ("C3", "C4", "C5", "C6", "C8"), strict=False):

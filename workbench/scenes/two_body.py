@@ -3,8 +3,8 @@
 Reads top to bottom: estimate -> mesh (each body its own gmsh surface and sizes, :mod:`meshes.two_body`) -> the
 meshed contact partner (:class:`fem.two_body.problem.MeshedPartner`) -> the solve -> comparison. Units mm, N, MPa.
 
-* ``indenter = "cylinder"``: an elastic half disk of radius R (upper body, ``upper_E``, ``upper_nu``; driven
-  through its flat top, force control) on an elastic block (``[material]``, bottom clamped). The block's top is
+* ``indenter = "cylinder"``: an elastic half disk of radius R (the upper body, the second ``[[body]]``; driven
+  through its flat top, force control) on an elastic block (the first ``[[body]]``, bottom clamped). The block's top is
   the slave surface: the gap is vertical and the contact traction acts along the vertical on both bodies, the
   half-plane idealisation (``traction = "halfplane"`` in the metrics); the initial gap is measured to the exact
   circle. Theory: the exact circle's
@@ -53,8 +53,8 @@ _WHOLE_SURFACE = ("contact unresolved", "contact truncated")
 
 def combined_modulus(run: Run) -> float:
     """E* (MPa) of the two bodies: ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` (:mod:`analytic.materials`)."""
-    g, m = run.geometry, run.material
-    return composite_modulus(m.E, m.nu, E1=g.upper_E, nu1=g.upper_nu)
+    lower, upper = run.bodies
+    return composite_modulus(lower.E, lower.nu, E1=upper.E, nu1=upper.nu)
 
 
 def partner_for(run: Run):
@@ -62,9 +62,10 @@ def partner_for(run: Run):
     from fem.two_body.geometry import CircleSurface
     from fem.two_body.problem import Body, MeshedPartner
 
-    g, m = run.geometry, run.material
+    g, (lower, upper) = run.geometry, run.bodies  # the cell groups of the mesh are "lower" and "upper"
     cyl = g.indenter == "cylinder"
-    return MeshedPartner(bodies=(Body(name="lower", E=m.E, nu=m.nu), Body(name="upper", E=g.upper_E, nu=g.upper_nu)),
+    return MeshedPartner(bodies=(Body(name="lower", E=lower.E, nu=lower.nu),
+                                 Body(name="upper", E=upper.E, nu=upper.nu)),
                          slave="contact_lower", master="contact_upper", driven="driven", driven_body="upper",
                          driven_components=(0, 1) if cyl else (1,), pairing=g.pairing,
                          master_surface=CircleSurface((0.0, g.radius), g.radius) if cyl else None)
@@ -145,8 +146,8 @@ class TwoBodyScene:
         metrics = {
             "label": run.label, "scene": "two_body", "indenter": g.indenter, "pairing": g.pairing,
             "method": run.solver.method, "kinematics": run.solver.kinematics, "traction": "halfplane",
-            "nu": run.material.nu, "bodies": {"lower": {"E": run.material.E, "nu": run.material.nu},
-                                              "upper": {"E": g.upper_E, "nu": g.upper_nu}},
+            "nu": run.material.nu, "bodies": {b.name: {"role": role, "E": b.E, "nu": b.nu, "model": b.model}
+                                              for b, role in zip(run.bodies, ("lower", "upper"), strict=True)},
             "E_star": combined_modulus(run), "degree": run.discretisation.degree,
             "h_contact": run.discretisation.h_contact, "ndofs": result.ndofs, "wall_time_s": result.wall_time_s,
             "newton_iterations": list(result.newton_iterations), "load_steps": result.load_steps, "d": result.d,
@@ -195,6 +196,8 @@ class TwoBodyScene:
         """The patch test names mortar's uniformity and node-to-segment's error beside it; the cylinder names
         the idealisations."""
         by_pairing = {o.run.geometry.pairing: o for o in outcomes}
+        bodies = " Bodies (lower, upper): " + "; ".join(  # the case's [[body]] names, of the first run
+            f"{b.name} (E = {b.E:g} MPa, nu = {b.nu:g})" for b in outcomes[0].run.bodies) + "." if outcomes else ""
         if outcomes and outcomes[0].run.geometry.indenter == "stacked":
             mortar = by_pairing.get("mortar")
             nts = by_pairing.get("node_to_segment")
@@ -204,7 +207,8 @@ class TwoBodyScene:
             if nts is not None:
                 parts.append("node-to-segment: off by up to "
                              f"{100 * nts.metrics['errors']['patch_uniformity_node_to_segment']:.2f} %")
-            return CaseComparison({}, {}, "Contact patch test on non-matching meshes: " + "; ".join(parts) + ".", {})
+            return CaseComparison({}, {}, "Contact patch test on non-matching meshes: " + "; ".join(parts) + "."
+                                  + bodies, {})
         worst = max(outcomes, key=lambda o: o.metrics["errors"].get("half_width_moment", 0.0)) if outcomes else None
         if worst is None or "analytic" not in worst.metrics:
             return CaseComparison({}, {}, "", {})
@@ -212,7 +216,8 @@ class TwoBodyScene:
         headline = (f"Theory: the exact circle's half-plane theory at E* = {an['E_star']:.6g} MPa and the measured "
                     f"load; FEM - theory: p_max {an['signed']['p_max']:+.2e}, moment half-width "
                     f"{an['signed']['half_width_moment']:+.2e} (a/R = {an['half_width'] / an['R']:.3g}). "
-                    "The elastic half disk and the clamped W x H block are the idealisations the theory leaves out.")
+                    "The elastic half disk and the clamped W x H block are the idealisations the theory leaves out."
+                    + bodies)
         return CaseComparison({}, {}, headline, {})
 
     def error_budget(self, case: Case, *, solve, progress):

@@ -1,7 +1,9 @@
 """What a case file of the two-body scene may say: its geometry record and checks (:class:`cases.schema.SceneSchema`).
 
-Two elastic bodies on non-matching meshes (:mod:`workbench.scenes.two_body`). The lower body's material is the
-case's ``[material]``; the upper body's is ``[geometry] upper_E`` and ``upper_nu``. Registered with the case
+Two elastic bodies on non-matching meshes (:mod:`workbench.scenes.two_body`). Their materials are the case's two
+``[[body]]`` tables (``name``, ``E``, ``nu``, ``model = "linear"``; :data:`BODY_ROLES`): the first is the lower body
+(the block, slave side), the second the upper one (the indenter, driven); ``[material]`` is refused, and so are the
+former ``[geometry] upper_E`` / ``upper_nu``, with a line saying to write ``[[body]]``. Registered with the case
 schema by :func:`workbench.scenes.base.register_scene` (``TwoBodyScene.schema``). Units: mm, N, MPa.
 """
 
@@ -11,10 +13,13 @@ from dataclasses import dataclass
 
 from cases.schema import CaseError, Geometry, Run, SceneSchema
 
-__all__ = ["TWO_BODY_SCHEMA", "TwoBodyGeometry", "PAIRINGS", "TWO_BODY_METHODS"]
+__all__ = ["BODY_ROLES", "TWO_BODY_SCHEMA", "TwoBodyGeometry", "PAIRINGS", "TWO_BODY_METHODS"]
 
 PAIRINGS = ("mortar", "node_to_segment")  # fem.two_body.problem.PAIRINGS (the scene layer may not import fem)
 TWO_BODY_METHODS = ("penalty", "augmented_lagrangian")  # fem.two_body.laws.TWO_BODY_METHODS
+# [[body]] order: the lower body carries the slave surface (the gap is integrated on it), the upper one is driven.
+BODY_ROLES = ("first: the lower body (the block, slave surface, held at its bottom)",
+              "second: the upper body (the half disk or upper block, master surface, driven through its top)")
 
 
 @dataclass(frozen=True)
@@ -28,7 +33,7 @@ class TwoBodyGeometry(Geometry):
         radius: R (mm), cylinder.
         width_factor, height_factor: the block's W and H over the Hertz half-width (cylinder, >= 10).
         block_width, height_lower, height_upper: the blocks of the patch test (mm).
-        upper_E, upper_nu: the upper body's Young's modulus (MPa) and Poisson's ratio.
+        upper_E, upper_nu: no longer read: refused with a line saying to write ``[[body]]`` (the bodies' materials).
         pairing: ``"mortar"`` (segment-to-segment) or ``"node_to_segment"``.
         size_ratio: the upper body's element size over the lower body's on the contact surface (non-matching
             meshes: not 1).
@@ -46,13 +51,17 @@ class TwoBodyGeometry(Geometry):
     size_ratio: float = 0.77
 
 
-_COMMON = frozenset({"upper_E", "upper_nu", "pairing", "size_ratio"})
+_COMMON = frozenset({"pairing", "size_ratio"})
 
 
 def _check_geometry(run: Run, where: str) -> None:
     g, sol = run.geometry, run.solver
     needs = ("radius",) if g.indenter == "cylinder" else ("block_width", "height_lower", "height_upper")
-    for key in needs + ("upper_E", "upper_nu"):
+    for key in ("upper_E", "upper_nu"):
+        if getattr(g, key) is not None:
+            raise CaseError(f"{where}: geometry.{key} is no longer read; allowed: the bodies' materials as two "
+                            "[[body]] tables (name, E, nu), the lower body first (cases/elastic_cylinder.toml)")
+    for key in needs:
         if getattr(g, key) is None:
             raise CaseError(f"{where}: geometry.{key} is required for a two-body {g.indenter} scene")
     if sol.kinematics != "small":
@@ -61,9 +70,10 @@ def _check_geometry(run: Run, where: str) -> None:
     if sol.method not in TWO_BODY_METHODS:
         raise CaseError(f"{where}: solver.method = {sol.method!r} is not available for two elastic bodies "
                         f"(nitsche needs the slave traction); allowed: {', '.join(map(repr, TWO_BODY_METHODS))}")
-    if run.material.model != "linear":
-        raise CaseError(f"{where}: material.model = {run.material.model!r} needs finite kinematics, which two "
-                        "elastic bodies do not support yet; allowed: 'linear'")
+    for i, body in enumerate(run.bodies):
+        if body.model != "linear":
+            raise CaseError(f"{where}: body[{i}].model = {body.model!r} needs finite kinematics, which two elastic "
+                            "bodies do not support yet; allowed: 'linear'")
 
 
 def _check_load(run: Run, where: str) -> None:
@@ -84,9 +94,7 @@ TWO_BODY_SCHEMA = SceneSchema(
     predictions={"cylinder": ("exact_circle",), "stacked": ("uniform",)},
     controls=("force", "displacement"),
     choices={"pairing": PAIRINGS},
-    ranges={"upper_E": (0.0, 1e15, False, True, "0 < upper_E <= 1e15 (MPa)"),
-            "upper_nu": (-1.0, 0.5, False, False, "-1 < upper_nu < 0.5"),
-            "size_ratio": (0.2, 5.0, False, False, "0.2 < size_ratio < 5, not 1"),
+    ranges={"size_ratio": (0.2, 5.0, False, False, "0.2 < size_ratio < 5, not 1"),
             "radius": (0.0, 1e8, False, True, "0 < radius <= 1e8 (mm)"),
             "block_width": (0.0, 1e8, False, True, "0 < block_width <= 1e8 (mm)"),
             "height_lower": (0.0, 1e8, False, True, "0 < height_lower <= 1e8 (mm)"),
@@ -102,6 +110,7 @@ TWO_BODY_SCHEMA = SceneSchema(
         "newton_iterations": "largest number of Newton iterations of a load step (absolute)",
     },
     band_quantities=("p_max", "half_width", "half_width_moment"),
+    bodies=BODY_ROLES,
     check_geometry=_check_geometry,
     check_load=_check_load,
 )

@@ -50,6 +50,9 @@ Sections:
    iterations per solve (the prescribed-active-set iteration included; force corrections and steps without
    contact, 0 iterations, are solves too), the mean per scene, and the loads against the case default.
 
+7. Two elastic bodies (issue 24): each two-body case against the rigid case with the same number of dofs, timed
+   side by side, and its Newton iterations per load step (:mod:`workbench.studies.bench_two_body`).
+
 Internal worker modes (``workbench bench --worker scale|cold``, the config passed as JSON) run one
 measurement in a subprocess and print one line ``BENCH_JSON {...}``.
 """
@@ -965,6 +968,11 @@ def run_bench(cfg: BenchConfig | None = None, *, progress: Callable[[str], None]
         out["lu_reuse"] = lu_reuse(cfg, comm=comm, progress=progress)
     if "predictor_free" in sections:
         out["predictor_free"] = predictor_free(cfg, comm=comm, progress=progress)
+    if "two_body" in sections:  # issue 24: two bodies against a rigid case with the same dofs
+        from workbench.studies.bench_two_body import TwoBodyBench, run_two_body_bench
+
+        out["two_body"] = run_two_body_bench(TwoBodyBench(repeats=cfg.repeats, mesh_cache=cfg.cache_dir),
+                                             comm=comm, progress=progress)
     out["load_avg_end"] = os.getloadavg()
     out["bench_wall_time_s"] = time.perf_counter() - t0
     from workbench.studies.executor import ExecutorChoice

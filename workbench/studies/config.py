@@ -153,7 +153,15 @@ class ConvergenceConfig:
 # --- stability ----------------------------------------------------------------------------------------
 
 STABILITY_STUDIES = ("method", "augmented_lagrangian", "incompressible", "convective", "loads", "resolution",
-                     "scale", "conformal", "faults")
+                     "scale", "conformal", "faults", "two_body")
+
+
+def _two_body_pairs() -> tuple[tuple[float, float, float], ...]:
+    """(E_upper / E_lower, nu_lower, nu_upper) of the ``two_body`` study: E ratios 1e-3 ... 1e3 at nu = 0.3, nu =
+    0.499 on either side, and both together at the extreme ratios (issue 24)."""
+    ratios = tuple(10.0**k for k in range(-3, 4))
+    return (tuple((r, 0.3, 0.3) for r in ratios) + ((1.0, 0.499, 0.3), (1.0, 0.3, 0.499))
+            + tuple((r, nl, nu) for r in (1e-3, 1e3) for nl, nu in ((0.499, 0.3), (0.3, 0.499))))
 
 
 @dataclass(frozen=True)
@@ -184,6 +192,10 @@ class StabilityConfig:
         scale_E, scale_reference_E: Young's moduli (MPa) of the ``scale`` study and its reference.
         conformal_d: Displacements (mm) of the close-to-conformal steps.
         fault_d: Displacement target (mm) of the ``faults`` study.
+        two_body_case, two_body_pairs, two_body_h_ratio: The ``two_body`` study: the case whose scene is run (the
+            elastic cylinder, through the scene registry) with (E_upper / E_lower, nu_lower, nu_upper) per point
+            (the lower body keeps the case's E), at h_c = a / two_body_h_ratio, displacement formulation.
+        two_body_newton: Newton iterations per load step a two-body point may take (issue 24: <= 4).
         out: Output folder (default ``<results>/stability``).  mesh_cache: Mesh cache folder.
     """
 
@@ -212,6 +224,10 @@ class StabilityConfig:
     scale_reference_E: float = 1e3
     conformal_d: tuple[float, ...] = (0.46, 0.47, 0.48)
     fault_d: float = 0.06
+    two_body_case: str = "elastic_cylinder"
+    two_body_pairs: tuple[tuple[float, float, float], ...] = field(default_factory=_two_body_pairs)
+    two_body_h_ratio: float = 10.0
+    two_body_newton: int = 4
     out: Path | None = None
     mesh_cache: Path | None = None
 
@@ -235,6 +251,10 @@ class StabilityConfig:
         for key in ("penalty_kappa0", "nitsche_gamma0", "al_kappa0", "scale_E"):
             if any(not v > 0 for v in getattr(self, key)):
                 raise ValueError(f"every {key} must be > 0, got {list(getattr(self, key))}")
+        if any(len(p) != 3 or not 1e-6 <= p[0] <= 1e6 or not all(-1.0 < v < 0.5 for v in p[1:])
+               for p in self.two_body_pairs):
+            raise ValueError(f"two_body_pairs must be (E ratio in [1e-6, 1e6], nu_lower, nu_upper in (-1, 0.5)) "
+                             f"triples, got {list(self.two_body_pairs)[:4]}")
 
 
 # --- bench --------------------------------------------------------------------------------------------
@@ -254,7 +274,7 @@ def _solver_variants() -> dict:
     }
 
 
-BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free")
+BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free", "two_body")
 ACTIVE_SETS = ("extrapolate", "geometry")  # fem.options.ACTIVE_SETS (a study config imports no fem)
 ACTIVE_SET_UPDATES = ("newton", "edge_fit")  # fem.options.ACTIVE_SET_UPDATES
 LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg", "auto")  # fem.linear_solver.LINEAR_SOLVERS

@@ -30,7 +30,9 @@ Taylor-Hood mixed), ``convective`` (wedge b/b0, small vs convective kinematics, 
 over 2.6 decades, mesh scaled with a), ``resolution`` (h_c from 2a to a/8: the "contact unresolved" warning),
 ``scale`` (E over nine decades: non-dimensional results), ``conformal`` (close-to-conformal design, first
 Table 1 steps: the 0.00043 mm indentation and relative radius ~228 mm), ``faults`` (Newton cut-back, an
-unrecoverable step).
+unrecoverable step), ``two_body`` (two elastic bodies, E ratios 1e-3 ... 1e3 and nu = 0.499 on either side:
+:class:`TwoBodySpec`, the elastic cylinder case through the scene registry and the case pipeline,
+:func:`classify_two_body`). Select studies with ``--study NAME`` (repeatable), e.g. ``--study two_body``.
 """
 
 from __future__ import annotations
@@ -64,9 +66,9 @@ from workbench.studies.executor import (
 from workbench.studies.scene_point import scene_compare, scene_obstacle
 from workbench.studies.where_report import where_section
 
-__all__ = ["STUDIES", "Spec", "StabilityConfig", "classify", "classify_augmented_lagrangian", "convective_ratios",
-           "main", "penalty_sweep", "report_markdown", "run_block_spec", "run_conformal", "run_sweep",
-           "scale_invariance", "specs"]
+__all__ = ["STUDIES", "Spec", "StabilityConfig", "TwoBodySpec", "classify", "classify_augmented_lagrangian",
+           "classify_two_body", "convective_ratios", "main", "penalty_sweep", "report_markdown", "run_block_spec",
+           "run_conformal", "run_sweep", "run_two_body_spec", "scale_invariance", "specs", "two_body_specs"]
 
 STUDIES = STABILITY_STUDIES
 AL = "augmented_lagrangian"  # the method and the study of its stiffness sweep
@@ -435,10 +437,99 @@ def run_conformal(cfg: StabilityConfig | None = None, *, comm, progress) -> list
 
 
 @dataclass(frozen=True)
-class Point:
-    """One point of the sweep for the shared runner: a block ``spec``, or the ``conformal`` design (spec None)."""
+class TwoBodySpec:
+    """One point of the ``two_body`` study: the case ``cfg.two_body_case`` (two elastic bodies) with the upper body's
+    E = ``ratio`` x the lower body's and the given Poisson ratios, at h_c = a / ``h_ratio``.
 
-    spec: Spec | None
+    Attributes:
+        label: Run label.  ratio: E_upper / E_lower.  nu_lower, nu_upper: Poisson's ratios.
+        h_ratio: a / h_contact.  band: accuracy band of p_max and the moment half-width against the exact circle
+            at the combined modulus and the measured load (relative).  newton: Newton iterations allowed per step.
+    """
+
+    label: str
+    ratio: float
+    nu_lower: float
+    nu_upper: float
+    h_ratio: float
+    band: float
+    newton: int
+
+    def params(self) -> dict:
+        """The point's parameters for its JSON record."""
+        return dataclasses.asdict(self) | {"method": None, "formulation": "displacement"}
+
+
+def two_body_specs(cfg: StabilityConfig | None = None) -> list[TwoBodySpec]:
+    """The ``two_body`` study's points (:attr:`StabilityConfig.two_body_pairs`)."""
+    cfg = StabilityConfig() if cfg is None else cfg
+    return [TwoBodySpec(f"E2/E1={_decade(r)} nu1={nl:g} nu2={nu:g}", r, nl, nu, cfg.two_body_h_ratio, cfg.band,
+                        cfg.two_body_newton) for r, nl, nu in cfg.two_body_pairs]
+
+
+def _two_body_run(spec: TwoBodySpec, cfg: StabilityConfig):
+    """The case's first run with the spec's bodies and mesh level (displacement formulation: the two-body scene has
+    no mixed one, so nu = 0.499 locks, and says so)."""
+    from cases.schema import load_case
+
+    run = load_case(cfg.two_body_case).runs(h_contact=1.0 / spec.h_ratio)[0]
+    lower, upper = run.bodies  # the case's [[body]] tables: the lower body first
+    bodies = (dataclasses.replace(lower, nu=spec.nu_lower),
+              dataclasses.replace(upper, E=spec.ratio * lower.E, nu=spec.nu_upper))
+    return dataclasses.replace(run, bodies=bodies, material=bodies[0].material,
+                               solver=dataclasses.replace(run.solver, formulation="displacement"))
+
+
+def run_two_body_spec(spec: TwoBodySpec, cfg: StabilityConfig, *, comm) -> dict:
+    """Run one two-body point through the case pipeline (its scene from the registry: mesh, load path, comparison
+    with the exact circle); its record: converged, Newton iterations per step, load balance, errors, warnings."""
+    from fem.solver import ContactSolveError
+    from workbench.pipeline.run_case import run_one
+
+    run = _two_body_run(spec, cfg)
+    rec = {"study": "two_body", "label": spec.label, "params": spec.params()}
+    t0 = time.perf_counter()
+    try:
+        m = run_one(run, name="stability_two_body", mesh_cache=cfg.cache_dir, comm=comm,
+                    progress=lambda _: None).metrics
+    except (ContactSolveError, ValueError) as exc:
+        kind = "diverged" if isinstance(exc, ContactSolveError) else "refused"
+        return rec | {"converged": False, "error": f"{kind}: {exc}", "time_s": time.perf_counter() - t0,
+                      "warnings": [], "errors": {}, "iterations": None}
+    its = [int(i) for i in m["newton_iterations"]]
+    e = m["errors"]
+    return rec | {"converged": True, "error": None, "time_s": time.perf_counter() - t0, "ndofs": m["ndofs"],
+                  "newton_iterations": its, "iterations": sum(its), "max_iterations": max(its, default=0),
+                  "solves": len(its), "warnings": list(m["warnings"]), "P": m["P"], "p_max": m.get("p_max"),
+                  "E_star": m["E_star"],
+                  "errors": {k: e[k] for k in ("p_max", "half_width", "half_width_moment", "rms", "load_balance")
+                             if k in e}}
+
+
+def classify_two_body(rec: dict) -> str:
+    """A two-body point: ``ok`` (converged, p_max and the moment half-width within the band, Newton iterations per
+    step within the limit, no warning), ``named: <reason>`` (a failure, a solver warning, e.g. near-incompressible),
+    or ``SILENT`` (out of band or over the iterations with nothing named)."""
+    par = rec["params"]
+    if not rec["converged"]:
+        return f"named (failure): {rec['error'].splitlines()[0]}"
+    worst = max((rec["errors"].get(k, math.nan) for k in ("p_max", "half_width_moment")), default=math.nan)
+    rec["worst_error"] = worst
+    slow = rec["max_iterations"] > par["newton"]
+    within = worst == worst and worst <= par["band"] and not slow
+    its = f", {rec['max_iterations']} Newton its in a step" if slow else ""
+    note = "" if within else f" [out of band{its}]"
+    if rec["warnings"]:
+        return "named (warning): " + "; ".join(dict.fromkeys(w.split(":")[0] for w in rec["warnings"])) + note
+    return "ok" if within else "SILENT" + note
+
+
+@dataclass(frozen=True)
+class Point:
+    """One point of the sweep for the shared runner: a block ``spec``, a two-body point, or the ``conformal``
+    design (spec None)."""
+
+    spec: Spec | TwoBodySpec | None
     cfg: StabilityConfig
 
 
@@ -453,6 +544,10 @@ def run_stability_point(point: Point) -> dict:
         for rec in recs:
             rec["status"] = classify(rec)
         return {"records": recs}
+    if isinstance(point.spec, TwoBodySpec):
+        rec = run_two_body_spec(point.spec, point.cfg, comm=comm)
+        rec["status"] = classify_two_body(rec)
+        return rec
     rec = run_block_spec(point.spec, comm=comm, mesh_cache=point.cfg.cache_dir)
     rec["status"] = (classify_augmented_lagrangian if point.spec.study == AL else classify)(rec)
     return rec
@@ -468,6 +563,8 @@ def run_sweep(cfg: StabilityConfig | None = None, *, executor: ExecutorChoice | 
     todo = [Point(s, cfg) for s in specs(cfg) if s.study in cfg.studies]
     if "conformal" in cfg.studies:
         todo.append(Point(None, cfg))
+    if "two_body" in cfg.studies:
+        todo += [Point(s, cfg) for s in two_body_specs(cfg)]
 
     def said(i: int, n: int, rec: dict) -> None:
         for r in rec.get("records", [rec]):
@@ -511,6 +608,13 @@ _DESCRIPTIONS = {
                  "(h_c = a_est/10), solver defaults, no tuning; relative radius of the primary pair ~234 mm, "
                  "~1500x the first patch half-width.",
     "faults": "Newton divergence: automatic cut-back, and a step that cannot be recovered (named error).",
+    "two_body": "Two elastic bodies (issue 24): the elastic_cylinder case (an elastic half disk on an elastic block, "
+                "non-matching meshes, penalty mortar, its scene's load path: no analytic predictor) at h_c = a/10 "
+                "with E_upper / E_lower from 1e-3 to 1e3 and nu = 0.499 on either side (displacement formulation: "
+                "the two-body scene has no mixed one). Errors against the exact circle's half-plane theory at the "
+                "combined modulus and the measured load; band on p_max and the moment half-width (the patch "
+                "half-width is the last positive node's, within a facet, h = a/10); Newton its per load step "
+                "(force corrections included) against the issue's 4.",
 }
 
 
@@ -602,6 +706,30 @@ def _al_section(al: dict) -> list[str]:
                     ""]
 
 
+def _two_body_section(recs: list[dict]) -> list[str]:
+    """The ``two_body`` table: bodies, convergence, Newton its per step, load balance, errors, status; messages."""
+    lines = ["| E2/E1 | nu lower | nu upper | converged | Newton its per step | its <= limit | load balance | "
+             "p_max err | half-width (moment) err | RMS/p0 | time (s) | status |", "|" + "---|" * 12]
+    for r in recs:
+        p, e = r["params"], r.get("errors", {})
+        its = r.get("newton_iterations")
+        lines.append(f"| {_decade(p['ratio'])} | {p['nu_lower']:g} | {p['nu_upper']:g} | {r['converged']} | "
+                     f"{its if its is not None else '-'} | "
+                     f"{'-' if its is None else ('yes' if r['max_iterations'] <= p['newton'] else '**no**')} | "
+                     f"{_fmt(e.get('load_balance'), '.1e')} | {_fmt(e.get('p_max'))} | "
+                     f"{_fmt(e.get('half_width_moment'))} | {_fmt(e.get('rms'))} | {r['time_s']:.2f} | "
+                     f"{r['status']} |")
+    lines.append("")
+    warned = [r for r in recs if r.get("warnings") or r.get("error")]
+    if warned:
+        lines += ["Messages:", ""]
+        for r in warned:
+            for msg in ([r["error"]] if r.get("error") else []) + list(r.get("warnings", [])):
+                lines.append(f"- {r['label']}: {msg}")
+        lines.append("")
+    return lines
+
+
 def report_markdown(summary: dict, records: list[dict]) -> str:
     """The Markdown report: summary, then one table per study with every run."""
     lines = ["# Numerical stability sweep", "",
@@ -642,6 +770,9 @@ def report_markdown(summary: dict, records: list[dict]) -> str:
             continue
         if study == AL and summary.get(AL):
             lines += _al_section(summary[AL])
+            continue
+        if study == "two_body":
+            lines += _two_body_section(recs)
             continue
         cond = study == "method"
         head = "| run | converged | its (max) | cut-backs | time (s) | p_max err | half-width err | RMS/p0 | "
