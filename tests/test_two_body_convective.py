@@ -40,10 +40,10 @@ def cylinder(tmp_path_factory):
     return read_mesh(files.msh, MPI.COMM_SELF)
 
 
-def _partner(E_upper, nu_upper=NU, nu_lower=NU):
+def _partner(E_upper, nu_upper=NU, nu_lower=NU, traction="halfplane", pairing="mortar"):
     return MeshedPartner(bodies=(Body(name="lower", E=E, nu=nu_lower), Body(name="upper", E=E_upper, nu=nu_upper)),
                          slave="contact_lower", master="contact_upper", driven="driven", driven_body="upper",
-                         master_surface=CircleSurface((0.0, R), R))
+                         master_surface=CircleSurface((0.0, R), R), traction=traction, pairing=pairing)
 
 
 def _options(partner, kinematics, **kw):
@@ -53,8 +53,9 @@ def _options(partner, kinematics, **kw):
                           active_set_update="edge_fit", **kw)
 
 
-def test_convective_jacobian_equals_finite_differences(cylinder):
-    partner = _partner(10 * E, nu_upper=0.2, nu_lower=0.45)
+@pytest.mark.parametrize("traction", ["halfplane", "master_normal"])
+def test_convective_jacobian_equals_finite_differences(cylinder, traction):
+    partner = _partner(10 * E, nu_upper=0.2, nu_lower=0.45, traction=traction)
     pb = contact_problem(cylinder, partner, _options(partner, "convective"))
     from fem.stepping import LoadStepper
 
@@ -122,3 +123,44 @@ def test_convective_shift_has_the_sign_opposite_to_beta(cylinder, E_upper):
     assert abs(beta) > 0.1
     assert np.sign(shift) == -np.sign(beta)
     assert 1e-3 < abs(shift) < 5e-2
+
+
+def test_small_kinematics_refuses_the_master_normal_traction(cylinder):
+    partner = _partner(E, traction="master_normal")
+    with pytest.raises(ValueError, match="master_normal.*convective"):
+        contact_problem(cylinder, partner, _options(partner, "small"))
+
+
+def test_rigid_limit_of_the_convective_shift(tmp_path):
+    """A stiff cylinder (E ratio 1e6) on a nu = 0 block (beta = -1/2) with the half-plane traction reproduces the
+    rigid indenter's convective shift (the rigid solver's ``traction="halfplane"``, validated against
+    Ciavarella-Hills by the convective cases) on the same block mesh; the master-normal traction (the energy's
+    gradient) carries the shear the inclined face transmits and halves it. Measured (a/R = 0.05, W = 20 a, augmented
+    Lagrangian, moment half-width convective / small at equal load): h = a/20: rigid 1.018604, half-plane 1.018725,
+    master normal 1.009749; h = a/10: 1.019609, 1.018372, 1.009119."""
+    from fem.obstacles import CircleObstacle
+
+    kw = dict(radius=R, width=20 * A, height=20 * A, contact_half_width=A, h_contact=A / 20, out_dir=tmp_path)
+    two = read_mesh(build_cylinder_on_block(**kw).msh, MPI.COMM_SELF)
+    block = read_mesh(build_cylinder_on_block(indenter=False, **kw).msh, MPI.COMM_SELF)
+
+    def opts(kin, **extra):
+        return ContactOptions(E=E, nu=0.0, target=hertz_load_from_half_width(A, R, E), degree=2,
+                              method="augmented_lagrangian", control="force", n_steps=1, kinematics=kin,
+                              predictor="extrapolate", active_set="geometry", active_set_update="edge_fit", **extra)
+
+    def moment(res):
+        return moment_half_width(res.samples.s, res.samples.p, res.samples.weight, center=0.0)
+
+    rigid = {kin: moment(solve(block, CircleObstacle(center=(0.0, R), radius=R),
+                               options=opts(kin, traction="halfplane", contact_group="contact_lower")))
+             for kin in ("small", "convective")}
+    shift = {}
+    for traction in ("halfplane", "master_normal"):
+        partner = _partner(1e6 * E, nu_upper=0.0, nu_lower=0.0, traction=traction)
+        small = moment(solve(two, _partner(1e6 * E, nu_upper=0.0, nu_lower=0.0), options=opts("small")))
+        shift[traction] = moment(solve(two, partner, options=opts("convective"))) / small
+    rigid_shift = rigid["convective"] / rigid["small"]
+    assert rigid_shift > 1.01  # beta < 0 widens the contact
+    assert abs(shift["halfplane"] / rigid_shift - 1) < 3e-4
+    assert shift["master_normal"] - 1 < 0.6 * (rigid_shift - 1)

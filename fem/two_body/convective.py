@@ -21,8 +21,23 @@ Derivatives (``G_u``, ``C_u``: the u-gradients at fixed r; ``s = G_r / C_r``):
     d2g/du2 = a x r_u + r_u x a + (G_rr - s C_rr) r_u x r_u ,   a = G_ur - s C_ur      (G_uu = C_uu = 0)
 
 The weighted gaps ``W_i g~_i = sum_points w phi_i g`` and the nodal law are those of small kinematics
-(:mod:`fem.two_body.weighted_gap`, :mod:`fem.two_body.laws`); the residual is ``F_c = -D(u)^T p`` with
-``D_i = sum w phi_i dg/du`` and its exact Jacobian ``D^T diag(-dp/dg~ / W) D - sum_i p_i sum w phi_i d2g/du2``.
+(:mod:`fem.two_body.weighted_gap`, :mod:`fem.two_body.laws`). Two tractions (:data:`TRACTIONS`):
+
+* ``"halfplane"`` (Ciavarella-Hills: the half-plane theory's frictionless surfaces carry no shear): the traction
+  acts along the slave normal e2 on both bodies, at the points that touch now. The contact residual is
+  ``F_c = -T(u)^T p`` with ``T_i = sum w phi_i G_u`` (the vertical virtual displacement jump, at fixed r), and its
+  exact Jacobian ``T^T diag(-dp/dg~ / W) D - sum_i p_i sum w phi_i G_ur x r_u`` (not symmetric: the residual is
+  not the gradient of an energy). G_u is continuous where a cut moves (both facets give the master node's own
+  value there), so the cuts add nothing to it.
+* ``"master_normal"`` (the energy's gradient): ``F_c = -D(u)^T p`` with ``D_i = sum w phi_i dg/du``; since
+  ``dg/du = G_u - s C_u``, the traction is along the deformed master's normal (-s, 1): the slave carries the
+  shear ``s p`` the inclined master face transmits (as the rigid solver's ``traction = "obstacle"``). Exact
+  Jacobian ``D^T diag(-dp/dg~ / W) D - sum_i p_i sum w phi_i d2g/du2``, symmetric.
+
+Measured (stiff cylinder E ratio 1e6 on a nu = 0 block, beta = -1/2, a/R = 0.05, h = a/10, node-to-segment,
+augmented Lagrangian): ``"master_normal"`` narrowed the contact against small kinematics where the rigid
+half-plane convective solver (validated against Ciavarella-Hills) widens it; ``"halfplane"`` reproduces the rigid
+solver node for node (tests/test_two_body_convective.py).
 """
 
 from __future__ import annotations
@@ -36,8 +51,9 @@ import scipy.sparse as sp
 from fem.two_body.geometry import FACING_COS, PairedPoints, SurfaceGeometry, gauss_legendre_01, multiplier_basis
 from fem.two_body.weighted_gap import CellData, WeightedGap, reference_coordinates
 
-__all__ = ["ConvectiveGap", "MasterCells", "NEWTON_R_TOL"]
+__all__ = ["ConvectiveGap", "MasterCells", "NEWTON_R_TOL", "TRACTIONS"]
 
+TRACTIONS = ("halfplane", "master_normal")
 NEWTON_R_TOL = 1e-14  # the pairing's Newton iteration in the facet parameter r
 _MAX_R_ITERATIONS = 30
 
@@ -65,12 +81,17 @@ class ConvectiveGap:
         small: the small-kinematics :class:`WeightedGap` of the same points (its nodes, weights and X).
         slave, master: the two surfaces; slave_cells, master: their cells.
         degree: displacement degree (1 or 2).  n_dofs: size of the displacement array.
+        traction: ``"halfplane"`` or ``"master_normal"`` (module docstring).
     """
 
     def __init__(self, pts: PairedPoints, small: WeightedGap, *, slave: SurfaceGeometry, slave_cells: CellData,
-                 master_geom: SurfaceGeometry, master: MasterCells, degree: int, n_dofs: int):
+                 master_geom: SurfaceGeometry, master: MasterCells, degree: int, n_dofs: int,
+                 traction: str = "halfplane"):
         if not np.allclose(slave.normal, [0.0, 1.0], atol=1e-12):
             raise ValueError("kinematics='convective' for two bodies needs a flat slave surface with normal (0, 1)")
+        if traction not in TRACTIONS:
+            raise ValueError(f"traction must be one of {TRACTIONS}, got {traction!r}")
+        self.traction = traction
         self.small, self.n_dofs, self.degree = small, n_dofs, degree
         self.master_geom, self.master = master_geom, master
         fs = pts.slave_facet
@@ -218,9 +239,11 @@ class ConvectiveGap:
 
     # -- gap, gradient, Hessian ----------------------------------------------------------------------------
     def linearise(self, u: np.ndarray, *, hessian_weights: Callable[[np.ndarray], np.ndarray] | None = None):
-        """(g~ (m,), D (m x n_dofs) CSR, H (n_dofs x n_dofs) CSR or None): the weighted gaps, their gradient and
-        ``sum_i c_i d2(W_i g~_i)/du2`` for the nodal weights ``c = hessian_weights(g~)`` (e.g. minus the law's
-        pressures at these gaps: one pass of the pairing for the whole Jacobian)."""
+        """(g~ (m,), D (m x n_dofs) CSR, H (n_dofs x n_dofs) CSR or None, T (m x n_dofs) CSR): the weighted gaps,
+        their gradient D, the traction's virtual-work matrix T (``F_c = -T^T p``; T = D for ``"master_normal"``)
+        and ``sum_i c_i d(T_i)/du`` for the nodal weights ``c = hessian_weights(g~)`` (minus the law's pressures
+        at these gaps: one pass of the pairing for the whole Jacobian; ``d(T_i)/du = d2(W_i g~_i)/du2`` for
+        ``"master_normal"``)."""
         self.segment(u)
         x_s, j, r = self.pair(u)
         x, x1, x2, N_m, Nr, Nrr, nodes_m = self._master_at(j, r, u)
@@ -258,21 +281,30 @@ class ConvectiveGap:
         ci = np.broadcast_to(dofs[:, None, :], vals.shape)
         D = sp.csr_matrix((vals[valid].ravel(), (ri[valid].ravel(), ci[valid].ravel())), shape=(m, self.n_dofs))
         D.sum_duplicates()
+        T = D
+        if self.traction == "halfplane":
+            tv = wphi[:, :, None] * G_u[:, None, :]
+            T = sp.csr_matrix((tv[valid].ravel(), (ri[valid].ravel(), ci[valid].ravel())), shape=(m, self.n_dofs))
+            T.sum_duplicates()
         H = None
         if hessian_weights is not None:
             c = hessian_weights(gt)
             c_pt = np.einsum("np,np->n", wphi, np.where(valid, c[np.maximum(rows, 0)], 0.0))
             r_u = -C_u / C_r[:, None]
-            a = G_ur - s[:, None] * C_ur
-            hess = (a[:, :, None] * r_u[:, None, :] + r_u[:, :, None] * a[:, None, :]
-                    + (G_rr - s * C_rr)[:, None, None] * r_u[:, :, None] * r_u[:, None, :])
+            if self.traction == "halfplane":
+                hess = G_ur[:, :, None] * r_u[:, None, :]
+            else:
+                a = G_ur - s[:, None] * C_ur
+                hess = (a[:, :, None] * r_u[:, None, :] + r_u[:, :, None] * a[:, None, :]
+                        + (G_rr - s * C_rr)[:, None, None] * r_u[:, :, None] * r_u[:, None, :])
             hess = c_pt[:, None, None] * hess
             Hi = np.broadcast_to(dofs[:, :, None], hess.shape)
             Hj = np.broadcast_to(dofs[:, None, :], hess.shape)
             H = sp.csr_matrix((hess.ravel(), (Hi.ravel(), Hj.ravel())), shape=(self.n_dofs, self.n_dofs))
-            H = H + self._cut_hessian(u, c)
+            if self.traction == "master_normal":
+                H = H + self._cut_hessian(u, c)
             H.sum_duplicates()
-        return gt, D, H
+        return gt, D, H, T
 
 
     def _cut_hessian(self, u: np.ndarray, c: np.ndarray) -> sp.csr_matrix:

@@ -65,9 +65,10 @@ from fem.two_body.laws import law_for
 from fem.two_body.surfaces import cell_data, surface_of_group, tabulate2
 from fem.two_body.weighted_gap import WeightedGap, assemble_weighted_gap
 
-__all__ = ["Body", "MeshedPartner", "TwoBodyProblem", "PAIRINGS"]
+__all__ = ["Body", "MeshedPartner", "TwoBodyProblem", "PAIRINGS", "TWO_BODY_TRACTIONS"]
 
 PAIRINGS = ("mortar", "node_to_segment")
+TWO_BODY_TRACTIONS = ("halfplane", "master_normal")  # fem.two_body.convective.TRACTIONS
 # convective kinematics: a slave point's partner may move this many master facets from its reference partner
 # before the Jacobian needs an entry outside the preallocated pattern (then PETSc allocates it, counted)
 CONVECTIVE_WINDOW = 3
@@ -98,6 +99,10 @@ class MeshedPartner:
         direction: unit loading direction (default (0, -1)).
         master_surface: the master body's exact reference surface (e.g.
             :class:`fem.two_body.geometry.CircleSurface`) to measure the initial gap to, or None (its facets).
+        traction: the direction the contact traction acts along: ``"halfplane"`` (the slave normal, on both
+            bodies: the half-plane theory's and Ciavarella-Hills's frictionless surfaces, with either kinematics)
+            or ``"master_normal"`` (convective kinematics only: the deformed master's normal, the gradient of the
+            contact energy; :mod:`fem.two_body.convective`).
     """
 
     bodies: tuple[Body, Body]
@@ -109,6 +114,7 @@ class MeshedPartner:
     pairing: str = "mortar"
     direction: tuple[float, float] = (0.0, -1.0)
     master_surface: object | None = None
+    traction: str = "halfplane"
 
     analytic = False  # the load stepper's test for an analytic (Hertz-predictable) rigid obstacle
 
@@ -219,7 +225,7 @@ class TwoBodyProblem(NewtonControls):
                                       master_geom=self.master_geom,
                                       master=MasterCells(cell_data(self.V, self.master_geom),
                                                          tabulate2(self.V), st.master_surface),
-                                      degree=opts.degree, n_dofs=self.n_u)
+                                      degree=opts.degree, n_dofs=self.n_u, traction=st.traction)
         h = float(np.min(self.slave_geom.length))
         kappa = opts.kappa0 * self.E_star / h
         self.method = law_for(opts.method)(kappa=kappa, n_nodes=self.gap.nodes.size, X1=self.gap.X[:, 0],
@@ -322,24 +328,26 @@ class TwoBodyProblem(NewtonControls):
         return self.gap.gap(u) if self.conv is None else self.conv.linearise(u)[0]
 
     def contact_residual(self, u: np.ndarray) -> np.ndarray:
-        """``F_c = -D^T p`` (N/mm per dof) of the dof array u (D = D(u) for convective kinematics)."""
+        """``F_c = -T^T p`` (N/mm per dof) of the dof array u (T = D for small kinematics; convective: the traction's
+        virtual-work matrix of :mod:`fem.two_body.convective`)."""
         if self.conv is None:
-            g, D = self.gap.gap(u), self.gap.D
+            g, T = self.gap.gap(u), self.gap.D
         else:
-            g, D, _ = self.conv.linearise(u)
+            g, _, _, T = self.conv.linearise(u)
         p, _ = self.method.pressure(g)
-        return -(D.T @ p)
+        return -(T.T @ p)
 
     def contact_jacobian(self, u: np.ndarray) -> sp.csr_matrix:
-        """``dF_c/du = D^T diag(-dp/dg~ / W) D`` (small), plus ``- sum_i p_i d2(W_i g~_i)/du2`` (convective:
-        :mod:`fem.two_body.convective`); exact, sparse, all dofs."""
+        """``dF_c/du = D^T diag(-dp/dg~ / W) D`` (small); convective (:mod:`fem.two_body.convective`):
+        ``T^T diag(-dp/dg~ / W) D - sum_i p_i dT_i/du`` with the traction's virtual-work matrix T; exact, sparse,
+        all dofs."""
         if self.conv is None:
             _, dp = self.method.pressure(self.gap.gap(u))
             D = self.gap.D
             return (D.T @ sp.diags(-dp / self.gap.W) @ D).tocsr()
-        g, D, H = self.conv.linearise(u, hessian_weights=lambda gaps: -self.method.pressure(gaps)[0])
+        g, D, H, T = self.conv.linearise(u, hessian_weights=lambda gaps: -self.method.pressure(gaps)[0])
         _, dp = self.method.pressure(g)
-        return (D.T @ sp.diags(-dp / self.gap.W) @ D + H).tocsr()
+        return (T.T @ sp.diags(-dp / self.gap.W) @ D + H).tocsr()
 
     def _residual(self, snes, x, b) -> None:
         arr = self._take(x)
@@ -502,6 +510,11 @@ def _check(setup: MeshedPartner, opts: ContactOptions, mesh_data) -> None:
     if opts.material_model != "linear":
         raise ValueError(f"material_model={opts.material_model!r} needs kinematics='finite', which two elastic "
                          "bodies do not support yet")
+    if setup.traction not in TWO_BODY_TRACTIONS:
+        raise ValueError(f"traction must be one of {TWO_BODY_TRACTIONS}, got {setup.traction!r}")
+    if setup.traction == "master_normal" and opts.kinematics != "convective":
+        raise ValueError("traction='master_normal' needs kinematics='convective' (small kinematics pairs and pushes "
+                         "along the slave normal: traction='halfplane')")
     if setup.pairing not in PAIRINGS:
         raise ValueError(f"pairing must be one of {PAIRINGS}, got {setup.pairing!r}")
     if len(setup.bodies) != 2 or setup.bodies[0].name == setup.bodies[1].name:
