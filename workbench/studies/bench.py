@@ -50,6 +50,10 @@ Sections:
    iterations per solve (the prescribed-active-set iteration included; force corrections and steps without
    contact, 0 iterations, are solves too), the mean per scene, and the loads against the case default.
 
+7. Start-up and output (issue 27): one CI-level case as a whole process (default and ``--no-pictures``) against
+   its mesh and solve in one process, and the interpreter-and-imports floor
+   (:mod:`workbench.studies.bench_startup`; alone: ``workbench bench --sections startup``).
+
 Internal worker modes (``workbench bench --worker scale|cold``, the config passed as JSON) run one
 measurement in a subprocess and print one line ``BENCH_JSON {...}``.
 """
@@ -965,6 +969,10 @@ def run_bench(cfg: BenchConfig | None = None, *, progress: Callable[[str], None]
         out["lu_reuse"] = lu_reuse(cfg, comm=comm, progress=progress)
     if "predictor_free" in sections:
         out["predictor_free"] = predictor_free(cfg, comm=comm, progress=progress)
+    if "startup" in sections:  # issue 27 point 5: the whole CI-level process against its mesh and solve
+        from workbench.studies.bench_startup import startup_cost
+
+        out["startup"] = startup_cost(cfg.case, repeats=cfg.repeats, progress=progress)
     out["load_avg_end"] = os.getloadavg()
     out["bench_wall_time_s"] = time.perf_counter() - t0
     from workbench.studies.executor import ExecutorChoice
