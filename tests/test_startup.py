@@ -24,11 +24,14 @@ ROOT = Path(__file__).resolve().parents[1]
 CASE = "hertz_cylinder"
 _TIME = re.compile(r"time")  # a key naming a time (as workbench.pipeline.number_classes excludes them)
 
+# what a --no-pictures run of the case does not need, so does not import (the plots, the renders, xml.sax's
+# urllib/http/ssl, scipy.integrate: the case never integrates)
+UNNEEDED = ("matplotlib", "pyvista", "vtkmodules", "xml.sax", "urllib.request", "ssl", "scipy.integrate")
 _FAST = (
-    "import sys\n"
+    f"import sys\nUNNEEDED = {UNNEEDED!r}\n"
     "from workbench.cli import main\n"
     "code = main(sys.argv[1:])\n"
-    "print('PLOTTING_MODULES', sorted(m for m in ('matplotlib', 'pyvista') if m in sys.modules))\n"
+    "print('UNNEEDED_MODULES', sorted(m for m in UNNEEDED if m in sys.modules))\n"
     "sys.exit(code)\n"
 )
 
@@ -57,7 +60,7 @@ def test_no_pictures_writes_the_same_numbers_and_no_picture(tmp_path):
     cp = subprocess.run([sys.executable, "-c", _FAST, "run", CASE, "--ci", "--no-pictures", "--out", str(fast)],
                         cwd=tmp_path, capture_output=True, text=True, timeout=600)
     assert cp.returncode == 0, cp.stderr[-2000:]
-    assert "PLOTTING_MODULES []" in cp.stdout  # neither matplotlib nor pyvista was imported
+    assert "UNNEEDED_MODULES []" in cp.stdout  # neither matplotlib nor pyvista (nor the others) was imported
     a, b = (json.loads((d / CASE / "metrics.json").read_text()) for d in (full, fast))
     assert _differences(a, b) == []
     assert a["wall_time_s"] > 0 and b["wall_time_s"] > 0  # the times exist (and differ: left out above)
@@ -116,3 +119,15 @@ def test_bench_startup_section_reports_both_times_and_the_ratio():
     md = to_markdown(data)
     assert "## Start-up and output" in md and f"x its case time | {st['modes']['full']['ratio_to_case']:.1f} x" in md
     assert f"whole CI process (`--no-pictures` (scripts)) <= {TARGET_RATIO:g} x its case time" in md
+
+
+def test_vtk_quoteattr_is_saxutils_quoteattr():
+    import itertools
+    from xml.sax.saxutils import quoteattr as reference
+
+    from fem.vtk_files import quoteattr
+
+    chars = ("a", "&", "<", ">", '"', "'", "\n", "\r", "\t", "é")
+    for k in range(4):
+        for t in itertools.product(chars, repeat=k):
+            assert quoteattr("".join(t)) == reference("".join(t)), t
