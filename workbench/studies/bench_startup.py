@@ -54,9 +54,11 @@ def _env() -> dict:
     return e
 
 
-def _timed_process(cmd: list[str], *, timeout: float) -> tuple[float, subprocess.CompletedProcess]:
+def _timed_process(cmd: list[str], *, timeout: float, cwd: Path) -> tuple[float, subprocess.CompletedProcess]:
+    """``cmd`` run from ``cwd`` (a neutral folder: ``python -m``/``-c`` put the working directory first on the
+    path, where another checkout would shadow this one)."""
     t0 = time.perf_counter()
-    cp = subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=timeout)
+    cp = subprocess.run(cmd, env=_env(), cwd=str(cwd), capture_output=True, text=True, timeout=timeout)
     dt = time.perf_counter() - t0
     if cp.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed (exit {cp.returncode}): {cp.stderr.strip()[-500:]}")
@@ -66,7 +68,7 @@ def _timed_process(cmd: list[str], *, timeout: float) -> tuple[float, subprocess
 def _case_process(case: str, out: Path, extra: tuple[str, ...], *, timeout: float) -> dict:
     """One whole ``workbench run <case> --ci`` process: its wall time and the case time it reported."""
     dt, _ = _timed_process([sys.executable, "-m", "workbench", "run", case, "--ci", "--out", str(out), *extra],
-                           timeout=timeout)
+                           timeout=timeout, cwd=out.parent)
     m = json.loads((out / case / "metrics.json").read_text())
     return {"process_s": dt, "case_s": float(m["wall_time_s"]), "ndofs": m["ndofs"], "pass": bool(m["pass"]),
             "pngs": sorted(p.name for p in (out / case).glob("*.png"))}
@@ -116,8 +118,8 @@ def startup_cost(case: str = "hertz_cylinder", *, repeats: int = 3, progress: Ca
         for _ in range(int(repeats)):
             for mode, extra in MODES.items():
                 samples[mode].append(_case_process(case, out, extra, timeout=timeout))
-        floor = [_timed_process([sys.executable, "-c", "import " + ", ".join(FLOOR_IMPORTS)], timeout=timeout)[0]
-                 for _ in range(int(repeats))]
+        floor = [_timed_process([sys.executable, "-c", "import " + ", ".join(FLOOR_IMPORTS)], timeout=timeout,
+                                cwd=Path(tmp))[0] for _ in range(int(repeats))]
         inproc = _in_process_mesh_solve(case, out / "mesh_cache", repeats=int(repeats))
     mesh_solve = inproc["best_s"]
     floor_s = min(floor)
