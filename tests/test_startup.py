@@ -131,3 +131,48 @@ def test_vtk_quoteattr_is_saxutils_quoteattr():
     for k in range(4):
         for t in itertools.product(chars, repeat=k):
             assert quoteattr("".join(t)) == reference("".join(t)), t
+
+
+def test_fast_exit_only_where_nothing_can_be_lost():
+    from workbench.fast_exit import fast_exit_allowed
+
+    class _Comm:
+        def __init__(self, n):
+            self.n = n
+
+        def Get_size(self):
+            return self.n
+
+    class _MPI:
+        def __init__(self, n):
+            self.COMM_WORLD = _Comm(n)
+
+    ok = {"PETSC_OPTIONS": "-no_signal_handler"}
+    assert fast_exit_allowed("run", environ=ok, modules={"mpi4py.MPI": _MPI(1)})
+    assert fast_exit_allowed("run", environ={}, modules={})
+    assert not fast_exit_allowed("ci", environ=ok, modules={})  # only `run`
+    assert not fast_exit_allowed(None, environ=ok, modules={})
+    assert not fast_exit_allowed("run", environ=ok, modules={"mpi4py.MPI": _MPI(2)})  # every rank must finalize
+    assert not fast_exit_allowed("run", environ={**ok, "PMI_RANK": "0"}, modules={})  # under mpiexec -n 1
+    assert not fast_exit_allowed("run", environ=ok, modules={"mpi4py.futures": object()})
+    assert not fast_exit_allowed("run", environ=ok, modules={"coverage": object()})
+    assert not fast_exit_allowed("run", environ={"PETSC_OPTIONS": "-no_signal_handler -log_view"}, modules={})
+    assert not fast_exit_allowed("run", environ={"WORKBENCH_FULL_EXIT": "1"}, modules={})
+
+
+def test_fast_exit_keeps_the_exit_code_and_runs_atexit(tmp_path):
+    script = (
+        "import atexit, sys\n"
+        "from pathlib import Path\n"
+        f"atexit.register(lambda: Path({str(tmp_path / 'atexit_ran')!r}).write_text('yes'))\n"
+        f"sys.argv = ['workbench', 'run', 'no_such_case', '--out', {str(tmp_path / 'o')!r}]\n"
+        "from workbench.cli import main\n"
+        "main()\n"
+        "print('AFTER_MAIN')\n"
+    )
+    env = {k: v for k, v in __import__("os").environ.items() if k != "WORKBENCH_FULL_EXIT"}
+    cp = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=env, capture_output=True, text=True,
+                        timeout=300)
+    assert cp.returncode == 2 and "no_such_case" in cp.stderr  # bad input: exit 2, one line
+    assert "AFTER_MAIN" not in cp.stdout  # the process ended inside main(), without the teardown
+    assert (tmp_path / "atexit_ran").read_text() == "yes"  # the Python atexit handlers still ran

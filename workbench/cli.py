@@ -156,7 +156,19 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the CLI; returns the exit code (SIGINT -> 130, SIGTERM -> 143 at any stage: one line, the previous
-    results intact; :mod:`workbench.interrupt`)."""
+    results intact; :mod:`workbench.interrupt`). The program itself (``argv`` None) ends a ``run`` without the
+    interpreter's teardown where nothing can be lost (:mod:`workbench.fast_exit`)."""
+    code = _guarded_main(argv)
+    if argv is None:
+        from workbench.fast_exit import exit_now, fast_exit_allowed
+
+        if fast_exit_allowed(sys.argv[1] if len(sys.argv) > 1 else None):
+            exit_now(code)
+    return code
+
+
+def _guarded_main(argv: list[str] | None) -> int:
+    """:func:`main` with the signal handling of :mod:`workbench.interrupt` around :func:`_main`."""
     import os
     import threading
 
