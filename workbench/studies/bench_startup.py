@@ -9,9 +9,10 @@ What is timed (wall seconds, warm: the FFCx JIT cache and the mesh cache filled 
   the cache, forms loaded from the disk cache, solve, comparison, VTK): the first run in a fresh process.
 * ``mesh_solve_s``: the same CI-level run through :func:`workbench.pipeline.run_case.run_one` in this process,
   forms already loaded (mesh from the cache, solve, comparison; best of ``repeats`` after one warm-up call).
-* ``import_floor_s``: ``python -c "import <the solve path's third-party packages>"`` (:data:`FLOOR_IMPORTS`):
-  the interpreter and the libraries every run of the case needs, whatever the workbench does; no process that
-  solves the case can be faster than this plus its mesh and solve.
+* ``import_floor_s``: ``python -c "import <the solve path's third-party packages>; os._exit(0)"``
+  (:data:`FLOOR_IMPORTS`; no teardown, as ``workbench run`` ends: :mod:`workbench.fast_exit`): the interpreter and
+  the libraries every run of the case needs, whatever the workbench does; no process that solves the case can be
+  faster than this plus its case time.
 
 Ratios: ``process_s / case_s`` of each process (both measured in that process's own run, so a load that slows
 the machine slows both: the issue's "5.6 s for a 0.8 s case"), median over the repeats, against the issue's
@@ -118,8 +119,8 @@ def startup_cost(case: str = "hertz_cylinder", *, repeats: int = 3, progress: Ca
         for _ in range(int(repeats)):
             for mode, extra in MODES.items():
                 samples[mode].append(_case_process(case, out, extra, timeout=timeout))
-        floor = [_timed_process([sys.executable, "-c", "import " + ", ".join(FLOOR_IMPORTS)], timeout=timeout,
-                                cwd=Path(tmp))[0] for _ in range(int(repeats))]
+        floor_cmd = [sys.executable, "-c", f"import {', '.join(FLOOR_IMPORTS)}; import os; os._exit(0)"]
+        floor = [_timed_process(floor_cmd, timeout=timeout, cwd=Path(tmp))[0] for _ in range(int(repeats))]
         inproc = _in_process_mesh_solve(case, out / "mesh_cache", repeats=int(repeats))
     mesh_solve = inproc["best_s"]
     floor_s = min(floor)

@@ -32,8 +32,9 @@ def startup_markdown(st: dict, targets: list) -> list[str]:
         targets.append((f"whole CI process ({names.get(mode, mode)}) <= {target:g} x its case time",
                         f"{r['ratio_to_case']:.1f} x", r["target_met"]))
     L += ["", f"The floor: the interpreter and the third-party imports every run of the case needs "
-          f"(`python -c \"import {', '.join(floor['imports'])}\"`) take {_s(floor['best'])} s, so no process that "
-          f"solves this case can take less than {st['floor_ratio']:.1f}x its case time. The first mesh and solve "
+          f"(`python -c \"import {', '.join(floor['imports'])}\"`, ended by `os._exit` as `workbench run` ends) "
+          f"take {_s(floor['best'])} s, so no process that solves this case can take less than "
+          f"{st['floor_ratio']:.1f}x its case time. The first mesh and solve "
           f"in a fresh process took {_s(ms['first_in_process'])} s (form loading). Load average "
           f"{st['load_avg'][0]:.2f} during the section"
           + ("" if st.get("bytecode_cache", True) else "; Python wrote no bytecode cache (PYTHONDONTWRITEBYTECODE): "
