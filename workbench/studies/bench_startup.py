@@ -116,11 +116,12 @@ def startup_cost(case: str = "hertz_cylinder", *, repeats: int = 3, progress: Ca
         out = Path(tmp) / "cli"
         _case_process(case, out, (), timeout=timeout)  # warm-up: mesh cache (and JIT if it was cold)
         samples: dict[str, list[dict]] = {m: [] for m in MODES}
-        for _ in range(int(repeats)):
+        floor_cmd = [sys.executable, "-c", f"import {', '.join(FLOOR_IMPORTS)}; import os; os._exit(0)"]
+        floor = []
+        for _ in range(int(repeats)):  # the modes and the floor alternate: a change of load hits all three
             for mode, extra in MODES.items():
                 samples[mode].append(_case_process(case, out, extra, timeout=timeout))
-        floor_cmd = [sys.executable, "-c", f"import {', '.join(FLOOR_IMPORTS)}; import os; os._exit(0)"]
-        floor = [_timed_process(floor_cmd, timeout=timeout, cwd=Path(tmp))[0] for _ in range(int(repeats))]
+            floor.append(_timed_process(floor_cmd, timeout=timeout, cwd=Path(tmp))[0])
         inproc = _in_process_mesh_solve(case, out / "mesh_cache", repeats=int(repeats))
     mesh_solve = inproc["best_s"]
     floor_s = min(floor)
