@@ -19,7 +19,8 @@ STUDY_DIR = Path(__file__).resolve().parents[1] / "workbench" / "studies"
 RUNNERS = {"workbench.studies.bench", "workbench.studies.convergence", "workbench.studies.stability",
            "workbench.studies.convective_table", "workbench.studies.validity"}
 # what each runner may import of the other study modules: its own report and plot, the shared config and rates
-OWN = {"workbench.studies.bench": {"workbench.studies.bench_report", "workbench.studies.bench_plot"},
+OWN = {"workbench.studies.bench": {"workbench.studies.bench_report", "workbench.studies.bench_plot",
+                                   "workbench.studies.bench_startup"},
        "workbench.studies.convergence": {"workbench.studies.convergence_report", "workbench.studies.convergence_plot"},
        "workbench.studies.stability": {"workbench.studies.stability_plot"},
        "workbench.studies.convective_table": set(),
