@@ -71,6 +71,12 @@ def test_no_pictures_writes_the_same_numbers_and_no_picture(tmp_path):
     md = (fast / CASE / "report.md").read_text()
     assert NO_PICTURES in md and ".png)" not in md and "## Checks" in md
     assert (fast / CASE / "view.py").is_file() and (fast / CASE / "report.html").is_file()
+    # `workbench report` draws the pictures later from the saved files (what make run relies on)
+    from workbench.reports.case_report import write_case_reports
+
+    assert write_case_reports(fast, [CASE]) == [fast / CASE]
+    assert {p.name for p in (fast / CASE).glob("*.png")} == {p.name for p in (full / CASE).glob("*.png")}
+    assert NO_PICTURES not in (fast / CASE / "report.md").read_text()
 
 
 def test_ci_passes_no_pictures_to_every_case(tmp_path, monkeypatch):
