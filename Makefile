@@ -100,9 +100,10 @@ report: setup
 
 # Each case writes results/<case>/metrics.json; the pattern rule lets `make -j2 run` work, and a case
 # reruns when its file or any source changes. `run` always ends with the summary report, even when a
-# case failed (the make exit status still says so).
+# case failed (the make exit status still says so). The cases run without pictures (--no-pictures): the
+# summary (`workbench report`) draws every case report again, pictures included, so they are drawn once.
 results/%/metrics.json: cases/%.toml $(SOURCES) | setup
-	$(MPIRUN) $(WB) run $*; $(call explain_exit,$*)
+	$(MPIRUN) $(WB) run $* --no-pictures; $(call explain_exit,$*)
 
 run: setup
 	@$(MAKE) --no-print-directory -k -j$(JOBS) $(METRICS); status=$$?; \

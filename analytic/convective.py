@@ -60,7 +60,7 @@ from collections.abc import Callable, Sequence
 from typing import NamedTuple
 
 import numpy as np
-from scipy import fft, integrate, optimize
+from scipy import fft, optimize
 
 __all__ = [
     "ConvectiveSolution",
@@ -391,6 +391,8 @@ def _first_order_numeric(
 
 def _first_iterate(profile: Profile, beta: float, a10: float, N: int) -> float:
     """b1/b0 of the classical problem for H1(x) = h(x - g0(x)), g0 = -beta A int_0^x p0 (physical x)."""
+    from scipy import integrate  # imported here: a run that never integrates skips its ~20 ms import
+
     n, lam = profile.n, profile.lam
     w0, W0 = _classical_funcs(profile, N)
     P = 0.5 * math.pi * a10

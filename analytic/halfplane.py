@@ -34,7 +34,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from scipy import integrate, optimize
+from scipy import optimize
 
 from analytic.convective import _check_beta, _coeffs, _cumulative, _nodes, _sine_series
 from analytic.materials import validate_positive as _positive
@@ -241,6 +241,8 @@ class QuadratureSolution(NamedTuple):
 
 
 def _quad(f, lo: float, hi: float) -> float:
+    from scipy import integrate  # imported here: a run that never integrates skips its ~20 ms import
+
     return integrate.quad(f, lo, hi, epsabs=0.0, epsrel=1e-12, limit=400)[0]
 
 

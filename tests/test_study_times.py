@@ -38,3 +38,38 @@ def test_summary_has_the_study_times(tmp_path):
     _write(tmp_path / "stability" / "stability.json", {"summary": {"wall_time_s": 12.0}})
     md = summary_markdown(tmp_path)
     assert "## Study times" in md and "| stability | 12 |" in md
+
+
+def _case(tmp_path, name, wall_s, written_at):
+    import os
+
+    f = tmp_path / name / "metrics.json"
+    _write(f, {"wall_time_s": wall_s})
+    os.utime(f, (written_at, written_at))
+
+
+def test_issue_total_of_make_run_and_the_three_studies(tmp_path):
+    from workbench.reports.study_times import make_run_time
+
+    # two cases run together (make -j2): 100 s and 60 s, the second started 10 s after the first
+    _case(tmp_path, "hertz_cylinder", 100.0, 1_000_100.0)
+    _case(tmp_path, "wedge", 60.0, 1_000_070.0)
+    assert make_run_time(tmp_path)[0] == 100.0  # first start 1_000_000 to last file 1_000_100, not the sum 160
+    _write(tmp_path / "stability" / "stability.json", {"summary": {"wall_time_s": 30.0}})
+    _write(tmp_path / "validity" / "validity.json", {"summary": {"wall_time_s": 900.0}})  # not in the issue's total
+    md = "\n".join(study_times_markdown(tmp_path))
+    assert "incomplete**, not run yet: convergence, bench" in md and "measured so far: 130 s" in md
+    _write(tmp_path / "convergence" / "convergence.json", {"study_wall_time_s": 200.0})
+    _write(tmp_path / "bench" / "bench.json", {"bench_wall_time_s": 300.0})
+    md = "\n".join(study_times_markdown(tmp_path))
+    assert "+ bench: 630 s (10.5 min)**" in md and "NOT met" in md  # 100 + 30 + 200 + 300 > 600
+
+
+def test_make_run_time_of_cases_run_apart_is_their_sum(tmp_path):
+    from workbench.reports.study_times import make_run_time
+
+    _case(tmp_path, "hertz_cylinder", 10.0, 1_000_010.0)
+    _case(tmp_path, "wedge", 20.0, 2_000_020.0)  # a day later: the span would be meaningless
+    t, how = make_run_time(tmp_path)
+    assert t == 30.0 and "different times" in how
+    assert make_run_time(tmp_path / "nothing") is None

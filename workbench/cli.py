@@ -3,10 +3,13 @@
 Subcommands:
     list                 the cases in ``cases/`` and what each compares
     validate CASE...     load and check case files (exit 2 on the first bad one)
-    run CASE...          run cases, writing ``<out>/<case>/`` (metrics.json, pressure.csv, plots, VTK)
+    run CASE...          run cases, writing ``<out>/<case>/`` (metrics.json, pressure.csv, plots, VTK);
+                         ``--no-pictures``: the fast path for scripts (same numbers, no PNG, no
+                         matplotlib/pyvista start-up; ``workbench report`` draws the pictures later)
     mesh CASE            build (or reuse) the meshes of a case's runs and print their statistics
     report               the summary ``<out>/report.md`` and ``<out>/report.html``
     ci                   every case at its coarsest level; ``<out>/ci_report.md``; exit 1 on a violation
+                         (``--no-pictures`` as for ``run``)
     convergence          study: error against run time over refinement levels (``<out>/convergence/``)
     stability            study: stiff and extreme cases (``<out>/stability/``)
     bench                study: performance (``<out>/bench/``)
@@ -131,6 +134,9 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--out", type=_folder, default=None, help="output folder (default: results/ of this checkout)")
     r.add_argument("--dry-run", action="store_true",
                    help="check everything a run checks before meshing (cases, sizes, memory), then stop")
+    r.add_argument("--no-pictures", action="store_true",
+                   help="fast path for scripts: the same metrics.json and data files, a text report, no PNG "
+                        "(no pressure plot, budget plot or pyvista renders; `workbench report` draws them later)")
     m = sub.add_parser("mesh", help="build the meshes of a case and print their statistics")
     m.add_argument("case", metavar="CASE")
     m.add_argument("--h-contact", type=float, default=None, help="h_c as a fraction of the half-width")
@@ -140,6 +146,7 @@ def _parser() -> argparse.ArgumentParser:
     rep.add_argument("--out", type=_folder, default=None)
     c = sub.add_parser("ci", help="run every case at its coarsest level and check tolerances")
     c.add_argument("--out", type=_folder, default=None)
+    c.add_argument("--no-pictures", action="store_true", help="run every case with `run --no-pictures`")
     for name, module in OWN_OPTIONS.items():
         kind = "external code" if name in EXTERNAL else "study"
         st = sub.add_parser(name, help=f"{kind} ({module}); its options follow", add_help=False)
@@ -149,7 +156,19 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the CLI; returns the exit code (SIGINT -> 130, SIGTERM -> 143 at any stage: one line, the previous
-    results intact; :mod:`workbench.interrupt`)."""
+    results intact; :mod:`workbench.interrupt`). The program itself (``argv`` None) ends a ``run`` without the
+    interpreter's teardown where nothing can be lost (:mod:`workbench.fast_exit`)."""
+    code = _guarded_main(argv)
+    if argv is None:
+        from workbench.fast_exit import exit_now, fast_exit_allowed
+
+        if fast_exit_allowed(sys.argv[1] if len(sys.argv) > 1 else None):
+            exit_now(code)
+    return code
+
+
+def _guarded_main(argv: list[str] | None) -> int:
+    """:func:`main` with the signal handling of :mod:`workbench.interrupt` around :func:`_main`."""
     import os
     import threading
 
@@ -252,7 +271,8 @@ def _main(argv: list[str] | None = None) -> int:
             ok = True
             for case in cases:
                 try:
-                    metrics = run_case(case, paths=paths, h_contact=args.h_contact, ci=args.ci)
+                    metrics = run_case(case, paths=paths, h_contact=args.h_contact, ci=args.ci,
+                                       pictures=not args.no_pictures)
                 except OSError as exc:  # e.g. ENOSPC: the staging folder is removed, the previous results stay
                     where = f" ({_one_line(exc.filename)})" if getattr(exc, "filename", None) else ""
                     print(f"error: case {case.name} failed: cannot write the results: "
@@ -272,7 +292,7 @@ def _main(argv: list[str] | None = None) -> int:
             from workbench.pipeline.ci import check_ci_writes, run_ci
 
             check_ci_writes(paths)
-            return run_ci(paths)
+            return run_ci(paths, pictures=not args.no_pictures)
     except CaseError as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return 2

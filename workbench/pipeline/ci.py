@@ -48,9 +48,9 @@ def ci_cases(cases: Sequence[str] | None = None) -> list[str]:
     return list(cases) or case_names()
 
 
-def run_ci(paths: OutputPaths, *, cases: Sequence[str] | None = None) -> int:
+def run_ci(paths: OutputPaths, *, cases: Sequence[str] | None = None, pictures: bool = True) -> int:
     """Run every case (or ``cases``, see :func:`ci_cases`) at its CI level in a subprocess each (a crash of one
-    case cannot hide the others)."""
+    case cannot hide the others); ``pictures=False`` runs each with ``--no-pictures`` (no PNG)."""
     results = paths.root
     ci_root = paths.ci.root
     check_ci_writes(paths, cases)  # refuse before anything runs or is written (issue 23)
@@ -61,8 +61,8 @@ def run_ci(paths: OutputPaths, *, cases: Sequence[str] | None = None) -> int:
         name = case.name
         level = case.discretisation.ci_level or case.discretisation.h_contact
         t0 = time.perf_counter()
-        proc = subprocess.run([sys.executable, "-m", "workbench", "run", str(entry), "--ci", "--out", str(ci_root)],
-                              capture_output=True, text=True)
+        cmd = [sys.executable, "-m", "workbench", "run", str(entry), "--ci", "--out", str(ci_root)]
+        proc = subprocess.run(cmd + ([] if pictures else ["--no-pictures"]), capture_output=True, text=True)
         dt = time.perf_counter() - t0
         sys.stdout.write(proc.stdout)
         sys.stderr.write(proc.stderr)

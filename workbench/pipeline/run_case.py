@@ -6,9 +6,10 @@ with theory. Then the scene judges the whole case, the case-level ``metrics.json
 (:func:`case_metrics`) and the reports are written from the saved files (:mod:`workbench.reports`).
 
 Outputs (the results contract): ``metrics.json``, ``pressure.csv``, ``pressure.png``, ``report.md`` /
-``report.html``, ``run.log`` and ``vtk/<run>/`` (ParaView). Everything is written into a staging folder
-that replaces ``results/<case>/`` only when the case has finished, so an interrupted or failed run leaves
-the previous results intact. A failed run writes ``results/logs/<case>.log`` and exits 1.
+``report.html``, ``run.log`` and ``vtk/<run>/`` (ParaView); with ``pictures=False`` (``--no-pictures``) no
+PNG. Everything is written into a staging folder that replaces ``results/<case>/`` only when the case has
+finished, so an interrupted or failed run leaves the previous results intact. A failed run writes
+``results/logs/<case>.log`` and exits 1.
 
 Works under ``mpiexec -n N``: every rank takes part in the solve and the VTK output; rank 0 writes the
 rest.
@@ -128,7 +129,8 @@ def run_one(run: Run, *, name: str, mesh_cache: Path, comm, progress=print, stat
     return scene.compare(run, result, mesh, progress=progress)
 
 
-def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, ci: bool = False) -> dict | None:
+def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, ci: bool = False,
+             pictures: bool = True) -> dict | None:
     """Run every run of ``case`` and write its results folder ``paths.case(case.name)``.
 
     Args:
@@ -136,6 +138,9 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
         paths: The output folder (results, mesh cache, logs).
         h_contact: Override of the contact element size (fraction of the half-width).
         ci: Use the case's ``ci_level`` (coarsest level that must still meet the tolerances).
+        pictures: Draw the report's pictures (``pressure.png``, ``budget.png``, the pyvista renders). False is
+            the fast path of ``workbench run --no-pictures``: the same data files and ``metrics.json``, a text
+            report, and matplotlib / pyvista never imported (``workbench report`` draws the pictures later).
 
     Returns:
         The metrics dict (on every rank).
@@ -210,7 +215,7 @@ def run_case(case: Case, *, paths: OutputPaths, h_contact: float | None = None, 
                 progress(f"case {case.name}: {verdict} in {metrics['wall_time_s']:.1f} s -> {out}")
                 write_text(stage / "run.log", "\n".join(log) + "\n")
                 write_json(stage / "metrics.json", metrics)
-                write_case_report(stage)  # from the saved metrics.json and series.json only
+                write_case_report(stage, pictures=pictures)  # from the saved metrics.json and series.json only
             comm.barrier()
             interrupt.check()  # a signal during the last writes: the staging folder goes, the old results stay
             interrupt.stage(f"replacing the results folder of {case.name}")

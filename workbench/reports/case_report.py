@@ -79,10 +79,16 @@ def model_line(run: dict) -> str:
             "([what the models mean](../../docs/models.md))")
 
 
+NO_PICTURES = ("Pictures not drawn (`workbench run --no-pictures`): `workbench report` draws them from the saved "
+               "files of this folder.")
+"""The line a case report carries in place of its pictures when the run skipped them."""
+
+
 def case_report_markdown(metrics: dict, *, renders: list[tuple[str, str]] | None = None,
-                         render_error: str | None = None, view_script: bool = False) -> str:
+                         render_error: str | None = None, view_script: bool = False, pictures: bool = True) -> str:
     """The case report as Markdown from ``metrics.json``: description, plot, renders, runs, patches, errors,
-    checks. ``renders``: (caption, file name) of the pyvista renders; ``render_error``: why they are missing."""
+    checks. ``renders``: (caption, file name) of the pyvista renders; ``render_error``: why they are missing;
+    ``pictures=False``: no image links (none were drawn), the :data:`NO_PICTURES` line instead."""
     lines = [f"# {metrics['case']}", "", metrics.get("description", ""), "",
              f"Verdict: **{'PASS' if metrics['pass'] else 'FAIL'}** against the case tolerances"
              f"{' and bands (error budget)' if metrics.get('band_checks') else ''}. "
@@ -93,7 +99,7 @@ def case_report_markdown(metrics: dict, *, renders: list[tuple[str, str]] | None
     warns = [(r["label"], w) for r in metrics["runs"] for w in r.get("warnings", [])]
     if warns:
         lines += ["## Warnings", "", *[f"- {label}: {w}" for label, w in warns], ""]
-    lines += ["![pressure](pressure.png)", "",
+    lines += ["![pressure](pressure.png)" if pictures else NO_PICTURES, "",
               "Data: [pressure.csv](pressure.csv), [series.json](series.json) · "
               "metrics: [metrics.json](metrics.json) · ParaView: `vtk/<run>/body.pvd` and `contact_surface.pvd` "
               "(one time step per converged load step)"
@@ -137,7 +143,7 @@ def case_report_markdown(metrics: dict, *, renders: list[tuple[str, str]] | None
     lines += _band_lines(metrics)
     for title, table in (metrics.get("case_tables") or {}).items():
         lines += ["", f"## {title}", "", *table]
-    if metrics.get("error_budget"):
+    if metrics.get("error_budget") and pictures:
         lines += ["", "![error budget](budget.png)", "",
                   "*Every budget quantity against h_c: deviation from the extrapolated value, the band (GCI + "
                   "truncation + iterative + round-off) shaded, the theory (solid) and the alternative theory "
@@ -177,7 +183,7 @@ def _band_lines(metrics: dict) -> list[str]:
     return lines
 
 
-def write_case_report(folder: Path) -> list[Path]:
+def write_case_report(folder: Path, *, pictures: bool = True) -> list[Path]:
     """Write ``pressure.png``, ``report.md`` and ``report.html`` of the case in ``folder``, and, when it has
     ``vtk/*/frames.json``, ``view.py`` (ParaView) and the pyvista renders ``render_<run>.png`` /
     ``steps_<run>.png``.
@@ -185,36 +191,43 @@ def write_case_report(folder: Path) -> list[Path]:
     Reads ``folder/metrics.json`` and ``folder/series.json``. Without ``series.json`` (a folder written before
     it existed) the plot is not drawn and an existing ``pressure.png`` is left as it is.
 
+    ``pictures=False`` (``workbench run --no-pictures``, the fast path): no PNG at all (``pressure.png``,
+    ``budget.png``, the renders), and neither matplotlib nor pyvista is imported; ``report.md`` says so in their
+    place. ``view.py`` and the text are written as usual.
+
     Returns:
         The files written.
     """
-    from workbench.reports.plots import plot_pressure_panels  # matplotlib only when a plot is drawn
-
     folder = Path(folder)
     metrics = json.loads((folder / "metrics.json").read_text())
     name = metrics["case"]
     written = []
-    series = load_series(folder)
+    series = load_series(folder) if pictures else None
     if series:
+        from workbench.reports.plots import plot_pressure_panels  # matplotlib only when a plot is drawn
+
         plot_pressure_panels(pressure_panels(series, metrics), folder / "pressure.png", title=name)
         written.append(folder / "pressure.png")
-    if metrics.get("error_budget"):
+    if metrics.get("error_budget") and pictures:
         from workbench.reports.budget_plot import plot_budget
 
         written.append(plot_budget(metrics["error_budget"], folder / "budget.png", title=name))
     renders, render_error, view = [], None, None
     if list((folder / "vtk").glob("*/frames.json")):
         from workbench.reports.paraview_view import write_view_script
-        from workbench.reports.renders import render_case
 
         view = write_view_script(folder)
+    if view is not None and pictures:
+        from workbench.reports.renders import render_case  # pyvista only when a picture is rendered
+
         try:
             renders = [(caption, png.name) for caption, png in render_case(folder)]
             written += [folder / name for _, name in renders]
         except Exception as exc:  # a missing OpenGL stack must not lose the report; the report says why
             render_error = f"{type(exc).__name__}: {exc}".splitlines()[0]
             print(f"warning: {name}: pyvista render failed: {render_error}", file=sys.stderr)
-    md = case_report_markdown(metrics, renders=renders, render_error=render_error, view_script=view is not None)
+    md = case_report_markdown(metrics, renders=renders, render_error=render_error, view_script=view is not None,
+                              pictures=pictures)
     write_text(folder / "report.md", md)
     write_text(folder / "report.html", markdown_to_html(md, title=name))
     return [*written, folder / "report.md", folder / "report.html"]

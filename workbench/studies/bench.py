@@ -52,6 +52,9 @@ Sections:
 
 7. Two elastic bodies (issue 24): each two-body case against the rigid case with the same number of dofs, timed
    side by side, and its Newton iterations per load step (:mod:`workbench.studies.bench_two_body`).
+8. Start-up and output (issue 27): one CI-level case as a whole process (default and ``--no-pictures``) against
+   its mesh and solve in one process, and the interpreter-and-imports floor
+   (:mod:`workbench.studies.bench_startup`; alone: ``workbench bench --sections startup``).
 
 Internal worker modes (``workbench bench --worker scale|cold``, the config passed as JSON) run one
 measurement in a subprocess and print one line ``BENCH_JSON {...}``.
@@ -973,6 +976,10 @@ def run_bench(cfg: BenchConfig | None = None, *, progress: Callable[[str], None]
 
         out["two_body"] = run_two_body_bench(TwoBodyBench(repeats=cfg.repeats, mesh_cache=cfg.cache_dir),
                                              comm=comm, progress=progress)
+    if "startup" in sections:  # issue 27 point 5: the whole CI-level process against its mesh and solve
+        from workbench.studies.bench_startup import startup_cost
+
+        out["startup"] = startup_cost(cfg.case, repeats=cfg.repeats, progress=progress)
     out["load_avg_end"] = os.getloadavg()
     out["bench_wall_time_s"] = time.perf_counter() - t0
     from workbench.studies.executor import ExecutorChoice

@@ -437,6 +437,10 @@ def to_markdown(data: dict) -> str:
         L += _md_predictor_free(data["predictor_free"], targets)
     if data.get("two_body"):
         L += two_body_markdown(data["two_body"], targets)
+    if data.get("startup"):
+        from workbench.studies.bench_startup_report import startup_markdown
+
+        L += startup_markdown(data["startup"], targets)
     L += ["## Targets", "", "| target | measured | status |", "|---|---|---|"]
     L += [f"| {t} | {v} | {_met(ok)} |" for t, v, ok in targets]
     return "\n".join(L) + "\n"

@@ -274,7 +274,7 @@ def _solver_variants() -> dict:
     }
 
 
-BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free", "two_body")
+BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free", "two_body", "startup")
 ACTIVE_SETS = ("extrapolate", "geometry")  # fem.options.ACTIVE_SETS (a study config imports no fem)
 ACTIVE_SET_UPDATES = ("newton", "edge_fit")  # fem.options.ACTIVE_SET_UPDATES
 LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg", "auto")  # fem.linear_solver.LINEAR_SOLVERS
