@@ -10,6 +10,8 @@ Files in ``out_dir`` (rank 0 writes them; the fields of every rank are gathered 
     plane-strain out-of-plane stress ``lambda tr eps``, YZ = XZ = 0; a finite-strain run writes the Cauchy
     stress ``P F^T / J`` and ``S_33 / J``, :mod:`fem.hyperelastic`, on the reference mesh);
   - ``von_Mises_MPa`` (plane strain, with sigma_zz);
+  - several bodies (:mod:`fem.two_body`): ``body`` (the index of the cell's body in ``frames.json``'s
+    ``bodies``, constant on each cell: *Threshold* on it shows one body), ``E_MPa`` and ``nu``;
   - field data ``TimeValue`` (= ``step``), ``step``, ``d_mm`` (rigid displacement), ``P_N_per_mm`` (load,
     full body), ``recorded`` (1 at a ``record_at`` displacement) and ``mirrored``.
 
@@ -141,6 +143,14 @@ class _BodyFields:
                       (self.vm, dolfinx.fem.Expression(vm, S.element.interpolation_points))]
         self.n_cells = mesh.topology.index_map(mesh.topology.dim).size_local
         self.S = S
+        # several bodies (fem.two_body): each cell's body index, E and nu, constant per cell
+        forms = getattr(result, "forms", None)
+        self.body_names = tuple(getattr(forms, "body_names", ()) or ())
+        self.cell_columns = None
+        if self.body_names:
+            per_cell = [f.x.array[f.function_space.dofmap.list[: self.n_cells, 0]]
+                        for f in (forms.body_index, forms.E, forms.nu)]
+            self.cell_columns = np.stack(per_cell, axis=1)  # (owned cells, 3): body, E (MPa), nu
 
     def _per_cell(self, f: dolfinx.fem.Function) -> np.ndarray:
         """(owned cells, 3 vertices, block size) values; the cell-local dof order is the element's for every
@@ -166,7 +176,21 @@ class _BodyFields:
         szz, vm = self._per_cell(self.szz), self._per_cell(self.vm)
         zero = np.zeros_like(szz)
         # tensor dofs are row-major (xx, xy, yx, yy)
-        return np.concatenate([u, s[..., 0:1], s[..., 3:4], szz, s[..., 1:2], zero, zero, vm], axis=2)
+        out = [u, s[..., 0:1], s[..., 3:4], szz, s[..., 1:2], zero, zero, vm]
+        if self.cell_columns is not None:
+            out.append(np.repeat(self.cell_columns[:, None, :], 3, axis=1))
+        return np.concatenate(out, axis=2)
+
+
+def _bodies(fields: _BodyFields, comm) -> list[dict]:
+    """The bodies of a several-body grid for ``frames.json``: index (the ``body`` point array), name, E, nu."""
+    cols = fields.cell_columns
+    out = []
+    for k, name in enumerate(fields.body_names):
+        on = cols[cols[:, 0] == k]
+        out.append({"index": k, "name": name, "E_MPa": float(on[0, 1]) if len(on) else None,
+                    "nu": float(on[0, 2]) if len(on) else None})
+    return out
 
 
 def _gather(comm, arr: np.ndarray) -> np.ndarray | None:
@@ -263,10 +287,11 @@ def write_vtk(result, out_dir, *, frames: list[Frame] | None = None,
                  "recorded": float(recorded), "mirrored": float(mirrored)}
         disp3 = np.column_stack([v[:, 0:2], np.zeros(len(v))])
         bname, sname = f"body_{fr.step:04d}.vtu", f"contact_surface_{fr.step:04d}.vtp"
-        write_vtu(out / bname, points=pts, triangles=tri, field=field,
-                  point_data={"displacement_mm": (disp3, VECTOR_COMPONENTS),
-                              "stress_MPa": (v[:, 2:8], SYM_TENSOR_COMPONENTS),
-                              "von_Mises_MPa": v[:, 8]})
+        point_data = {"displacement_mm": (disp3, VECTOR_COMPONENTS), "stress_MPa": (v[:, 2:8], SYM_TENSOR_COMPONENTS),
+                      "von_Mises_MPa": v[:, 8]}
+        if fields.body_names:  # constant on each cell: Threshold on "body" shows one body
+            point_data |= {"body": v[:, 9], "E_MPa": v[:, 10], "nu": v[:, 11]}
+        write_vtu(out / bname, points=pts, triangles=tri, field=field, point_data=point_data)
         surf = _surface(fr.samples, mirrored)
         n = len(surf["s"])
         write_vtp(out / sname, points=surf["X"], polylines=[list(range(n))] if n > 1 else [], field=field,
@@ -283,7 +308,8 @@ def write_vtk(result, out_dir, *, frames: list[Frame] | None = None,
                       "contact_box_deformed_mm": _contact_box(surf, deformed=True),
                       "p_max_MPa": float(surf["p"].max()) if n else 0.0,
                       "stress_YY_min_MPa": float(v[:, 3].min()),
-                      "von_Mises_near_contact_MPa": _vm_stats(pts.reshape(-1, 3, 2), v.reshape(-1, 3, 9), box)})
+                      "von_Mises_near_contact_MPa": _vm_stats(pts.reshape(-1, 3, 2), v[:, :9].reshape(-1, 3, 9),
+                                                              box)})
     if comm.rank == 0:
         write_pvd(files.body, body_entries)
         write_pvd(files.surface, surf_entries)
@@ -291,6 +317,8 @@ def write_vtk(result, out_dir, *, frames: list[Frame] | None = None,
         index = {"mirrored": mirrored, "time": "step number (1, 2, ...): one per converged solve",
                  "units": {"length": "mm", "stress": "MPa", "load": "N/mm (per unit thickness, full body)"},
                  "body": files.body.name, "surface": files.surface.name, "steps": steps}
+        if fields.body_names:
+            index["bodies"] = _bodies(fields, comm)
         files.frames.write_text(json.dumps(index, indent=1) + "\n")
     comm.barrier()
     return files

@@ -98,3 +98,25 @@ def _load(text):
     p = d / "t.toml"
     p.write_text(text)
     return load_case(p)
+
+
+def test_both_bodies_in_the_vtk_with_their_names_and_materials(tmp_path):
+    """The patch test's VTK: one grid holding both bodies, each cell carrying its body's index, E and nu, and
+    frames.json naming the bodies as the case does (the view script's title lists them)."""
+    import json
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "workbench", "run", "patch_test", "--ci", "--no-pictures",
+                          "--out", str(tmp_path)], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    run = tmp_path / "patch_test" / "vtk" / "mortar"
+    bodies = json.loads((run / "frames.json").read_text())["bodies"]
+    assert [(b["index"], b["name"], b["E_MPa"], b["nu"]) for b in bodies] == [
+        (0, "lower_block", 200000.0, 0.3), (1, "upper_block", 70000.0, 0.25)]
+    import meshio
+
+    data = meshio.read(sorted(run.glob("body_*.vtu"))[-1]).point_data
+    body, E, nu = (data[k].ravel().tolist() for k in ("body", "E_MPa", "nu"))
+    assert set(body) == {0.0, 1.0}
+    assert {(b, e, n) for b, e, n in zip(body, E, nu, strict=True)} == {(0.0, 200000.0, 0.3), (1.0, 70000.0, 0.25)}

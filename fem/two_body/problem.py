@@ -78,11 +78,13 @@ _counter = itertools.count()
 
 @dataclass(frozen=True, kw_only=True)
 class Body:
-    """One elastic body: its cell physical group, Young's modulus E (MPa) and Poisson's ratio nu."""
+    """One elastic body: its cell physical group, Young's modulus E (MPa), Poisson's ratio nu, and the label the
+    output names it by (default: the group's name)."""
 
     name: str
     E: float
     nu: float
+    label: str = ""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -125,9 +127,14 @@ class MeshedPartner:
 
 
 class TwoBodyForms(NamedTuple):
-    """The load stepper's view of the forms: no gap data to refresh per iteration."""
+    """The load stepper's view of the forms (no gap data to refresh per iteration) and the bodies for the output:
+    ``body_index`` (DG0: the index of each cell's body in ``body_names``), ``E`` (MPa) and ``nu`` (DG0)."""
 
     update: None = None
+    body_index: object = None
+    body_names: tuple[str, ...] = ()
+    E: object = None
+    nu: object = None
 
 
 class NoFarField:
@@ -160,7 +167,6 @@ class TwoBodyProblem(NewtonControls):
         self.comm = self.mesh.comm
         _check(setup, opts, mesh_data)
         self.obstacle = setup  # the partner, as the load stepper reads it (a direction, no Hertz predictor)
-        self.forms = TwoBodyForms()
         self.far_field = NoFarField()
         self.ph = None
         self.E_star = setup.combined_modulus()
@@ -170,6 +176,8 @@ class TwoBodyProblem(NewtonControls):
         self.method_rule = None
         self.qdeg = self.sdeg = opts.degree
         self._build_space()
+        self.forms = TwoBodyForms(body_index=self.body_id, E=self.E_fun, nu=self.nu_fun,
+                                  body_names=tuple(b.label or b.name for b in self.setup.bodies))
         self._build_pairing()
         self._build_supports()
         self._build_matrices()
@@ -182,9 +190,11 @@ class TwoBodyProblem(NewtonControls):
         self.u = dolfinx.fem.Function(self.V, name="displacement")
         Q = dolfinx.fem.functionspace(mesh, ("DG", 0))
         self.E_fun, self.nu_fun = dolfinx.fem.Function(Q, name="E"), dolfinx.fem.Function(Q, name="nu")
+        self.body_id = dolfinx.fem.Function(Q, name="body")
         self.body_nodes = {}
-        for body in self.setup.bodies:
+        for k, body in enumerate(self.setup.bodies):
             cells = md.cell_tags.find(md.physical_groups[body.name].tag)
+            self.body_id.x.array[cells] = float(k)
             self.E_fun.x.array[cells] = body.E
             self.nu_fun.x.array[cells] = body.nu
             self.body_nodes[body.name] = np.unique(self.V.dofmap.list[cells])

@@ -123,7 +123,7 @@ AssignViewToLayout(view=chart, layout=layout, hint=2)
 cs = Show(surface, chart)
 cs.UseIndexForXAxis = 0
 cs.XArrayName = "s_mm"
-cs.SeriesVisibility = ["p_MPa", "sigma_nn_MPa"]
+cs.SeriesVisibility = S["series"]
 chart.ChartTitle = "contact pressure along the surface"
 chart.BottomAxisTitle = "s (mm, surface coordinate)"
 chart.LeftAxisTitle = "MPa"
@@ -155,8 +155,29 @@ def _settings(folder: Path, metrics: dict | None) -> dict:
     case = (metrics or {}).get("case", folder.parent.parent.name)
     title = (f"{case} [{folder.name}]: step {last['step']} of {len(index['steps'])}, d = {last['d_mm']:.4g} mm, "
              f"P = {last['P_N_per_mm']:.4g} N/mm (deformed, true scale)")
+    if index.get("bodies"):  # several bodies on one grid: name them (Threshold on "body" shows one)
+        title += "\nbodies " + ", ".join(f"{b['index']} = {b['name']} (E {b['E_MPa']:.4g} MPa, nu {b['nu']:.3g})"
+                                         for b in index["bodies"])
     return {"time": last["time"], "vm_range": [lo, hi], "log": log, "p_max": last["p_max_MPa"],
-            "window": [cx, cy, hh], "s_range": s_range, "title": title}
+            "window": [cx, cy, hh], "s_range": s_range, "title": title, "series": _series(folder)}
+
+
+def _series(folder: Path) -> list[str]:
+    """The surface arrays the chart draws: p, and sigma_nn where the run has a stress-based pressure (two bodies
+    have none: their samples carry NaN, which a chart would list without a line)."""
+    import csv
+
+    path = folder / "contact_surface.csv"
+    series = ["p_MPa"]
+    if path.is_file():
+        with path.open() as f:
+            rows = list(csv.reader(line for line in f if not line.startswith("#")))
+        head = [h.strip() for h in rows[0]] if rows else []
+        if "sigma_nn_MPa" in head:
+            k = head.index("sigma_nn_MPa")
+            if any(r[k].strip().lower() not in ("nan", "") for r in rows[1:] if len(r) > k):
+                series.append("sigma_nn_MPa")
+    return series
 
 
 def view_script(case_dir: Path) -> str | None:

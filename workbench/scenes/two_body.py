@@ -66,8 +66,8 @@ def partner_for(run: Run):
 
     g, (lower, upper) = run.geometry, run.bodies  # the cell groups of the mesh are "lower" and "upper"
     cyl = g.indenter == "cylinder"
-    return MeshedPartner(bodies=(Body(name="lower", E=lower.E, nu=lower.nu),
-                                 Body(name="upper", E=upper.E, nu=upper.nu)),
+    return MeshedPartner(bodies=(Body(name="lower", E=lower.E, nu=lower.nu, label=lower.name),
+                                 Body(name="upper", E=upper.E, nu=upper.nu, label=upper.name)),
                          slave="contact_lower", master="contact_upper", driven="driven", driven_body="upper",
                          driven_components=(0, 1) if cyl else (1,), pairing=g.pairing,
                          master_surface=CircleSurface((0.0, g.radius), g.radius) if cyl else None)
