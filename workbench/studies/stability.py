@@ -176,6 +176,18 @@ class Spec:
         return dict(self.options) | {"first_step_fraction": first}
 
 
+def _messages(recs: list[dict]) -> list[str]:
+    """The report's "Messages" block: every point's error and warnings, one line each (none: no block)."""
+    warned = [r for r in recs if r.get("warnings") or r.get("error")]
+    if not warned:
+        return []
+    lines = ["Messages:", ""]
+    for r in warned:
+        msgs = ([r["error"]] if r.get("error") else []) + list(r.get("warnings", []))
+        lines += [f"- {r['label']}: {msg}" for msg in msgs]
+    return lines + [""]
+
+
 def _decade(v: float) -> str:
     """``1e3`` for a power of ten, else ``%g``."""
     k = round(math.log10(v))
@@ -720,14 +732,7 @@ def _two_body_section(recs: list[dict]) -> list[str]:
                      f"{_fmt(e.get('half_width_moment'))} | {_fmt(e.get('rms'))} | {r['time_s']:.2f} | "
                      f"{r['status']} |")
     lines.append("")
-    warned = [r for r in recs if r.get("warnings") or r.get("error")]
-    if warned:
-        lines += ["Messages:", ""]
-        for r in warned:
-            for msg in ([r["error"]] if r.get("error") else []) + list(r.get("warnings", [])):
-                lines.append(f"- {r['label']}: {msg}")
-        lines.append("")
-    return lines
+    return lines + _messages(recs)
 
 
 def report_markdown(summary: dict, records: list[dict]) -> str:
@@ -807,13 +812,7 @@ def report_markdown(summary: dict, records: list[dict]) -> str:
             lines += [f"| {c['E']:g} | {c['p_max/E*']:.1e} | {c['a/R']:.1e} | {c['P/(E* R)']:.1e} | {c['iterations']} |"
                       for c in summary["scale"]]
             lines.append("")
-        warned = [r for r in recs if r.get("warnings") or r.get("error")]
-        if warned:
-            lines += ["Messages:", ""]
-            for r in warned:
-                for msg in ([r["error"]] if r.get("error") else []) + list(r.get("warnings", [])):
-                    lines.append(f"- {r['label']}: {msg}")
-            lines.append("")
+        lines += _messages(recs)
     lines += where_section(wall_time_s=summary.get("wall_time_s"), records=records,
                            label=lambda r: f"{r['study']}: {r['label']}", reference=summary.get("reference"))
     return "\n".join(lines) + "\n"
