@@ -8,6 +8,12 @@ Builders:
 * :func:`build_stacked_blocks`: the contact patch test. A lower block ``[0, W] x [-H1, 0]`` under an upper block
   ``[0, W] x [0, H2]``, element sizes ``h_lower`` and ``h_upper`` (their ratio should not be rational with a small
   denominator: the nodes of the interface must not coincide).
+* :func:`build_profile_blocks`: two half-planes with a profile (issue 25): a lower block
+  ``[-W/2, W/2] x [-H, 0]`` under an upper block ``[-W/2, W/2] x [0, H]``, both flat at y = 0 (the gap profile is
+  not meshed: it is the upper body's analytic reference height above its flat face,
+  :class:`fem.two_body.geometry.ProfileSurface`); size ``h_contact`` on the lower block's top where
+  ``|x| <= a (1 + margin)`` and ``size_ratio h_contact`` on the upper block's bottom over a window split
+  unsymmetrically (:data:`ARC_SPLIT`), each growing away into its own block.
 * :func:`build_cylinder_on_block`: an elastic half disk of radius R (the lower half of the circle centred at
   ``(0, R)``, flat top at ``y = R``) on a block ``[-W/2, W/2] x [-H, 0]``; size ``h_contact`` on both contact
   surfaces where ``|x| <= a (1 + margin)``, growing away (as :mod:`meshes.block`), with another size on the disk
@@ -29,7 +35,7 @@ from meshes.pipeline import build_cached
 from meshes.portable import GmshInputs
 from meshes.sizing import apply_background, growth_field, validate_common
 
-__all__ = ["build_stacked_blocks", "build_cylinder_on_block", "ARC_SPLIT"]
+__all__ = ["build_stacked_blocks", "build_cylinder_on_block", "build_profile_blocks", "ARC_SPLIT"]
 
 # The disk's refined central arc spans x = -ARC_SPLIT[0] b ... +ARC_SPLIT[1] b (b = a (1 + margin), the block's
 # refined window): not symmetric, so its nodes do not fall on x = 0 where the block's might. (Until 2026-11 the split
@@ -186,5 +192,83 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
         return top, window, groups
 
     return build_cached(kind="cylinder_on_block", params=params, name=name, out_dir=out_dir, make=make,
+                        inputs=gi, body_size=gi.scale, geometry_source="parameters", write_xdmf=write_xdmf,
+                        stats_dir=stats_dir, comm=comm)
+
+
+def build_profile_blocks(*, width: float, height: float, contact_half_width: float, h_contact: float,
+                         size_ratio: float = 0.77, h_far: float | None = None, growth: float = 1.3,
+                         margin: float = 0.5, out_dir=DEFAULT_CACHE_DIR, name: str = "profile_blocks",
+                         write_xdmf: bool = False, stats_dir=None, comm=None) -> MeshFiles:
+    """Two graded blocks W x H, one above the other, flat at y = 0 (module docstring): two half-planes.
+
+    Args:
+        width, height: W and H of each block (mm), W > 2 ARC_SPLIT[1] a (1 + margin).
+        contact_half_width: the contact half-width estimate a (mm).
+        h_contact: size on the lower block's contact window (mm); the upper block's is ``size_ratio h_contact``.
+        size_ratio: in (0.2, 5), differing from 1 by >= 0.05 (non-matching meshes).
+        h_far, growth, margin: as :func:`meshes.block.build_block_mesh`.
+    """
+    _positive(width=width, height=height, contact_half_width=contact_half_width, h_contact=h_contact)
+    if not (0.2 < size_ratio < 5.0) or abs(size_ratio - 1.0) < 0.05:
+        raise ValueError(f"size_ratio must be in (0.2, 5) and differ from 1 by >= 0.05, got {size_ratio}")
+    a = float(contact_half_width)
+    h_far = width / 10.0 if h_far is None else float(h_far)
+    h_far = max(h_far, h_contact)
+    validate_common(h_contact=h_contact, h_far=h_far, growth=growth)
+    if not width / 2.0 > ARC_SPLIT[1] * a * (1.0 + margin):
+        raise ValueError(f"width / 2 must be > {ARC_SPLIT[1]} a (1 + margin) = {ARC_SPLIT[1] * a * (1 + margin)} (mm)")
+    gi = GmshInputs(scale=max(width, height))
+    W, H, a = gi.length(width), gi.length(height), gi.length(a)
+    b = gi.length(a * (1.0 + margin))
+    h_c, h_u = gi.size(0.9 * h_contact), gi.size(0.9 * h_contact * size_ratio)
+    h_far, growth = gi.size(h_far), gi.size(growth)
+    params = dict(width=W, height=H, a=a, b=b, h_contact=h_c, h_upper=h_u, h_far=h_far, growth=growth,
+                  margin=float(margin), split=ARC_SPLIT)
+
+    def make(gmsh):
+        geo = gmsh.model.geo
+
+        def block(y_far, split):
+            """A block between y = 0 and y_far, its y = 0 edge split at split[0] < split[1]; (surface, contact
+            lines, far edge, sides)."""
+            p = [geo.addPoint(-W / 2, 0.0, 0.0), geo.addPoint(split[0], 0.0, 0.0), geo.addPoint(split[1], 0.0, 0.0),
+                 geo.addPoint(W / 2, 0.0, 0.0), geo.addPoint(W / 2, y_far, 0.0), geo.addPoint(-W / 2, y_far, 0.0)]
+            near = [geo.addLine(p[0], p[1]), geo.addLine(p[1], p[2]), geo.addLine(p[2], p[3])]
+            right, far, left = geo.addLine(p[3], p[4]), geo.addLine(p[4], p[5]), geo.addLine(p[5], p[0])
+            surf = geo.addPlaneSurface([geo.addCurveLoop([*near, right, far, left])])
+            return surf, near, far, [left, right]
+
+        low, top, bottom, low_sides = block(-H, (-b, b))
+        up, under, lid, up_sides = block(H, (-ARC_SPLIT[0] * b, ARC_SPLIT[1] * b))
+        geo.synchronize()
+        fields = [growth_field(gmsh, h0=h_c, h_max=h_far, growth=growth, curves=[top[1]], curve_length=2 * b,
+                               sampling_size=gi.size(h_c / 4.0)),
+                  growth_field(gmsh, h0=h_u, h_max=h_far, growth=growth, curves=[under[1]],
+                               curve_length=sum(ARC_SPLIT) * b, sampling_size=gi.size(h_u / 4.0))]
+        restricted = []
+        for f, surf, curves in ((fields[0], low, top), (fields[1], up, under)):
+            r = gmsh.model.mesh.field.add("Restrict")
+            gmsh.model.mesh.field.setNumber(r, "InField", f)
+            gmsh.model.mesh.field.setNumbers(r, "SurfacesList", [surf])
+            gmsh.model.mesh.field.setNumbers(r, "CurvesList", list(curves))
+            restricted.append(r)
+        apply_background(gmsh, restricted, h_max=h_far)
+        pg = gmsh.model.addPhysicalGroup
+        groups = {"contact_lower": (1, pg(1, top, name="contact_lower")),
+                  "contact_upper": (1, pg(1, under, name="contact_upper")),
+                  "clamped": (1, pg(1, [bottom], name="clamped")),
+                  "driven": (1, pg(1, [lid], name="driven")),
+                  "sides": (1, pg(1, low_sides + up_sides, name="sides")),
+                  "lower": (2, pg(2, [low], name="lower")),
+                  "upper": (2, pg(2, [up], name="upper"))}
+        gmsh.model.mesh.generate(2)
+
+        def window(mid):
+            return (abs(mid[:, 0]) <= a * (1.0 + 1e-9)) & (mid[:, 1] <= 0.0)
+
+        return top, window, groups
+
+    return build_cached(kind="profile_blocks", params=params, name=name, out_dir=out_dir, make=make,
                         inputs=gi, body_size=gi.scale, geometry_source="parameters", write_xdmf=write_xdmf,
                         stats_dir=stats_dir, comm=comm)

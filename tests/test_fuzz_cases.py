@@ -137,7 +137,7 @@ def recorder(monkeypatch):
     """``run_case`` replaced by a recorder that writes its metrics where the real one would."""
     calls = []
 
-    def fake_run_case(case, *, paths, h_contact=None, ci=False):
+    def fake_run_case(case, *, paths, h_contact=None, ci=False, pictures=True):
         calls.append(case.name)
         with run_case_module.atomic_dir(paths.case(case.name)) as stage:
             write_json(stage / "metrics.json", {"case": case.name, "pass": True})

@@ -128,7 +128,7 @@ def readonly_dir(tmp_path_factory):
 def recorders(monkeypatch):
     calls = []
 
-    def fake_run_case(case, *, paths, h_contact=None, ci=False):
+    def fake_run_case(case, *, paths, h_contact=None, ci=False, pictures=True):
         calls.append(case.name)
         ensure_dir(paths.mesh_cache, kind="mesh_cache")
         with atomic_dir(paths.case(case.name)) as stage:
@@ -137,7 +137,7 @@ def recorders(monkeypatch):
                 write_json(stage / "vtk" / label_folder(run.label) / "frames.json", {})
         return {"pass": True}
 
-    def fake_run_ci(paths):
+    def fake_run_ci(paths, *, cases=None, pictures=True):
         ensure_dir(paths.ci.root, kind="ci", kinds=("ci",))
         write_root_text(paths.root, "ci_report.md", "# CI\n")
         write_root_text(paths.root, "ci_report.html", "<p>CI</p>\n")

@@ -131,6 +131,22 @@ def test_check_numbers_catches_a_1e9_change_on_the_same_machine(tmp_path):
     assert _cli("portable", tmp_path / "moved", base).returncode == 0
 
 
+def test_update_replaces_one_case_and_keeps_the_others(tmp_path):
+    base = tmp_path / "saved.json"
+    assert _cli("save", _results(tmp_path / "ref", 5770.0), base).returncode == 0
+    one = tmp_path / "one"
+    _results(one, 6000.0)
+    import shutil
+
+    shutil.rmtree(one / "beta")  # only alpha was run again
+    proc = _cli("update", one, base)
+    assert proc.returncode == 0 and "alpha" in proc.stdout, proc.stderr
+    numbers = json.loads(base.read_text())["numbers"]
+    assert numbers["alpha/runs/base/p_max"] == 6000.0 and numbers["beta/runs/base/p_max"] == 5770.0
+    missing = _cli("update", one, tmp_path / "none.json")
+    assert missing.returncode == 2 and len(missing.stderr.strip().splitlines()) == 1
+
+
 def test_check_numbers_refuses_without_a_baseline(tmp_path):
     proc = subprocess.run(["make", "--no-print-directory", "-s", "check-numbers",
                            f"BASELINE={tmp_path / 'none.json'}", "NO_RUN=1"],

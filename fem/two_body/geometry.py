@@ -33,7 +33,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["FACING_COS", "SurfaceGeometry", "PairedPoints", "mortar_points", "node_points", "gauss_legendre_01",
-           "facet_node_params", "multiplier_basis", "CircleSurface", "exact_master_gaps"]
+           "facet_node_params", "multiplier_basis", "CircleSurface", "ProfileSurface", "exact_master_gaps"]
 
 # A master facet faces a slave facet when the angle between nu_s and -nu_m is below acos(FACING_COS) = 78.5 deg.
 FACING_COS = 0.2
@@ -236,6 +236,39 @@ class CircleSurface(NamedTuple):
         root = np.sqrt(np.maximum(disc, 0.0))
         s1, s2 = -b - root, -b + root
         return np.where(np.abs(s1 - s_near) <= np.abs(s2 - s_near), s1, s2)
+
+
+class ProfileSurface(NamedTuple):
+    """The reference surface of a flat-faced master body that carries a gap profile (two half-planes with a
+    profile, issue 25): the master's facets lie on ``y = 0``, and its reference surface is ``y = h(X1)`` above
+    them, a parabola ``h = X1^2 / (2 R)`` (``kind = "parabola"``, ``size = R`` in mm) or a wedge
+    ``h = m |X1|`` (``kind = "wedge"``, ``size = m``, the face slope). The profile travels with the master's
+    material points (it is evaluated at the master abscissa X1 that a slave point meets), as the indenter's profile
+    in Ciavarella and Hills's half-plane theory."""
+
+    kind: str
+    size: float
+
+    def height(self, x1: np.ndarray):
+        """(h, h', h'') at material abscissae x1 (mm): h'' of the wedge is 0 off its apex."""
+        x = np.asarray(x1, dtype=float)
+        if self.kind == "parabola":
+            return 0.5 * x * x / self.size, x / self.size, np.full_like(x, 1.0 / self.size)
+        return self.size * np.abs(x), self.size * np.sign(x), np.zeros_like(x)
+
+    def ray_distance(self, X: np.ndarray, nu: np.ndarray, s_near: np.ndarray) -> np.ndarray:
+        """Signed distances s along the rays ``X + s nu`` to ``y = h(x)`` (Newton from ``s_near``; exact in one
+        step for the vertical rays of a flat slave)."""
+        s = np.asarray(s_near, dtype=float).copy()
+        for _ in range(50):
+            h, hp, _ = self.height(X[:, 0] + s * nu[:, 0])
+            f = h - (X[:, 1] + s * nu[:, 1])
+            df = hp * nu[:, 0] - nu[:, 1]
+            step = f / df
+            s -= step
+            if np.all(np.abs(step) <= 1e-15 * (1.0 + np.abs(s))):
+                break
+        return s
 
 
 def exact_master_gaps(pts: PairedPoints, surface) -> PairedPoints:

@@ -65,10 +65,12 @@ from fem.two_body.laws import law_for
 from fem.two_body.surfaces import cell_data, surface_of_group, tabulate2
 from fem.two_body.weighted_gap import WeightedGap, assemble_weighted_gap
 
-__all__ = ["Body", "MeshedPartner", "TwoBodyProblem", "PAIRINGS", "TWO_BODY_TRACTIONS"]
+__all__ = ["Body", "MeshedPartner", "TwoBodyProblem", "CONVECTIONS", "PAIRINGS", "TWO_BODY_TRACTIONS"]
 
 PAIRINGS = ("mortar", "node_to_segment")
 TWO_BODY_TRACTIONS = ("halfplane", "master_normal")  # fem.two_body.convective.TRACTIONS
+# convective kinematics: what moves with the particles (MeshedPartner.convection)
+CONVECTIONS = ("pairing", "profile")
 # convective kinematics: a slave point's partner may move this many master facets from its reference partner
 # before the Jacobian needs an entry outside the preallocated pattern (then PETSc allocates it, counted)
 CONVECTIVE_WINDOW = 3
@@ -105,6 +107,11 @@ class MeshedPartner:
             bodies: the half-plane theory's and Ciavarella-Hills's frictionless surfaces, with either kinematics)
             or ``"master_normal"`` (convective kinematics only: the deformed master's normal, the gradient of the
             contact energy; :mod:`fem.two_body.convective`).
+        convection: what convective kinematics moves (:data:`CONVECTIONS`): ``"pairing"`` (a slave point meets the
+            master particle at its current abscissa; displacements and forces there: :mod:`fem.two_body.convective`)
+            or ``"profile"`` (Ciavarella and Hills's eq. (8): the reference pairing of small kinematics, the
+            master's profile read at the convected abscissa: :mod:`fem.two_body.profile_convection`; needs
+            ``master_surface`` and ``traction = "halfplane"``). The two coincide for a rigid master.
     """
 
     bodies: tuple[Body, Body]
@@ -117,6 +124,7 @@ class MeshedPartner:
     direction: tuple[float, float] = (0.0, -1.0)
     master_surface: object | None = None
     traction: str = "halfplane"
+    convection: str = "pairing"
 
     analytic = False  # the load stepper's test for an analytic (Hertz-predictable) rigid obstacle
 
@@ -227,7 +235,14 @@ class TwoBodyProblem(NewtonControls):
         if self.gap.nodes.size == 0:
             raise ValueError(f"the contact surfaces {st.slave!r} and {st.master!r} do not face each other")
         self.conv = None
-        if opts.kinematics == "convective":
+        if opts.kinematics == "convective" and st.convection == "profile":
+            from fem.two_body.profile_convection import ProfileConvection
+
+            self.conv = ProfileConvection(pts, self.gap, slave=self.slave_geom,
+                                          slave_cells=cell_data(self.V, self.slave_geom),
+                                          master_cells=cell_data(self.V, self.master_geom),
+                                          surface=st.master_surface, degree=opts.degree, n_dofs=self.n_u)
+        elif opts.kinematics == "convective":
             from fem.two_body.convective import ConvectiveGap, MasterCells
 
             self.conv = ConvectiveGap(pts, self.gap, slave=self.slave_geom,
@@ -335,7 +350,9 @@ class TwoBodyProblem(NewtonControls):
 
     def weighted_gaps(self, u: np.ndarray) -> np.ndarray:
         """The nodal weighted gaps g~ (mm) of the dof array u (small or convective kinematics)."""
-        return self.gap.gap(u) if self.conv is None else self.conv.linearise(u)[0]
+        if self.conv is None:
+            return self.gap.gap(u)
+        return self.conv.gaps(u) if hasattr(self.conv, "gaps") else self.conv.linearise(u)[0]
 
     def contact_residual(self, u: np.ndarray) -> np.ndarray:
         """``F_c = -T^T p`` (N/mm per dof) of the dof array u (T = D for small kinematics; convective: the traction's
@@ -357,7 +374,8 @@ class TwoBodyProblem(NewtonControls):
             return (D.T @ sp.diags(-dp / self.gap.W) @ D).tocsr()
         g, D, H, T = self.conv.linearise(u, hessian_weights=lambda gaps: -self.method.pressure(gaps)[0])
         _, dp = self.method.pressure(g)
-        return (T.T @ sp.diags(-dp / self.gap.W) @ D + H).tocsr()
+        J = T.T @ sp.diags(-dp / self.gap.W) @ D
+        return (J if H is None else J + H).tocsr()
 
     def _residual(self, snes, x, b) -> None:
         arr = self._take(x)
@@ -525,6 +543,11 @@ def _check(setup: MeshedPartner, opts: ContactOptions, mesh_data) -> None:
     if setup.traction == "master_normal" and opts.kinematics != "convective":
         raise ValueError("traction='master_normal' needs kinematics='convective' (small kinematics pairs and pushes "
                          "along the slave normal: traction='halfplane')")
+    if setup.convection not in CONVECTIONS:
+        raise ValueError(f"convection must be one of {CONVECTIONS}, got {setup.convection!r}")
+    if setup.convection == "profile" and (setup.master_surface is None or setup.traction != "halfplane"):
+        raise ValueError("convection='profile' needs master_surface (the master's exact profile) and "
+                         "traction='halfplane'")
     if setup.pairing not in PAIRINGS:
         raise ValueError(f"pairing must be one of {PAIRINGS}, got {setup.pairing!r}")
     if len(setup.bodies) != 2 or setup.bodies[0].name == setup.bodies[1].name:

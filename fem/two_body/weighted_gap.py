@@ -38,7 +38,8 @@ import scipy.sparse as sp
 
 from fem.two_body.geometry import PairedPoints, SurfaceGeometry, facet_node_params, multiplier_basis
 
-__all__ = ["MIN_PAIRED_FRACTION", "CellData", "WeightedGap", "assemble_weighted_gap", "reference_coordinates"]
+__all__ = ["MIN_PAIRED_FRACTION", "CellData", "PointBases", "WeightedGap", "assemble_weighted_gap", "point_bases",
+           "reference_coordinates"]
 
 MIN_PAIRED_FRACTION = 0.25
 
@@ -104,21 +105,49 @@ def _facet_nodes(geom: SurfaceGeometry, cells: CellData, degree: int) -> tuple[n
     return np.take_along_axis(cells.nodes, pick, axis=1), L[:, None] * w[None, :]
 
 
-def assemble_weighted_gap(pts: PairedPoints, *, slave: SurfaceGeometry, slave_cells: CellData,
-                          master_cells: CellData, n_dofs: int, degree: int) -> WeightedGap:
-    """The weighted gap of the paired points (module docstring); ``n_dofs`` = 2 x the number of nodes."""
+class PointBases(NamedTuple):
+    """The bases at the paired points (n points; k nodes per cell, nt contact nodes per slave facet).
+
+    Attributes:
+        rows_node: (n, nt) the slave facet's contact nodes (blocked dof indices) each point contributes to.
+        wphi: (n, nt) ``w phi_i(X_s)``: the point's weight times the contact basis (mm).
+        N_s, N_m: (n, k) the slave and master cells' displacement basis at X_s and X_m.
+        nodes_s, nodes_m: (n, k) those cells' nodes.
+        facet_nodes, full_w: (n_facets, nt) every slave facet's contact nodes and their full weights (mm).
+    """
+
+    rows_node: np.ndarray
+    wphi: np.ndarray
+    N_s: np.ndarray
+    N_m: np.ndarray
+    nodes_s: np.ndarray
+    nodes_m: np.ndarray
+    facet_nodes: np.ndarray
+    full_w: np.ndarray
+
+
+def point_bases(pts: PairedPoints, *, slave: SurfaceGeometry, slave_cells: CellData, master_cells: CellData,
+                degree: int) -> PointBases:
+    """The contact basis and both cells' displacement bases at the paired points (reference configuration)."""
     facet_nodes, full_w = _facet_nodes(slave, slave_cells, degree)
     fs, fm = pts.slave_facet, pts.master_facet
     N_s = slave_cells.tabulate(reference_coordinates(slave_cells.vertices[fs], pts.X_s))  # (n, k)
     N_m = master_cells.tabulate(reference_coordinates(master_cells.vertices[fm], pts.X_m))
-    nodes_s, nodes_m = slave_cells.nodes[fs], master_cells.nodes[fm]
     # phi_i(X_s) for the facet's own nodes: the contact basis at the point's facet parameter
     e = slave.b[fs] - slave.a[fs]
     t = np.clip(np.einsum("ij,ij->i", pts.X_s - slave.a[fs], e) / np.einsum("ij,ij->i", e, e), 0.0, 1.0)
     phi = multiplier_basis(t, degree)  # (n, nt)
-    rows_node = facet_nodes[fs]  # (n, nt)
+    return PointBases(facet_nodes[fs], pts.weight[:, None] * phi, N_s, N_m, slave_cells.nodes[fs],
+                      master_cells.nodes[fm], facet_nodes, full_w)
+
+
+def assemble_weighted_gap(pts: PairedPoints, *, slave: SurfaceGeometry, slave_cells: CellData,
+                          master_cells: CellData, n_dofs: int, degree: int) -> WeightedGap:
+    """The weighted gap of the paired points (module docstring); ``n_dofs`` = 2 x the number of nodes."""
+    pb = point_bases(pts, slave=slave, slave_cells=slave_cells, master_cells=master_cells, degree=degree)
+    facet_nodes, full_w, rows_node, wphi = pb.facet_nodes, pb.full_w, pb.rows_node, pb.wphi
+    N_s, N_m, nodes_s, nodes_m = pb.N_s, pb.N_m, pb.nodes_s, pb.nodes_m
     nu = pts.normal
-    wphi = pts.weight[:, None] * phi  # (n, nt)
     # D entries: for each point, row = each facet node, col = (node, component) of master (+) and slave (-)
     coef = np.concatenate([N_m, -N_s], axis=1)  # (n, 2k)
     cols_node = np.concatenate([nodes_m, nodes_s], axis=1)

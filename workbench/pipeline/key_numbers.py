@@ -22,8 +22,9 @@ Two comparisons, for two questions:
   iterations within a margin, physics relative to what the solver and the mesh can decide). The saved
   files carry the class of every key next to its number (``{"classes": {...}, "numbers": {...}}``).
 
-``python -m workbench.pipeline.key_numbers save RESULTS FILE`` writes them; ``... compare RESULTS FILE
-[--rtol 1e-10]`` prints every number that moved by more than ``rtol`` (relative) and exits 1 if any did;
+``python -m workbench.pipeline.key_numbers save RESULTS FILE`` writes them; ``... update RESULTS FILE`` replaces the
+entries of the cases under RESULTS and keeps every other case's (a case added or changed alone); ``... compare RESULTS
+FILE [--rtol 1e-10]`` prints every number that moved by more than ``rtol`` (relative) and exits 1 if any did;
 ``... portable RESULTS FILE`` prints every number outside its class tolerance and exits 1 if any is.
 A missing FILE is refused with one line (exit 2).
 """
@@ -122,7 +123,8 @@ def load_saved(path: Path) -> dict:
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m workbench.pipeline.key_numbers", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("action", choices=("save", "compare", "portable"))
+    p.add_argument("action", choices=("save", "update", "compare", "portable"),
+                   help="update: replace the entries of the cases under RESULTS in FILE, keep every other case's")
     p.add_argument("results", type=Path)
     p.add_argument("file", type=Path)
     p.add_argument("--rtol", type=float, default=1e-10)
@@ -132,6 +134,16 @@ def main(argv: list[str] | None = None) -> int:
     if not numbers:
         print(f"error: no */metrics.json under {args.results}", file=sys.stderr)
         return 2
+    if args.action == "update":
+        if not args.file.is_file():
+            print(f"error: no saved key numbers at {args.file} to update; allowed: an existing file (save writes a "
+                  "new one)", file=sys.stderr)
+            return 2
+        cases = {k.split("/", 1)[0] for k in numbers}
+        kept = {k: v for k, v in load_saved(args.file).items() if k.split("/", 1)[0] not in cases}
+        write_text(args.file, json.dumps(saved_file(kept | numbers), indent=1) + "\n")
+        print(f"updated {', '.join(sorted(cases))} ({len(numbers)} key numbers) in {args.file}")
+        return 0
     if args.action == "save":
         args.file.parent.mkdir(parents=True, exist_ok=True)
         write_text(args.file, json.dumps(saved_file(numbers), indent=1) + "\n")

@@ -167,7 +167,7 @@ _RULES: tuple[tuple[str, str, str], ...] = (
     (r"^error_budget/.*(p_max|vm_max|interior_stress_l2)/(fine|extrapolated|theory|alt_value)$", "physics", "peak"),
     (r"^error_budget/.*load_symmetry/(fine|extrapolated|theory|alt_value)$", "physics", "load"),
     (r"^error_budget/.*(width|b_over_b0).*/(fine|extrapolated|theory|alt_value)$", "physics", "width"),
-    (r"^analytic/b_over_b0_fem$", "physics", "width"),
+    (r"^analytic/b_over_b0(_moment)?_fem$", "physics", "width"),
     (r"^analytic/", "theory", ""),
     (r"(^|/)errors/", "error", "error"),
     (r"/superposition_independent_rms_over_p0$", "error", "step_error"),

@@ -18,6 +18,7 @@ from workbench.scenes.base import (
 )
 from workbench.scenes.block import BlockScene
 from workbench.scenes.concave import ConcaveScene
+from workbench.scenes.halfplanes import HalfplanesScene
 from workbench.scenes.two_body import TwoBodyScene
 
 __all__ = ["SCENES", "CaseComparison", "LoadPath", "Outcome", "Scene", "SceneMesh", "Series", "register_scene",
@@ -26,3 +27,4 @@ __all__ = ["SCENES", "CaseComparison", "LoadPath", "Outcome", "Scene", "SceneMes
 register_scene(BlockScene())
 register_scene(ConcaveScene())
 register_scene(TwoBodyScene())
+register_scene(HalfplanesScene())

@@ -27,7 +27,7 @@ import numpy as np
 
 from analytic.circle import circle_contact, circle_pressure
 from analytic.hertz import hertz_load_from_half_width
-from analytic.materials import composite_modulus
+from analytic.materials import bimaterial, composite_modulus
 from cases.schema import Case, Run
 from measures.contact import moment_half_width, rms_error
 from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
@@ -57,6 +57,13 @@ def combined_modulus(run: Run) -> float:
     """E* (MPa) of the two bodies: ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` (:mod:`analytic.materials`)."""
     lower, upper = run.bodies
     return composite_modulus(lower.E, lower.nu, E1=upper.E, nu1=upper.nu)
+
+
+def _dundurs(run: Run) -> dict:
+    """Dundurs' alpha and beta of the run's bodies (body 1 the upper one: the indenter; :mod:`analytic.materials`)."""
+    lower, upper = run.bodies
+    bm = bimaterial(E1=upper.E, nu1=upper.nu, E2=lower.E, nu2=lower.nu)
+    return {"alpha": bm.alpha, "beta": bm.beta}
 
 
 def partner_for(run: Run):
@@ -150,7 +157,7 @@ class TwoBodyScene:
             "method": run.solver.method, "kinematics": run.solver.kinematics, "traction": "halfplane",
             "nu": run.material.nu, "bodies": {b.name: {"role": role, "E": b.E, "nu": b.nu, "model": b.model}
                                               for b, role in zip(run.bodies, ("lower", "upper"), strict=True)},
-            "E_star": combined_modulus(run), "degree": run.discretisation.degree,
+            "E_star": combined_modulus(run), "degree": run.discretisation.degree, **_dundurs(run),
             "h_contact": run.discretisation.h_contact, "ndofs": result.ndofs, "wall_time_s": result.wall_time_s,
             "newton_iterations": list(result.newton_iterations), "load_steps": result.load_steps, "d": result.d,
             "P": result.P, "P_pressure": result.P_pressure, "patches": [pt._asdict() for pt in result.patches],

@@ -21,31 +21,16 @@ varied: its departure from a half-plane (order (a/R)^2) stays in the extrapolate
 
 from __future__ import annotations
 
-import dataclasses
-import math
-
 from analytic.hertz import hertz
-from cases.schema import Case, Run
-from workbench.error_budget import (
-    ROUNDOFF_FLOOR,
-    grid_study,
-    iterative_error,
-    tight_resolve,
-    uncertainty,
-)
+from cases.schema import Case
+from workbench.error_budget import tight_resolve
 from workbench.scenes.base import SceneBudget
+from workbench.scenes.budget_rows import budget_row, with_grid
 
 __all__ = ["two_body_error_budget", "QUANTITIES"]
 
 QUANTITIES = ("p_max", "half_width", "half_width_moment")
 _TITLE = "Error budget (three grids, three block sizes; the half disk as it is)"
-
-
-def _with(run: Run, *, h: float, W: float, h_coarse: float) -> Run:
-    growth = 1.0 + (run.discretisation.growth - 1.0) * h / h_coarse
-    disc = dataclasses.replace(run.discretisation, h_contact=h, growth=growth)
-    geo = dataclasses.replace(run.geometry, width_factor=W, height_factor=W)
-    return dataclasses.replace(run, discretisation=disc, geometry=geo)
 
 
 def _ratios(outcome) -> dict[str, float]:
@@ -71,54 +56,21 @@ def two_body_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
         by_h, by_W = [], {}
         fine = None
         for h in levels:
-            r = _with(run, h=h, W=W_max, h_coarse=levels[-1])
+            r = with_grid(run, h=h, W=W_max, h_coarse=levels[-1])
             o = solve(r)
             progress(f"[budget {run.label}] h_c = {h:g} a, W = {W_max:g} a: {o.metrics['ndofs']} dofs")
             by_h.append(_ratios(o))
             fine = fine or (r, o)
         by_W[W_max] = by_h[0]
         for W in widths[:-1]:
-            o = solve(_with(run, h=h_fine, W=W, h_coarse=levels[-1]))
+            o = solve(with_grid(run, h=h_fine, W=W, h_coarse=levels[-1]))
             progress(f"[budget {run.label}] h_c = {h_fine:g} a, W = {W:g} a: {o.metrics['ndofs']} dofs")
             by_W[W] = _ratios(o)
         o_t, how = tight_resolve(solve, fine[0], fine[1], progress=progress)
         tight = None if o_t is None else _ratios(o_t)
         suffix = "" if len(runs) == 1 else f"[{run.label}]"
         for q in QUANTITIES:
-            rows[q + suffix] = _row(q, levels, widths, by_h, by_W, tight, tight_note="" if o_t else str(how))
+            rows[q + suffix] = budget_row(q, levels, widths, by_h, by_W, tight, tight_note="" if o_t else str(how),
+                                          theory=1.0, theory_name="exact circle (half-plane theory, combined modulus)",
+                                          alt_name="hertz")
     return SceneBudget(rows, title=_TITLE)
-
-
-def _row(q: str, levels, widths, by_h, by_W, tight, *, tight_note: str) -> dict:
-    values = [v[q] for v in by_h]
-    fine = values[0]
-    iterative = iterative_error(fine, None if tight is None else tight[q])
-    floor = ((iterative or 0.0) + ROUNDOFF_FLOOR) * abs(fine)
-    g = grid_study(tuple(levels), tuple(values), reference=1.0, floor=floor, formal_order=2.0)
-    w_vals = [by_W[W][q] for W in widths]
-    gw = grid_study(tuple(1.0 / W for W in widths), tuple(w_vals), floor=floor)
-    if gw.status == "asymptotic":
-        correction, truncation, t_status = gw.extrapolated - by_W[widths[-1]][q], gw.gci, "extrapolated in 1/W"
-    else:
-        correction = 0.0
-        truncation = (max(w_vals) - min(w_vals)) / abs(fine)
-        t_status = f"spread ({gw.status})"
-    x = g.extrapolated + correction
-    total = uncertainty(g.gci, truncation, iterative, ROUNDOFF_FLOOR)
-    band = total * abs(fine)
-    alt = by_h[0][f"alt {q}"]
-    def num(v):
-        return None if math.isnan(v) else v
-
-    row = {"fine": fine, "extrapolated": x, "observed_order": num(g.observed_order),
-           "band_order": num(g.band_order), "gci": g.gci, "status": g.status,
-           "truncation": truncation, "truncation_status": t_status, "truncation_correction": correction / abs(fine),
-           "iterative": iterative, "roundoff": ROUNDOFF_FLOOR, "uncertainty": total, "theory": 1.0,
-           "theory_name": "exact circle (half-plane theory, combined modulus)",
-           "theory_in_band": bool(abs(1.0 - x) <= band), "error_vs_theory": abs(x - 1.0),
-           "alt_theory": "hertz", "alt_value": alt, "alt_in_band": bool(abs(alt - x) <= band),
-           "by_h": {str(h): v for h, v in zip(levels, values, strict=True)},
-           "by_W": {str(W): v for W, v in zip(widths, w_vals, strict=True)}}
-    if iterative is None:
-        row["iterative_status"] = tight_note or "not measured"
-    return row

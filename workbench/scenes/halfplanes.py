@@ -1,0 +1,227 @@
+"""Two elastic half-planes with a gap profile: the FE twin of the half-plane theory of dissimilar materials
+(issue 25; Ciavarella and Hills's convective effect at any Dundurs beta).
+
+Reads top to bottom: estimate -> mesh (two graded blocks, flat at y = 0, non-matching: :func:`meshes.two_body.
+build_profile_blocks`) -> the meshed contact partner (the upper block, whose reference surface is the profile
+``y = X1^2 / (2 R)`` above its flat face: :class:`fem.two_body.geometry.ProfileSurface`) -> the solve -> comparison.
+Units mm, N, MPa.
+
+* The lower block (the first ``[[body]]``, Ciavarella-Hills's body 2) is clamped at its bottom; the upper block (the
+  second, their body 1, which carries the profile) is driven through its top (force control). Both are W x H
+  blocks with W = H = ``width_factor`` b0: half-planes up to the truncation a/W, which the error budget
+  extrapolates in 1/W.
+* The contact traction acts along the slave normal (vertical) on both bodies (``traction = "halfplane"``): the
+  half-plane theory's frictionless surfaces. With ``small`` kinematics the pairing is fixed in the reference
+  configuration: the normal problem is Hertz's at ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` whatever beta. With
+  ``convective`` kinematics a lower-surface point meets the upper body's material point at the same current
+  abscissa, and the profile travels with that point: the relative tangential displacement of dissimilar
+  materials enters the gap, which is Ciavarella and Hills's model (:mod:`fem.two_body.convective`).
+* Theory at the measured load: Hertz (small run); the converged Ciavarella-Hills solution at the bodies' beta
+  (:func:`analytic.materials.bimaterial`, body 1 the upper one) and b0/R, b0 Hertz's half-width at that load
+  (:func:`analytic.convective.solve`); its first-order closed form is the alternative the bands must exclude.
+  b/b0 is measured as the block scene's (:func:`workbench.scenes.convective.fem_b_over_b0`): each run's half-width
+  over Hertz's at its own measured load, convective over small; both in the lower body's material abscissa.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from analytic import convective, materials
+from analytic.hertz import hertz, hertz_load_from_half_width, hertz_pressure
+from cases.schema import Case, Run
+from measures.contact import moment_half_width, rms_error
+from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
+from workbench.scenes.budget_theory import curve_moment_half_width
+from workbench.scenes.halfplanes_schema import HALFPLANES_SCHEMA
+from workbench.scenes.two_body import SOLVER_DEFAULTS
+
+__all__ = ["HalfplanesScene", "HalfplanesTheory", "bimaterial_of", "convective_theory"]
+
+
+class HalfplanesTheory(NamedTuple):
+    """Hertz at a run's measured load (mm, N/mm, MPa): ``kind``, ``P``, ``R``, ``E_star``, ``half_width`` b0,
+    ``p_ref`` p0, and Dundurs' ``beta`` of the bodies."""
+
+    kind: str
+    P: float
+    R: float
+    E_star: float
+    half_width: float
+    p_ref: float
+    beta: float
+
+
+class HalfplanesComparison(NamedTuple):
+    """One run's measured contact: ``half_width`` (the edge, mm), ``moment`` (sqrt(M2/M0), mm), ``p_max`` (MPa)."""
+
+    half_width: float
+    moment: float
+    p_max: float
+
+
+def bimaterial_of(run: Run) -> materials.Bimaterial:
+    """Dundurs' alpha, beta and E* of a run: body 1 the upper (profile) body, body 2 the lower (flat) one."""
+    lower, upper = run.bodies
+    return materials.bimaterial(E1=upper.E, nu1=upper.nu, E2=lower.E, nu2=lower.nu)
+
+
+def convective_theory(outcome: Outcome, *, n_plot: int = 8001) -> convective.ConvectiveSolution:
+    """Ciavarella-Hills at a run's beta and b0/R (b0: Hertz at its measured load)."""
+    th = outcome.theory
+    return convective.solve(convective.parabola_profile(th.half_width / th.R), beta=th.beta, n_plot=n_plot)
+
+
+def _estimate(run: Run) -> tuple[float, float]:
+    """(P target in N/mm, Hertz half-width b0 in mm)."""
+    g, ld = run.geometry, run.loading
+    E_star = bimaterial_of(run).E_star
+    if ld.half_width is not None:
+        return hertz_load_from_half_width(ld.half_width, g.radius, E_star), ld.half_width
+    return ld.P, math.sqrt(4.0 * ld.P * g.radius / (math.pi * E_star))
+
+
+class HalfplanesScene:
+    """Two elastic half-planes with a parabolic gap profile (module docstring)."""
+
+    name = "halfplanes"
+    schema = HALFPLANES_SCHEMA
+
+    def preflight(self, run: Run, *, where: str) -> None:
+        """Nothing beyond the case schema's checks."""
+
+    def estimate_cells(self, run: Run) -> float:
+        """Model triangle count of both blocks before meshing (:func:`meshes.sizing.graded_triangles`)."""
+        from meshes.sizing import graded_triangles
+
+        g, disc = run.geometry, run.discretisation
+        _, a0 = _estimate(run)
+        W, H, h0 = g.width_factor * a0, g.height_factor * a0, 0.9 * disc.h_contact * a0
+        return sum(graded_triangles(L=3 * a0, h0=r * h0, h_far=W / 10, growth=disc.growth, area=W * H, c=math.pi)
+                   for r in (1.0, g.size_ratio))
+
+    def mesh(self, run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None) -> SceneMesh:
+        from meshes.two_body import build_profile_blocks
+
+        g, disc = run.geometry, run.discretisation
+        stem = f"{name}_{run.label}".replace("/", "_").replace("=", "_")
+        P, a0 = _estimate(run)
+        files = build_profile_blocks(width=g.width_factor * a0, height=g.height_factor * a0, contact_half_width=a0,
+                                     h_contact=disc.h_contact * a0, size_ratio=g.size_ratio, growth=disc.growth,
+                                     out_dir=mesh_cache, name=stem, stats_dir=stats_dir, comm=comm)
+        cells = files.stats.get("cells", "?")
+        return SceneMesh(files, {"P": P, "half_width": a0},
+                         f"mesh {cells} cells ({'cached' if files.cached else 'built'}), b0 = {a0:.4g} mm, "
+                         f"P target = {P:.6g} N/mm")
+
+    def obstacle(self, run: Run, mesh: SceneMesh):
+        """The upper block as the meshed partner, carrying the profile (module docstring)."""
+        from fem.two_body.geometry import ProfileSurface
+        from fem.two_body.problem import Body, MeshedPartner
+
+        g, (lower, upper) = run.geometry, run.bodies
+        return MeshedPartner(bodies=(Body(name="lower", E=lower.E, nu=lower.nu, label=lower.name),
+                                     Body(name="upper", E=upper.E, nu=upper.nu, label=upper.name)),
+                             slave="contact_lower", master="contact_upper", driven="driven", driven_body="upper",
+                             driven_components=(0, 1), pairing=g.pairing, traction="halfplane", convection=g.convection,
+                             master_surface=ProfileSurface(g.indenter, g.radius))
+
+    def load_path(self, run: Run, mesh: SceneMesh) -> LoadPath:
+        return LoadPath("force", mesh.estimate["P"], run.loading.steps, supports={"clamped": "clamped"},
+                        solver=dict(SOLVER_DEFAULTS))
+
+    def compare(self, run: Run, result, mesh: SceneMesh, *, progress) -> Outcome:
+        g, smp = run.geometry, result.samples
+        bm = bimaterial_of(run)
+        hz = hertz(result.P, g.radius, bm.E_star)
+        theory = HalfplanesTheory(g.indenter, result.P, g.radius, bm.E_star, hz.half_width, hz.p0, bm.beta)
+        main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
+        cmp = HalfplanesComparison(main.half_width if main else math.nan,
+                                   moment_half_width(smp.s, smp.p, smp.weight, center=0.0) if main else math.nan,
+                                   main.p_max if main else math.nan)
+        p_th = hertz_pressure(smp.s, a=hz.half_width, p0=hz.p0)
+        vs_hertz = {"p_max": abs(cmp.p_max / hz.p0 - 1.0), "half_width": abs(cmp.half_width / hz.half_width - 1.0),
+                    "half_width_moment": abs(2.0 * cmp.moment / hz.half_width - 1.0),
+                    "rms": rms_error(smp.s, smp.p, p_th, center=0.0,
+                                     half_width=max(hz.half_width, cmp.half_width if main else 0.0), p_ref=hz.p0)}
+        if run.solver.kinematics == "convective":  # Hertz ignores what this run measures: for information only
+            vs_hertz = {f"{k}_vs_classical": v for k, v in vs_hertz.items()}
+        errors = {"load_balance": abs(result.P - result.P_pressure) / abs(result.P),
+                  "newton_iterations": float(max(result.newton_iterations, default=0))} | vs_hertz
+        metrics = {
+            "label": run.label, "scene": "halfplanes", "indenter": g.indenter, "pairing": g.pairing,
+            "method": run.solver.method, "kinematics": run.solver.kinematics, "traction": "halfplane",
+            "convection": g.convection if run.solver.kinematics == "convective" else None,
+            "nu": run.material.nu, "bodies": {b.name: {"role": role, "E": b.E, "nu": b.nu, "model": b.model}
+                                              for b, role in zip(run.bodies, ("lower", "upper"), strict=True)},
+            "alpha": bm.alpha, "beta": bm.beta, "b0_over_R": hz.half_width / g.radius, "E_star": bm.E_star,
+            "degree": run.discretisation.degree, "h_contact": run.discretisation.h_contact, "ndofs": result.ndofs,
+            "wall_time_s": result.wall_time_s, "newton_iterations": list(result.newton_iterations),
+            "load_steps": result.load_steps, "d": result.d, "P": result.P, "P_pressure": result.P_pressure,
+            "patches": [pt._asdict() for pt in result.patches], "warnings": list(result.warnings),
+            "p_max": cmp.p_max, "patch_half_width": cmp.half_width, "half_width_moment": 2.0 * cmp.moment,
+            "analytic": {"kind": "hertz", "P": result.P, "R": g.radius, "E_star": bm.E_star, "beta": bm.beta,
+                         "half_width": hz.half_width, "p0": hz.p0,
+                         "signed": {"p_max": cmp.p_max / hz.p0 - 1.0,
+                                    "half_width": cmp.half_width / hz.half_width - 1.0,
+                                    "half_width_moment": 2.0 * cmp.moment / hz.half_width - 1.0}},
+            "errors": errors, "mesh": mesh.files.stats,
+        }
+        lim = 1.6 * hz.half_width
+        series = Series(run.label, smp.s, smp.p, smp.sigma_nn, {"Hertz (at measured P, E*)": p_th},
+                        "x (mm, lower body's material)", (-lim, lim), weight=smp.weight, q=smp.q)
+        return Outcome(run.label, run, metrics, [series], theory, cmp, result)
+
+    def judge(self, case: Case, outcomes: list[Outcome]) -> CaseComparison:
+        """b/b0 of the convective run over the small one against Ciavarella-Hills at the bodies' beta."""
+        by_kin = {o.run.solver.kinematics: o for o in outcomes}
+        bodies = (" Bodies (lower, upper): " + "; ".join(f"{b.name} (E = {b.E:g} MPa, nu = {b.nu:g})"
+                                                       for b in outcomes[0].run.bodies) + ".") if outcomes else ""
+        if not {"small", "convective"} <= set(by_kin):
+            return CaseComparison({}, {}, bodies.strip(), {})
+        small, conv = by_kin["small"], by_kin["convective"]
+        sol = convective_theory(conv)
+        ratio = (conv.comparison.half_width / conv.theory.half_width) / (small.comparison.half_width
+                                                                          / small.theory.half_width)
+        ratio_m = (conv.comparison.moment / conv.theory.half_width) / (small.comparison.moment
+                                                                      / small.theory.half_width)
+        rows = [("FEM (convective / small, same load), edge", ratio),
+                ("FEM, moment half-widths", ratio_m),
+                ("first order (closed form)", sol.b_over_b0_first_order),
+                ("first iterate", sol.b_over_b0_first_iterate),
+                ("converged (full nonlinear)", sol.b_over_b0_converged)]
+        table = ["| source | b/b0 |", "|---|---|"] + [f"| {k} | {v:.5f} |" for k, v in rows]
+        w_class = curve_moment_half_width(sol.x, sol.p_classical)
+        moment_theory = curve_moment_half_width(sol.x, sol.p_converged) / w_class
+        moment_first = curve_moment_half_width(sol.x, sol.p_first_order) / w_class
+        table += ["", "| moment ratio (2 sqrt(M2/M0), convective over classical) | value |", "|---|---|",
+                  f"| FEM | {ratio_m:.5f} |", f"| first order | {moment_first:.5f} |",
+                  f"| converged | {moment_theory:.5f} |"]
+        th = conv.theory
+        sr = conv.series[0]
+        p_conv = np.interp(sr.x, sol.x * th.half_width, sol.p_converged * th.P / th.half_width)
+        sr.predictions["Ciavarella-Hills (converged)"] = p_conv
+        rms_conv = rms_error(sr.x, sr.p, p_conv, center=0.0, half_width=conv.comparison.half_width, p_ref=th.p_ref)
+        analytic = {"beta": sol.beta, "alpha": conv.metrics["alpha"], "b0_over_R": th.half_width / th.R,
+                    "b_over_b0_first_order": sol.b_over_b0_first_order,
+                    "b_over_b0_first_iterate": sol.b_over_b0_first_iterate,
+                    "b_over_b0_converged": sol.b_over_b0_converged, "b_over_b0_fem": ratio,
+                    "b_over_b0_moment_fem": ratio_m, "b_over_b0_moment_converged": moment_theory,
+                    "b_over_b0_moment_first_order": moment_first, "convection": conv.metrics["convection"]}
+        headline = (f"Two half-planes, beta = {sol.beta:+.4f}, b0/R = {th.half_width / th.R:.4g}, convection "
+                    f"{conv.metrics['convection']!r}: moment ratio b/b0 FEM {ratio_m:.5f}, converged Ciavarella-Hills "
+                    f"{moment_theory:.5f}, first order {moment_first:.5f} (edges: FEM {ratio:.5f}, theory "
+                    f"{sol.b_over_b0_converged:.5f})." + bodies)
+        errors = {"b_over_b0": abs(ratio / sol.b_over_b0_converged - 1.0),
+                  "b_over_b0_moment": abs(ratio_m / moment_theory - 1.0), "rms_convective": rms_conv}
+        return CaseComparison(analytic, errors, headline, {"Convective ratio b/b0": table})
+
+    def error_budget(self, case: Case, *, solve, progress):
+        """Three grids, three block sizes and the solver tolerance (:mod:`workbench.scenes.halfplanes_budget`)."""
+        from workbench.scenes.halfplanes_budget import halfplanes_error_budget
+
+        return halfplanes_error_budget(case, solve=solve, progress=progress)

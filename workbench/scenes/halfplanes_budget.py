@@ -1,0 +1,108 @@
+"""Error budget of two half-planes with a profile: three grids, three block sizes, the solver tolerance (issue 25).
+
+Every run of the case (a ``small`` and a ``convective`` one) is solved again on the three
+``[discretisation] budget_levels`` (h_c / b0) at the largest block ``W_max = max(budget_widths)``, on the finest
+level at the three block sizes, and at the finest level with the solver tolerances / 100; each row goes through
+:func:`workbench.scenes.budget_rows.budget_row` (Richardson in h, the 1/W correction, the iterative error,
+round-off). Both blocks are clamped/driven W x H blocks (no half-plane far field for two bodies), so the truncation
+is O(b0/W), extrapolated in 1/W where that study is asymptotic.
+
+Rows (dimensionless):
+
+* ``b_over_b0`` and ``b_over_b0_moment``: the convective run over the small run at the same load (edges; moment
+  half-widths), each half-width over Hertz's at its own measured load. Theory: converged Ciavarella-Hills at the
+  bodies' beta and the fine run's b0/R; alternative: the first-order theory (its closed form for the edge, the
+  moment ratio of its pressure for the moments). The theory's moments are taken on its fine plot grid:
+  ``theory_uncertainty`` is that grid's error on the classical moment (closed form b0/2).
+* ``p_max``, ``half_width``, ``half_width_moment`` of the small run over Hertz (theory 1: the normal problem of
+  two half-planes with small kinematics does not depend on beta).
+"""
+
+from __future__ import annotations
+
+from analytic import convective
+from cases.schema import Case
+from workbench.error_budget import FORMAL_ORDER, FORMAL_ORDER_EDGE, tight_resolve
+from workbench.scenes.base import SceneBudget
+from workbench.scenes.budget_rows import budget_row, with_grid
+from workbench.scenes.budget_theory import curve_moment_half_width
+
+__all__ = ["halfplanes_error_budget"]
+
+_TITLE = "Error budget (three grids, three block sizes of both half-planes)"
+_THEORY_N_PLOT = 64001
+
+
+def _hertz_ratios(o) -> dict[str, float]:
+    s = o.metrics["analytic"]["signed"]
+    return {"p_max": 1.0 + s["p_max"], "half_width": 1.0 + s["half_width"],
+            "half_width_moment": 1.0 + s["half_width_moment"]}
+
+
+def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
+    """The budget (module docstring); empty without ``budget_levels``."""
+    disc = case.discretisation
+    levels, widths = sorted(disc.budget_levels), sorted(disc.budget_widths)
+    if not levels or not widths:
+        return SceneBudget({}, title=_TITLE)
+    W_max, h_fine = widths[-1], levels[0]
+    grid = [(h, W_max) for h in levels] + [(h_fine, W) for W in widths[:-1]]
+    out: dict[str, dict] = {}
+    for run in case.runs():
+        k = run.solver.kinematics
+        for h, W in grid:
+            o = solve(with_grid(run, h=h, W=W, h_coarse=levels[-1]))
+            progress(f"[budget {run.label}] h_c = {h:g} b0, W = {W:g} b0: {o.metrics['ndofs']} dofs")
+            out.setdefault(k, {})[(h, W)] = o
+        o_t, how = tight_resolve(solve, with_grid(run, h=h_fine, W=W_max, h_coarse=levels[-1]),
+                                 out[k][(h_fine, W_max)], progress=progress)
+        out[k]["tight"] = o_t
+        out[k]["tight_note"] = "" if o_t is not None else str(how)
+    rows: dict[str, dict] = {}
+    small = out.get("small")
+    if small is not None:
+        def hz(key):
+            o = small[key]
+            return None if o is None else _hertz_ratios(o) | {f"alt {q}": 1.0 for q in _hertz_ratios(o)}
+
+        by_h = [hz((h, W_max)) for h in levels]
+        by_W = {W: hz((h_fine, W)) for W in widths}
+        for q in ("p_max", "half_width", "half_width_moment"):
+            rows[q] = budget_row(q, levels, widths, by_h, by_W, hz("tight"), tight_note=small["tight_note"],
+                                 theory=1.0, theory_name="hertz (E*, measured load)", alt_name="hertz",
+                                 formal_order=FORMAL_ORDER_EDGE if q == "half_width" else FORMAL_ORDER)
+            for key in ("alt_theory", "alt_value", "alt_in_band"):
+                rows[q].pop(key)
+    conv = out.get("convective")
+    if small is not None and conv is not None:
+        fine = conv[(h_fine, W_max)]
+        th = fine.theory
+        sol = convective.solve(convective.parabola_profile(th.half_width / th.R), beta=th.beta, n_plot=_THEORY_N_PLOT)
+        w_conv = curve_moment_half_width(sol.x, sol.p_converged)
+        w_class = curve_moment_half_width(sol.x, sol.p_classical)
+        theory_err = abs(w_class - 0.5) / 0.5
+        theory = {"half_width": sol.b_over_b0_converged, "moment": w_conv / w_class}
+        alt = {"half_width": sol.b_over_b0_first_order,
+               "moment": curve_moment_half_width(sol.x, sol.p_first_order) / w_class}
+
+        def ratio(key):
+            oc, os_ = conv[key], small[key]
+            if oc is None or os_ is None:
+                return None
+            vc, vs = oc.comparison, os_.comparison
+            r = {"half_width": (vc.half_width / oc.theory.half_width) / (vs.half_width / os_.theory.half_width),
+                 "moment": (vc.moment / oc.theory.half_width) / (vs.moment / os_.theory.half_width)}
+            return r | {f"alt {q}": alt[q] for q in r}
+
+        by_h = [ratio((h, W_max)) for h in levels]
+        by_W = {W: ratio((h_fine, W)) for W in widths}
+        note = "; ".join(n for n in (small["tight_note"], conv["tight_note"]) if n)
+        for key, q in (("b_over_b0", "half_width"), ("b_over_b0_moment", "moment")):
+            rows[key] = budget_row(q, levels, widths, by_h, by_W, ratio("tight"), tight_note=note,
+                                   theory=theory[q], theory_name="Ciavarella-Hills, converged",
+                                   alt_name="first order", theory_uncertainty=theory_err if q == "moment" else None,
+                                   formal_order=FORMAL_ORDER_EDGE if q == "half_width" else FORMAL_ORDER)
+            rows[key]["beta"] = th.beta
+            rows[key]["b0_over_R"] = th.half_width / th.R
+    return SceneBudget(rows, title=_TITLE)
+
