@@ -250,3 +250,10 @@ def test_halfplanes_points_bands_split_report_and_map(tmp_path):
     assert "| 0.1 | -0.3 |" in md and "| 0.1 | +0.3 | no value:" in md
     assert "b0/R = 0.1, beta = +0.3" in md and "DIVERGED_LINEAR_SOLVE" in md
     assert [p.name for p in draw_maps(data, tmp_path)] == ["map_halfplanes.png"]
+    from workbench.reports.summary import trust_markdown
+
+    (tmp_path / "validity").mkdir()
+    (tmp_path / "validity" / "validity.json").write_text(json.dumps(data))
+    section = "\n".join(trust_markdown(tmp_path))
+    assert "validity/map_halfplanes.png" in section and "Ciavarella-Hills converged (two half-planes) | 1 |" in section
+    assert "contains converged Ciavarella-Hills at 1 of 1 points" in section

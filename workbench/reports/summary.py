@@ -151,6 +151,14 @@ def trust_markdown(results: Path) -> list[str]:
         got = [g for g in got if g]
         if got:
             lines.append(f"| {label} | {len(got)} | " + " | ".join(str(got.count(b)) for b in bands) + " |")
+    hp = [p for p in pts if p["scene"] == "halfplanes" and p.get("bands")]
+    if hp:
+        def inside(name):
+            return sum(bool(p["bands"].get(name, {}).get("moment", {}).get("inside")) for p in hp)
+
+        lines += ["", f"Two elastic half-planes: the FEM moment ratio's uncertainty U contains converged "
+                  f"Ciavarella-Hills at {inside('ch_converged')} of {len(hp)} points and its first order at "
+                  f"{inside('ch_first_order')}."]
     splits = [p for p in pts if p.get("split") and p["scene"] != "halfplanes"]
     if splits:
         worst = max(splits, key=lambda p: abs(p["split"]["total"]["value"]))
