@@ -665,7 +665,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/validity)")
     ap.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
     add_executor_options(ap, workers=ValidityConfig.workers)
-    ap.add_argument("--quick", action="store_true", help="two points per scene, nu = 0 and 0.499 (a smoke run)")
+    ap.add_argument("--quick", action="store_true", help="two points per scene, nu = 0 and 0.499; two half-planes "
+                    "at beta = -0.3 and +0.3, b0/R = 0.1 (a smoke run)")
     ap.add_argument("--tiny", action="store_true", help="one point per scene, nu = 0, two half-planes at beta = "
                     "-0.3 and +0.3, coarse levels on a small block (the end-to-end test: every layer in seconds, no "
                     "meaningful numbers)")
