@@ -1,6 +1,6 @@
 """Issue 27: a study on 2 MPI workers through ``mpi4py.futures`` reproduces the local study, without JIT retries.
 
-``validity --tiny`` (40 runs, every model and both scenes) twice through the real command line: on the local
+``validity --tiny`` (56 runs: every model and both rigid scenes, and two elastic half-planes at beta = -0.3, +0.3) twice
 process pool (2 workers), then under ``mpiexec -n 3 python -m mpi4py.futures -m workbench`` (1 master, 2 worker
 ranks, no dynamic spawn). Every run's key numbers agree to 1e-10, every run says where it ran (the MPI run: ranks 1
 and 2, both used), and neither run retried a JIT compile. ``--executor mpi`` started without mpiexec is refused.

@@ -52,6 +52,12 @@ def test_validity_smallest(tmp_path):
     assert d["summary"]["runs"] > 0 and d["summary"]["runs"] == len(d["runs"])
     assert d["config"]["h_ratios"] == [2.0, 3.0, 4.0]
     assert (out / "report.md").stat().st_size > 0
+    hp = [p for p in d["points"] if p["scene"] == "halfplanes"]  # two elastic half-planes, beta of both signs
+    assert sorted(p["beta"] for p in hp) == [-0.3, 0.3]
+    assert all(p["theories"]["ch_converged"]["moment"] for p in hp)
+    md = (out / "report.md").read_text()
+    assert "| 0.1 | -0.3 |" in md and "| 0.1 | +0.3 |" in md and (out / "map_halfplanes.png").is_file()
+    assert all(x["reason"] for x in d["dropped"])  # every dropped entry says why
 
 
 @pytest.mark.parametrize("section", ["linear"])

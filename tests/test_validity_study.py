@@ -18,7 +18,8 @@ from workbench.studies.config import ValidityConfig, to_json
                                 dict(h_ratios=(8.0, 4.0, 16.0)), dict(h_ratios=(4.0, 8.0)), dict(workers=0),
                                 dict(finite_material="linear"), dict(cylinder_a_over_R=(0.95,)),
                                 dict(wedge_theta=(2.0,)), dict(thresholds=(0.05, 0.01)), dict(width_factor_far=100.0),
-                                dict(n_steps=1.5)])
+                                dict(n_steps=1.5), dict(halfplanes_beta=(0.6,)), dict(halfplanes_b0_over_R=(0.9,)),
+                                dict(halfplanes_h_ratios=(8.0, 4.0, 16.0)), dict(rigid=False, halfplanes_beta=())])
 def test_config_rejects_bad_values_in_one_line(kw):
     with pytest.raises(ValueError) as exc:
         ValidityConfig(**kw)
@@ -168,3 +169,91 @@ def test_a_run_whose_jit_compile_timed_out_is_retried_counted_and_then_named(mon
     rec = ex.run_point(v.run_validity_point, v.Point("solve", task, "unused"), "local")
     assert not rec["converged"] and "JIT compilation timed out" in rec["error"]
     assert rec["worker"]["jit_retries"] == ex.JIT_RETRIES
+
+
+# --- the two-elastic-half-planes part (issue 25) ---------------------------------------------------------------------
+
+
+def test_halfplanes_bodies_give_the_asked_beta_of_either_sign_at_one_E_star():
+    from analytic import materials
+    from workbench.studies.validity_halfplanes import bodies_for
+
+    for beta in (-0.45, -0.3, -0.15, 0.0, 0.15, 0.3, 0.45):
+        (E_lo, nu_lo), (E_up, nu_up) = bodies_for(beta, E_star=1000.0)
+        bm = materials.bimaterial(E1=E_up, nu1=nu_up, E2=E_lo, nu2=nu_lo)  # body 1 = the upper (profile) body
+        assert bm.beta == pytest.approx(beta, abs=1e-14) and bm.E_star == pytest.approx(1000.0, rel=1e-14)
+        assert (E_up < E_lo) == (beta > 0)  # beta > 0: the profile body is the softer one
+
+
+def test_halfplanes_tasks_cover_both_signs_every_kinematics_and_level():
+    from workbench.studies.validity_halfplanes import halfplanes_tasks
+
+    cfg = ValidityConfig(halfplanes_beta=(-0.3, 0.3), halfplanes_b0_over_R=(0.1, 0.2))
+    todo = halfplanes_tasks(cfg)
+    assert len(todo) == 2 * 2 * 2 * 4
+    assert {t.beta for t in todo} == {-0.3, 0.3} and {t.kinematics for t in todo} == {"small", "convective"}
+    assert {t.mesh_name for t in todo} == {f"validity_halfplanes_h{h:g}_W{w:g}"
+                                           for h, w in ((6, 160), (10, 160), (16, 160), (10, 640))}
+    assert [t.level for t in todo[:4]] == ["h0", "h1", "h2", "far"]  # a chunk of 4 shares its forms
+    assert v.tasks(ValidityConfig(rigid=False))[0] == []
+
+
+def _synthetic_hp_records(cfg: ValidityConfig) -> list[dict]:
+    """Small runs f = 1 - 0.01 h^2; convective runs f (1 + 0.08 beta b0/R ...) close to the converged theory's ratio
+    (h = 1/ratio); the far run of (b0/R, beta) = (0.1, +0.3, convective) fails."""
+    from workbench.studies.validity_halfplanes import halfplanes_tasks, halfplanes_theories
+
+    out = []
+    th = {}
+    for t in halfplanes_tasks(cfg):
+        rec = {"task": asdict(t), "model": t.model, "converged": True, "error": None, "P": 1.0}
+        if t.kinematics == "convective" and t.beta > 0 and t.level == "far":
+            out.append(rec | {"converged": False, "error": "diverged: SNES reason -3 (DIVERGED_LINEAR_SOLVE)"})
+            continue
+        key = (t.param, t.beta)
+        th.setdefault(key, halfplanes_theories(t.param, t.beta)["ch_converged"]["moment"])
+        f = 1.0 - 0.01 / t.h_ratio**2
+        rec["moment"] = f * (th[key] if t.kinematics == "convective" else 1.0)
+        out.append(rec)
+    return out
+
+
+def test_halfplanes_points_bands_split_report_and_map(tmp_path):
+    from workbench.studies.validity_plot import draw_maps
+    from workbench.studies.validity_report import report_markdown
+
+    cfg = ValidityConfig(halfplanes_beta=(-0.3, 0.3), halfplanes_b0_over_R=(0.1,), rigid=False, out=tmp_path)
+    records = _synthetic_hp_records(cfg)
+    points, dropped = v.assemble(cfg, records, [])
+    assert [(p["scene"], p["beta"]) for p in points] == [("halfplanes", -0.3), ("halfplanes", 0.3)]
+    neg, pos = points
+    r = neg["models"][v.HP_COMPLETE]["moment"]
+    assert r["value"] == pytest.approx(neg["theories"]["ch_converged"]["moment"], rel=1e-12)  # the ratio cancels f
+    b = neg["bands"]["ch_converged"]["moment"]
+    assert b["inside"] and b["band"] == "<0.1%"
+    assert neg["bands"]["hertz"]["moment"]["band"] == "<5%" and not neg["bands"]["hertz"]["moment"]["inside"]
+    assert neg["theories"]["ch_converged"]["moment"] > 1.0 > pos["theories"]["ch_converged"]["moment"]
+    s = neg["split"]
+    assert s["profile"]["value"] + s["convective"]["value"] == pytest.approx(s["total"]["value"], abs=1e-15)
+    assert s["convective"]["theory"] + s["remainder"]["value"] == pytest.approx(s["convective"]["value"], abs=1e-15)
+    assert pos["complete_model"] is None and pos["split"] is None  # its far run failed: no ratio, said why
+    failed = [d for d in dropped if d["what"] == "run failed"]
+    assert len(failed) == 1 and failed[0]["beta"] == 0.3 and "DIVERGED_LINEAR_SOLVE" in failed[0]["reason"]
+    assert any(d["what"] == "point unused" and d["beta"] == 0.3 and "wide-block" in d["reason"] for d in dropped)
+    data = json.loads(json.dumps({"config": to_json(cfg), "summary": {"runs": len(records), "failed": 1, "points": 2,
+                                                                      "dropped": len(dropped), "wall_time_s": 1.0,
+                                                                      "workers": 2, "cpu_count": 2},
+                                  "points": points, "dropped": dropped, "claim": {"rows": [], "verdict": None},
+                                  "runs": records}, default=float))
+    md = report_markdown(data)
+    assert "Two elastic half-planes" in md and "map_halfplanes.png" in md
+    assert "| 0.1 | -0.3 |" in md and "| 0.1 | +0.3 | no value:" in md
+    assert "b0/R = 0.1, beta = +0.3" in md and "DIVERGED_LINEAR_SOLVE" in md
+    assert [p.name for p in draw_maps(data, tmp_path)] == ["map_halfplanes.png"]
+    from workbench.reports.summary import trust_markdown
+
+    (tmp_path / "validity").mkdir()
+    (tmp_path / "validity" / "validity.json").write_text(json.dumps(data))
+    section = "\n".join(trust_markdown(tmp_path))
+    assert "validity/map_halfplanes.png" in section and "Ciavarella-Hills converged (two half-planes) | 1 |" in section
+    assert "contains converged Ciavarella-Hills at 1 of 1 points" in section

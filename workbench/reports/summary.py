@@ -120,7 +120,10 @@ _TRUST_THEORIES = (("cylinder", "hertz", "moment", "Hertz"), ("cylinder", "exact
                    ("cylinder", "ch_first_order", "half_width", "C-H first order (cylinder)"),
                    ("wedge", "wedge", "moment", "classical wedge"),
                    ("wedge", "ch_wedge", "moment", "Ciavarella-Hills (wedge)"),
-                   ("wedge", "ch_first_order", "half_width", "C-H first order (wedge)"))
+                   ("wedge", "ch_first_order", "half_width", "C-H first order (wedge)"),
+                   ("halfplanes", "hertz", "moment", "Hertz (two elastic half-planes, beta of both signs)"),
+                   ("halfplanes", "ch_converged", "moment", "Ciavarella-Hills converged (two half-planes)"),
+                   ("halfplanes", "ch_first_order", "moment", "C-H first order (two half-planes)"))
 
 
 def trust_markdown(results: Path) -> list[str]:
@@ -138,14 +141,25 @@ def trust_markdown(results: Path) -> list[str]:
               "cylinder over a/R, the wedge over theta, each over beta (through nu). Cells: the band of the "
               "difference (moment half-width; the first-order forms: the zero-crossing half-width), `unresolved` "
               "where the FEM uncertainty is not well below it. Details: [validity report](validity/report.md).", "",
-              "![cylinder](validity/map_cylinder.png)", "", "![wedge](validity/map_wedge.png)", "",
-              "| theory | points | " + " | ".join(bands) + " |", "|---|---|" + "---|" * len(bands)]
+              "![cylinder](validity/map_cylinder.png)", "", "![wedge](validity/map_wedge.png)", ""]
+    if any(p["scene"] == "halfplanes" for p in pts):
+        lines += ["Two elastic half-planes (beta of both signs, the moment ratio convective over small): "
+                  "![halfplanes](validity/map_halfplanes.png)", ""]
+    lines += ["| theory | points | " + " | ".join(bands) + " |", "|---|---|" + "---|" * len(bands)]
     for scene, name, q, label in _TRUST_THEORIES:
         got = [p["bands"].get(name, {}).get(q, {}).get("band") for p in pts if p["scene"] == scene]
         got = [g for g in got if g]
         if got:
             lines.append(f"| {label} | {len(got)} | " + " | ".join(str(got.count(b)) for b in bands) + " |")
-    splits = [p for p in pts if p.get("split")]
+    hp = [p for p in pts if p["scene"] == "halfplanes" and p.get("bands")]
+    if hp:
+        def inside(name):
+            return sum(bool(p["bands"].get(name, {}).get("moment", {}).get("inside")) for p in hp)
+
+        lines += ["", f"Two elastic half-planes: the FEM moment ratio's uncertainty U contains converged "
+                  f"Ciavarella-Hills at {inside('ch_converged')} of {len(hp)} points and its first order at "
+                  f"{inside('ch_first_order')}."]
+    splits = [p for p in pts if p.get("split") and p["scene"] != "halfplanes"]
     if splits:
         worst = max(splits, key=lambda p: abs(p["split"]["total"]["value"]))
         s = worst["split"]

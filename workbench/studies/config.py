@@ -489,6 +489,12 @@ class ValidityConfig:
         claim_bound: The claim's bound (0.5 %).  claim_theta_max: Its angle range theta < pi/5.
         workers: Local processes (2 cores), or the MPI workers of an mpi4py.futures pool (up to 4096).
         out: Output folder (default ``<results>/validity``).  mesh_cache: Mesh cache folder.
+        halfplanes_beta: Dundurs beta of the two-elastic-half-planes part (issue 25; body 1 the upper body with
+            the profile): both bodies nu = 0, E_lower / E_upper = (1 + 2 beta) / (1 - 2 beta), E* = ``E``; empty:
+            no such part.
+        halfplanes_b0_over_R: The parabolic gaps b0/R of that part (b0 = 1 mm, Hertz's half-width at the load).
+        halfplanes_h_ratios: b0/h_c of its three levels (the far run on the middle one, W as above).
+        rigid: Run the rigid-indenter part (the circle and the wedge); False: the two-half-planes part alone.
     """
 
     cylinder_a_over_R: tuple[float, ...] = (1e-3, 1e-2, 0.05, 0.1, 0.2, 0.4)
@@ -511,6 +517,10 @@ class ValidityConfig:
     workers: int = 2
     out: Path | None = None
     mesh_cache: Path | None = None
+    halfplanes_beta: tuple[float, ...] = (-0.45, -0.3, -0.15, 0.0, 0.15, 0.3, 0.45)
+    halfplanes_b0_over_R: tuple[float, ...] = (0.03, 0.1, 0.2)
+    halfplanes_h_ratios: tuple[float, ...] = (6.0, 10.0, 16.0)
+    rigid: bool = True
 
     @property
     def out_dir(self) -> Path:
@@ -539,6 +549,17 @@ class ValidityConfig:
         if len(self.h_ratios) != 3 or not all(b > a for a, b in zip(self.h_ratios, self.h_ratios[1:], strict=False)):
             raise _bad("h_ratios", self.h_ratios, "three increasing numbers in [1, 200]")
         each("thresholds", lambda v: isinstance(v, num) and 0 < v < 1, "increasing numbers in (0, 1)")
+        if self.halfplanes_beta:
+            each("halfplanes_beta", lambda v: isinstance(v, num) and -0.49 <= v <= 0.49, "numbers in [-0.49, 0.49]")
+            each("halfplanes_b0_over_R", lambda v: isinstance(v, num) and 1e-3 <= v <= 0.4, "numbers in [1e-3, 0.4]")
+        if not isinstance(self.rigid, bool):
+            raise _bad("rigid", self.rigid, "True or False")
+        if not self.rigid and not self.halfplanes_beta:
+            raise _bad("rigid", self.rigid, "True, or False with halfplanes_beta given (else nothing runs)")
+        hp = self.halfplanes_h_ratios
+        if (not isinstance(hp, tuple) or len(hp) != 3 or not all(isinstance(v, num) and 1.0 <= v <= 100.0 for v in hp)
+                or not all(b > a for a, b in zip(hp, hp[1:], strict=False))):
+            raise _bad("halfplanes_h_ratios", hp, "three increasing numbers in [1, 100]")
         if list(self.thresholds) != sorted(self.thresholds):
             raise _bad("thresholds", self.thresholds, "increasing numbers in (0, 1)")
         for name, lo, hi in (("E", 1e-6, 1e12), ("growth", 1.0 + 1e-9, 3.0), ("width_factor", 10.0, 1e4),

@@ -8,6 +8,10 @@ Scenes (:class:`workbench.studies.config.ValidityConfig`): a rigid exact circle 
 rigid wedge (face angle theta from pi/40 to pi/4, slope tan theta) on a clamped block, beta = -(1 - 2 nu)/(2 (1 - nu))
 from -1/2 (nu = 0) to ~0 (nu = 0.499), each with every model (traction x kinematics). The target half-width is
 a = 1 mm in every point, so one mesh serves a scene and a level; the load is the classical load of a.
+Two ELASTIC half-planes with a parabolic gap (issue 25, :mod:`workbench.studies.validity_halfplanes`): Dundurs beta
+of both signs (``halfplanes_beta``, through the E ratio at nu = 0) x b0/R, small and convective (Ciavarella-Hills's
+model) through the ``halfplanes`` scene; their moment ratio convective over small against Ciavarella-Hills
+converged and first order (:func:`assemble_halfplanes`).
 
 Measures (dimensionless, each over the classical value at the run's MEASURED load P): ``moment`` =
 2 sqrt(M2/M0) of the contact pressure over the classical one (Hertz: a; wedge: 2 b / sqrt 6), ``p_max`` (circle)
@@ -49,6 +53,7 @@ from workbench.studies.executor import (
     worker_summary,
 )
 from workbench.studies.scene_point import scene_compare, scene_obstacle
+from workbench.studies.validity_halfplanes import HalfplanesTask, halfplanes_tasks, halfplanes_theories
 
 __all__ = ["Point", "Task", "assemble", "claim_points", "finite_settings", "main", "point_theories", "run_study",
            "run_validity_point", "solve_task", "tasks"]
@@ -128,6 +133,8 @@ def beta_of(nu: float) -> float:
 def tasks(cfg: ValidityConfig) -> tuple[list[Task], list[dict]]:
     """Every run of the study, and every (point, model) skipped before running, with its reason."""
     out, skipped = [], []
+    if not cfg.rigid:
+        return out, skipped
     levels = [(f"h{i}", h, cfg.width_factor) for i, h in enumerate(cfg.h_ratios)]
     levels.append(("far", cfg.h_ratios[1], cfg.width_factor_far))
     scenes = [("cylinder", v) for v in cfg.cylinder_a_over_R] + [("wedge", v) for v in cfg.wedge_theta]
@@ -202,12 +209,17 @@ class Point:
     mesh of ``task`` (``mesh``) or solve it (``solve``), with the mesh cache folder."""
 
     kind: str
-    task: Task
+    task: Task | HalfplanesTask
     mesh_cache: str
 
 
 def run_validity_point(point: Point) -> dict:
-    """The study's point function (module level: sent to the workers by name)."""
+    """The study's point function (module level: sent to the workers by name); a two-half-planes task goes to
+    :mod:`workbench.studies.validity_halfplanes`."""
+    if isinstance(point.task, HalfplanesTask):
+        from workbench.studies import validity_halfplanes as hp
+
+        return (hp.build_mesh if point.kind == "mesh" else hp.solve_task)(point.task, point.mesh_cache)
     if point.kind == "mesh":
         return build_mesh(point.task, point.mesh_cache)
     return solve_task(point.task, point.mesh_cache)
@@ -288,6 +300,7 @@ def run_study(cfg: ValidityConfig, *, executor: ExecutorChoice | None = None,
     (with where the runs ran and the JIT compiles and retries: :func:`workbench.studies.executor.worker_summary`)."""
     executor = ExecutorChoice("local", cfg.workers) if executor is None else executor
     todo, skipped = tasks(cfg)
+    todo = [*todo, *halfplanes_tasks(cfg)]  # the two-half-planes part (issue 25): after the rigid runs
     cache = str(cfg.cache_dir)
     ensure_dir(cache, kind="mesh_cache", kinds=("mesh_cache",))  # the workbench's own, or refused
     meshes = {t.mesh_name: t for t in todo}
@@ -423,7 +436,10 @@ def _split(models: dict, complete: str | None, theories: dict, scene: str) -> di
 
 def assemble(cfg: ValidityConfig, records: list[dict], skipped: list[dict]) -> tuple[list[dict], list[dict]]:
     """Points (scene, param, nu): every model's values with uncertainty, the theories, their bands; and the
-    list of dropped or failed entries with their reasons."""
+    list of dropped or failed entries with their reasons. The two-half-planes records go to
+    :func:`assemble_halfplanes` (their points come after the rigid ones)."""
+    hp_records = [r for r in records if r["task"]["scene"] == "halfplanes"]
+    records = [r for r in records if r["task"]["scene"] != "halfplanes"]
     by_point: dict = {}
     for r in records:
         t = r["task"]
@@ -468,6 +484,89 @@ def assemble(cfg: ValidityConfig, records: list[dict], skipped: list[dict]) -> t
         points.append({"scene": scene, "param": param, "nu": nu, "beta": beta_of(nu), "models": models,
                        "theories": theories, "complete_model": complete, "bands": bands,
                        "split": _split(models, complete, theories, scene)})
+    hp_points, hp_dropped = assemble_halfplanes(cfg, hp_records)
+    return points + hp_points, dropped + hp_dropped
+
+
+HP_COMPLETE = "halfplane/convective over halfplane/small"  # the two-half-planes part's measured model
+
+
+def _hp_split(models: dict, theories: dict) -> dict | None:
+    """Split the gap to Hertz of the moment half-width of two half-planes (relative, at the same load), exactly:
+    total = S R - 1 = profile + convective, with S the small run over Hertz and R the ratio convective over small
+    (each extrapolated, :func:`_value`): profile = S - 1 (the FEM's own distance from Hertz: theory 0 for a
+    parabola), convective = S (R - 1). The convective part = its theory S (R_ch - 1) (converged Ciavarella-Hills;
+    the first order beside it) + ``remainder`` S (R - R_ch): how much of the FEM-vs-classical gap the convective
+    theory explains and how much remains. Uncertainties: S U_S; the convective part and the remainder S R U_R (the
+    two runs' errors are correlated: the ratio's own GCI is used); the total their root sum of squares."""
+    def val(key):
+        m = models.get(key, {}).get("moment", {})
+        return (m["value"], m["uncertainty"] * abs(m["value"])) if m.get("value") is not None else (None, None)
+
+    S, u_S = val("halfplane/small")
+    R, u_R = val(HP_COMPLETE)
+    if S is None or R is None:
+        return None
+    r_ch, r_first = theories["ch_converged"]["moment"], theories["ch_first_order"]["moment"]
+    u_conv = abs(S) * u_R
+    return {"total": {"value": S * R - 1.0, "uncertainty": math.hypot(u_S, u_conv)},
+            "profile": {"value": S - 1.0, "uncertainty": u_S, "theory": 0.0},
+            "convective": {"value": S * (R - 1.0), "uncertainty": u_conv, "theory": S * (r_ch - 1.0),
+                           "theory_first_order": S * (r_first - 1.0)},
+            "remainder": {"value": S * (R - r_ch), "uncertainty": u_conv},
+            "traction": {"value": None, "uncertainty": None}, "finite_strain": {"value": None, "uncertainty": None},
+            "complete_model": HP_COMPLETE}
+
+
+def assemble_halfplanes(cfg: ValidityConfig, records: list[dict]) -> tuple[list[dict], list[dict]]:
+    """Points (b0/R, beta) of the two-half-planes part: each run's moment half-width over Hertz and their ratio
+    convective over small per level, each extrapolated with its uncertainty (:func:`_value`: three levels and the
+    far block); the theories' moment ratios (:func:`workbench.studies.validity_halfplanes.halfplanes_theories`)
+    against the ratio, banded (:func:`classify`) and marked ``inside`` when |theory - FEM| <= U; the gap split
+    (:func:`_hp_split`); and the dropped entries with their reasons."""
+    by_point: dict = {}
+    dropped = []
+    for r in records:
+        t = r["task"]
+        lev = by_point.setdefault((t["param"], t["beta"]), {}).setdefault(r["model"], {})
+        lev[t["level"]] = {"moment": r.get("moment")} if r["converged"] else {}
+        if not r["converged"]:
+            dropped.append({"scene": "halfplanes", "param": t["param"], "nu": t["nu"], "beta": t["beta"],
+                            "model": r["model"], "level": t["level"], "what": "run failed", "reason": r["error"]})
+    points = []
+    for (param, beta), ml in sorted(by_point.items()):
+        small, conv = ml.get("halfplane/small", {}), ml.get("halfplane/convective", {})
+        ratio_levels = {}
+        for level in ("h0", "h1", "h2", "far"):
+            s_, c_ = small.get(level, {}).get("moment"), conv.get(level, {}).get("moment")
+            ratio_levels[level] = {"moment": c_ / s_} if s_ and c_ is not None else {}
+        models = {k: {"moment": _value(levels, "moment", cfg.halfplanes_h_ratios)}
+                  for k, levels in (("halfplane/small", small), ("halfplane/convective", conv),
+                                    (HP_COMPLETE, ratio_levels))}
+        here = {"scene": "halfplanes", "param": param, "nu": 0.0, "beta": beta}
+        for model, v in models.items():
+            if v["moment"].get("value") is None:
+                dropped.append(here | {"model": model, "quantity": "moment", "what": "value dropped",
+                                       "reason": v["moment"]["reason"]})
+        theories = halfplanes_theories(param, beta)
+        mv = models[HP_COMPLETE]["moment"]
+        bands = {}
+        if mv.get("value") is not None:
+            for name, th in theories.items():
+                tv, value, u = th["moment"], mv["value"], mv["uncertainty"]
+                d = abs(tv / value - 1.0)
+                band, reason = classify(d, u, cfg.thresholds, cfg.resolve_factor)
+                bands[name] = {"moment": {"difference": d, "uncertainty": u, "band": band, "reason": reason,
+                                          "inside": abs(tv - value) <= u * abs(value)}}
+                if reason:
+                    dropped.append(here | {"theory": name, "quantity": "moment", "what": "map point unresolved",
+                                           "reason": reason})
+        else:
+            dropped.append(here | {"what": "point unused", "reason": "no moment ratio (convective over small) at "
+                                                                     "this point: " + mv["reason"]})
+        points.append(here | {"models": models, "theories": theories,
+                              "complete_model": HP_COMPLETE if mv.get("value") is not None else None,
+                              "bands": bands, "split": _hp_split(models, theories)})
     return points, dropped
 
 
@@ -559,22 +658,31 @@ class _Parser(argparse.ArgumentParser):
 
 
 def main(argv: list[str] | None = None) -> int:
-    """CLI ``workbench validity [--out DIR] [--mesh-cache DIR] [--executor local|mpi] [--workers N] [--quick]``;
+    """CLI ``workbench validity [--out DIR] [--mesh-cache DIR] [--executor local|mpi] [--workers N] [--quick]
+    [--tiny] [--halfplanes-only]``;
     bad options or config values: one line, exit 2, nothing run or written."""
     ap = _Parser(prog="workbench validity", description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/validity)")
     ap.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
     add_executor_options(ap, workers=ValidityConfig.workers)
-    ap.add_argument("--quick", action="store_true", help="two points per scene, nu = 0 and 0.499 (a smoke run)")
-    ap.add_argument("--tiny", action="store_true", help="one point per scene, nu = 0, coarse levels on a small "
-                    "block (the end-to-end test: every layer in seconds, no meaningful numbers)")
+    ap.add_argument("--quick", action="store_true", help="two points per scene, nu = 0 and 0.499; two half-planes "
+                    "at beta = -0.3 and +0.3, b0/R = 0.1 (a smoke run)")
+    ap.add_argument("--tiny", action="store_true", help="one point per scene, nu = 0, two half-planes at beta = "
+                    "-0.3 and +0.3, coarse levels on a small block (the end-to-end test: every layer in seconds, no "
+                    "meaningful numbers)")
+    ap.add_argument("--halfplanes-only", action="store_true", help="the two-elastic-half-planes part alone (no rigid "
+                    "circle or wedge)")
     args = ap.parse_args(argv)
     kw = {}
     if args.quick:
-        kw = {"cylinder_a_over_R": (0.01, 0.2), "wedge_theta": (math.pi / 10, math.pi / 5), "nu": (0.0, 0.499)}
+        kw = {"cylinder_a_over_R": (0.01, 0.2), "wedge_theta": (math.pi / 10, math.pi / 5), "nu": (0.0, 0.499),
+              "halfplanes_beta": (-0.3, 0.3), "halfplanes_b0_over_R": (0.1,)}
     if args.tiny:
         kw = {"cylinder_a_over_R": (0.1,), "wedge_theta": (math.pi / 10,), "nu": (0.0,), "h_ratios": (2.0, 3.0, 4.0),
-              "width_factor": 20.0, "width_factor_far": 40.0}
+              "width_factor": 20.0, "width_factor_far": 40.0, "halfplanes_beta": (-0.3, 0.3),
+              "halfplanes_b0_over_R": (0.1,), "halfplanes_h_ratios": (2.0, 3.0, 4.0)}
+    if args.halfplanes_only:
+        kw["rigid"] = False
     try:
         executor = executor_from_args(args)
         cfg = ValidityConfig(out=args.out, mesh_cache=args.mesh_cache, workers=executor.workers, **kw)

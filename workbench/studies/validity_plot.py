@@ -1,9 +1,10 @@
 """Validity maps from ``validity.json`` (plotting only): ``python -m workbench.studies.validity_plot --dir DIR``.
 
-One PNG per scene (``map_cylinder.png``, ``map_wedge.png``): a panel per theory, cells over (a/R or theta) x
-beta, coloured by the band of the theory's difference from the most complete FEM model (within 0.1 %, 1 %,
-5 %, beyond 5 %, or unresolved: the FEM uncertainty is not well below the difference), the difference printed
-in each cell.
+One PNG per scene (``map_cylinder.png``, ``map_wedge.png``, ``map_halfplanes.png``): a panel per theory, cells
+over (a/R, theta or b0/R) x beta, coloured by the band of the theory's difference from the most complete FEM model
+(within 0.1 %, 1 %, 5 %, beyond 5 %, or unresolved: the FEM uncertainty is not well below the difference), the
+difference printed in each cell. Two elastic half-planes (beta of both signs): the model is the moment ratio
+convective over small, and a cell whose theory lies outside the FEM's U is hatched.
 """
 
 from __future__ import annotations
@@ -26,11 +27,15 @@ PANELS = {
     "wedge": (("wedge", "moment", "classical wedge"),
               ("ch_wedge", "moment", "Ciavarella-Hills converged"),
               ("ch_first_order", "half_width", "C-H first order (half-width)")),
+    "halfplanes": (("hertz", "moment", "Hertz (no convective term)"),
+                   ("ch_converged", "moment", "Ciavarella-Hills converged"),
+                   ("ch_first_order", "moment", "C-H first order")),
 }
+XLABELS = {"cylinder": "a/R", "wedge": "theta", "halfplanes": "b0/R (two elastic half-planes)"}
 
 
 def _label(scene: str, v: float) -> str:
-    if scene == "cylinder":
+    if scene in ("cylinder", "halfplanes"):
         return f"{v:g}"
     k = math.pi / v
     return f"pi/{k:.0f}" if abs(k - round(k)) < 1e-6 else f"{v:.3g}"
@@ -60,19 +65,26 @@ def draw_maps(data: dict, folder: Path) -> list[Path]:
                 band = p.get("bands", {}).get(theory, {}).get(q)
                 colour = BAND_COLOURS[band["band"]] if band else "white"
                 ax.add_patch(plt.Rectangle((i, j), 1, 1, facecolor=colour, edgecolor="white", linewidth=2))
+                if band is not None and band.get("inside") is False:  # the theory lies outside the FEM's U
+                    ax.add_patch(plt.Rectangle((i + 0.04, j + 0.04), 0.92, 0.92, fill=False, hatch="//",
+                                               edgecolor="0.35", linewidth=0))
                 text = "no run" if band is None else f"{100 * band['difference']:.2g}%"
                 dark = band is not None and band["band"] in ("<0.1%", ">5%")
+                hatched = band is not None and band.get("inside") is False
                 ax.text(i + 0.5, j + 0.5, text, ha="center", va="center", fontsize=8,
-                        color="white" if dark else "black")
+                        color="white" if dark and not hatched else "black",
+                        bbox={"facecolor": "white", "edgecolor": "none", "pad": 1.5} if hatched else None)
             ax.set_xlim(0, len(xs))
             ax.set_ylim(0, len(betas))
             ax.set_xticks([i + 0.5 for i in range(len(xs))], [_label(scene, v) for v in xs], fontsize=8)
             ax.set_yticks([j + 0.5 for j in range(len(betas))], [f"{b:.2g}" for b in betas], fontsize=8)
-            ax.set_xlabel("a/R" if scene == "cylinder" else "theta")
+            ax.set_xlabel(XLABELS[scene])
             ax.set_ylabel("beta")
             ax.set_title(title, fontsize=9)
         handles = [Patch(facecolor=c, label=("within " + b[1:]) if b.startswith("<") else
                          ("beyond " + b[1:]) if b.startswith(">") else b) for b, c in BAND_COLOURS.items()]
+        if any(p.get("bands", {}).get(t, {}).get(q, {}).get("inside") is False for p in pts for t, q, _ in panels):
+            handles.append(Patch(facecolor="white", edgecolor="0.35", hatch="//", label="theory outside the FEM's U"))
         fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8, frameon=False)
         fig.suptitle(f"{scene}: theory against the most complete FEM model (difference, cell colour = band)",
                      fontsize=10)

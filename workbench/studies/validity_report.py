@@ -25,10 +25,12 @@ MODEL_MEANING = {
 }
 THEORY_NAMES = {"hertz": "Hertz", "exact_circle": "exact circle", "ch_circle": "C-H circle",
                 "ch_parabola": "C-H parabola", "ch_first_order": "C-H 1st order", "wedge": "classical wedge",
-                "ch_wedge": "C-H wedge"}
+                "ch_wedge": "C-H wedge", "ch_converged": "C-H converged"}
 
 
 def _param(p: dict) -> str:
+    if p["scene"] == "halfplanes":
+        return f"b0/R = {p['param']:g}, beta = {p['beta']:+g}"
     if p["scene"] == "cylinder":
         return f"a/R = {p['param']:g}"
     k = math.pi / p["param"]
@@ -61,6 +63,8 @@ def _split_table(points: list[dict]) -> list[str]:
     lines = ["| point | beta | complete model | total gap | profile (FEM; theory) | convective term | "
              "traction direction | finite strain |", "|---|---|---|---|---|---|---|---|"]
     for p in points:
+        if p["scene"] == "halfplanes":
+            continue
         s = p.get("split")
         if not s:
             lines.append(f"| {_param(p)} | {p['beta']:.3g} | - | not split: a model is missing (see the dropped "
@@ -78,6 +82,76 @@ def _split_table(points: list[dict]) -> list[str]:
         lines.append(f"| {_param(p)} | {p['beta']:.3g} | {s['complete_model']} | {cell('total')} | {prof} | "
                      f"{cell('convective')} | {cell('traction')} | {cell('finite_strain')} |")
     return lines
+
+
+def _hp_sections(points: list[dict], cfg: dict) -> list[str]:
+    """The two-elastic-half-planes part (issue 25): its points, bands and gap split."""
+    pts = [p for p in points if p["scene"] == "halfplanes"]
+    if not pts:
+        return []
+    hr = cfg.get("halfplanes_h_ratios", [])
+    md = ["", "## Two elastic half-planes: Ciavarella-Hills over beta of both signs", "",
+          "Two graded elastic blocks (non-matching meshes, `halfplanes` scene), both nu = 0, E_lower / E_upper = "
+          "(1 + 2 beta) / (1 - 2 beta) (body 1 = the upper body, which carries the parabolic gap b0/R; beta > 0: it "
+          f"is the softer one), E* = {cfg.get('E', 0):g} MPa, b0 = 1 mm. Each point: `small` and `convective` "
+          "(`convection = \"profile\"`: Ciavarella and Hills's eq. (8)) on levels b0/h_c = "
+          f"{', '.join(f'{h:g}' for h in hr)} (W = {cfg['width_factor']:g} b0) and on the middle level with W = "
+          f"{cfg['width_factor_far']:g} b0. Measured: the moment ratio R = 2 sqrt(M2/M0) of the convective run over "
+          "the small one's (each over Hertz's b0 at its own load), per level, then Richardson + truncation as "
+          "above (U relative). Theories: the moment ratio of the converged Ciavarella-Hills pressure and of its "
+          "first-order pressure over the classical one (`analytic.convective.solve`); Hertz: 1. `inside`: "
+          "|theory - R| <= U R.", "",
+          "![map_halfplanes](map_halfplanes.png)", "",
+          "| b0/R | beta | R (FEM) +- U | GCI status | C-H converged | C-H 1st order | Hertz band | C-H converged: "
+          "band, inside | C-H 1st order: band, inside |", "|---|---|---|---|---|---|---|---|---|"]
+    for p in pts:
+        m = p["models"].get(p.get("complete_model") or "", {}).get("moment")
+        th = p["theories"]
+        if m is None or m.get("value") is None:
+            reason = next(iter(v["moment"].get("reason") for v in p["models"].values()
+                               if v["moment"].get("value") is None), "see the dropped list")
+            md.append(f"| {p['param']:g} | {p['beta']:+g} | no value: {reason} | | "
+                      f"{th['ch_converged']['moment']:.5f} | {th['ch_first_order']['moment']:.5f} | | | |")
+            continue
+
+        def band(name, p=p):
+            b = p["bands"].get(name, {}).get("moment")
+            if b is None:
+                return "-"
+            return f"{b['band']} ({100 * b['difference']:.3g} %), {'inside' if b['inside'] else 'outside'}"
+
+        md.append(f"| {p['param']:g} | {p['beta']:+g} | {m['value']:.5f} +- {m['uncertainty'] * m['value']:.1e} | "
+                  f"{m['status']} | {th['ch_converged']['moment']:.5f} | {th['ch_first_order']['moment']:.5f} | "
+                  f"{band('hertz')} | {band('ch_converged')} | {band('ch_first_order')} |")
+    md += ["", "### The gap to Hertz of two half-planes, split", "",
+           "Moment half-width of the convective run relative to Hertz at the same load: total = S R - 1 = profile "
+           "S - 1 (the small run against Hertz: theory 0) + convective S (R - 1); the convective part = the converged "
+           "theory's S (R_ch - 1) + the remainder S (R - R_ch) (what the theory does not explain). S: the small run "
+           "over Hertz, extrapolated. A part within 3 U of zero is marked (below U).", "",
+           "| b0/R | beta | total | profile | convective (FEM) | convective (C-H converged; 1st order) | remainder |",
+           "|---|---|---|---|---|---|---|"]
+    for p in pts:
+        s = p.get("split")
+        if not s:
+            md.append(f"| {p['param']:g} | {p['beta']:+g} | not split: a value is missing (see the dropped list) "
+                      "| | | | |")
+            continue
+
+        def cell(k, s=s):
+            r = s[k]
+            used = abs(r["value"]) > 3.0 * r["uncertainty"]
+            return f"{_pct(r['value'])} +- {100 * r['uncertainty']:.1g} %" + ("" if used else " (below U)")
+
+        c = s["convective"]
+        md.append(f"| {p['param']:g} | {p['beta']:+g} | {cell('total')} | {cell('profile')} | {cell('convective')} "
+                  f"| {_pct(c['theory'])}; {_pct(c['theory_first_order'])} | {cell('remainder')} |")
+    return md
+
+
+def _dropped_param(d: dict) -> str:
+    if d.get("scene") == "halfplanes":
+        return f"b0/R = {d['param']:.4g}, beta = {d['beta']:+g}"
+    return f"{d['param']:.4g}"
 
 
 def report_markdown(data: dict) -> str:
@@ -118,7 +192,8 @@ def report_markdown(data: dict) -> str:
     md += _band_table(points, "cylinder")
     md += ["", "### Wedge", ""]
     md += _band_table(points, "wedge")
-    md += ["", "## Where the gap to classical theory comes from", "",
+    md += _hp_sections(points, cfg)
+    md += ["", "## Where the gap to classical theory comes from (rigid indenters)", "",
            "Moment half-width, relative to the classical value. total = complete model - 1 = profile + convective + "
            "traction (+ finite strain), exactly: profile = FEM(halfplane, small) - 1 (the exact circle against "
            "Hertz's parabola; its half-plane theory value beside it; 0 for the wedge), convective = "
@@ -152,7 +227,7 @@ def report_markdown(data: dict) -> str:
         md += ["| what | scene | parameter | nu | model / theory | quantity or level | reason |",
                "|---|---|---|---|---|---|---|"]
         for d in dropped:
-            md.append(f"| {d['what']} | {d['scene']} | {d['param']:.4g} | {d['nu']:g} | "
+            md.append(f"| {d['what']} | {d['scene']} | {_dropped_param(d)} | {d['nu']:g} | "
                       f"{d.get('model') or d.get('theory', '-')} | {d.get('quantity') or d.get('level', '-')} | "
                       f"{d['reason']} |")
     md += [""] + where_section(wall_time_s=s.get("wall_time_s"), records=data.get("runs", []), label=_run_label,
@@ -162,6 +237,8 @@ def report_markdown(data: dict) -> str:
 
 def _run_label(r: dict) -> str:
     t = r["task"]
+    if t["scene"] == "halfplanes":
+        return f"halfplanes b0/R={t['param']:.4g} beta={t['beta']:+g} {r['model']} {t['level']}"
     return f"{t['scene']} {t['param']:.4g} nu={t['nu']:g} {r['model']} {t['level']}"
 
 
