@@ -27,6 +27,7 @@ __all__ = [
     "wedge",
     "wedge_half_width",
     "wedge_load_from_half_width",
+    "wedge_moment_half_width",
     "wedge_pressure",
     "wedge_slope",
 ]
@@ -78,6 +79,15 @@ def wedge_half_width(P: float, m: float, E_star: float) -> float:
 def wedge_load_from_half_width(b: float, m: float, E_star: float) -> float:
     """Load P = E* m b (N/mm) that gives half-width b (mm)."""
     return _positive(E_star, "E_star", "MPa") * _positive(m, "m", "-") * _positive(b, "b", "mm")
+
+
+def wedge_moment_half_width(b: float) -> float:
+    """sqrt(M2/M0) of the classical wedge pressure of half-width b (mm): b / sqrt(6).
+
+    M0 = int p dx = pi b (E* m / pi) and M2 = int p x^2 dx = (pi b^3 / 6) (E* m / pi)
+    (int_0^1 s^k arccosh(1/s) ds = pi/2, pi/12 for k = 0, 2), so M2/M0 = b^2 / 6; Hertz's is a^2 / 4.
+    """
+    return _positive(b, "b", "mm") / math.sqrt(6.0)
 
 
 def wedge(P: float, m: float, E_star: float) -> WedgeContact:

@@ -127,8 +127,8 @@ def safeguarded_runs(zone: tuple, sign: tuple, fit: tuple) -> tuple:
     """The fitted runs ``fit`` with each edge checked against the prescribed runs ``zone`` and the sign-change
     runs ``sign`` of the iterate (one fitted run per sign run): an edge whose fit moves against the sign change
     (the pressure near a wrongly placed edge bends the fit) takes the sign change. Runs that do not correspond
-    one to one to the prescribed ones are taken as fitted."""
-    if len(zone) != len(sign):
+    one to one to the prescribed ones (or whose fit has another number of runs) are taken as fitted."""
+    if not len(zone) == len(sign) == len(fit):
         return fit
     out = []
     for (a, b), (ma, mb), (fa, fb) in zip(zone, sign, fit, strict=True):

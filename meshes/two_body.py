@@ -198,8 +198,9 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
 
 def build_profile_blocks(*, width: float, height: float, contact_half_width: float, h_contact: float,
                          size_ratio: float = 0.77, h_far: float | None = None, growth: float = 1.3,
-                         margin: float = 0.5, out_dir=DEFAULT_CACHE_DIR, name: str = "profile_blocks",
-                         write_xdmf: bool = False, stats_dir=None, comm=None) -> MeshFiles:
+                         margin: float = 0.5, apex_factor: float | None = None, out_dir=DEFAULT_CACHE_DIR,
+                         name: str = "profile_blocks", write_xdmf: bool = False, stats_dir=None,
+                         comm=None) -> MeshFiles:
     """Two graded blocks W x H, one above the other, flat at y = 0 (module docstring): two half-planes.
 
     Args:
@@ -208,8 +209,12 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
         h_contact: size on the lower block's contact window (mm); the upper block's is ``size_ratio h_contact``.
         size_ratio: in (0.2, 5), differing from 1 by >= 0.05 (non-matching meshes).
         h_far, growth, margin: as :func:`meshes.block.build_block_mesh`.
+        apex_factor: None, or a wedge's apex: both contact lines get a node at x = 0 and each block's size there
+            is ``apex_factor`` times its own contact size, growing away (as the block scene's apex refinement).
     """
     _positive(width=width, height=height, contact_half_width=contact_half_width, h_contact=h_contact)
+    if apex_factor is not None and not 0.0 < apex_factor <= 1.0:
+        raise ValueError(f"apex_factor must be in (0, 1], got {apex_factor}")
     if not (0.2 < size_ratio < 5.0) or abs(size_ratio - 1.0) < 0.05:
         raise ValueError(f"size_ratio must be in (0.2, 5) and differ from 1 by >= 0.05, got {size_ratio}")
     a = float(contact_half_width)
@@ -225,27 +230,37 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
     h_far, growth = gi.size(h_far), gi.size(growth)
     params = dict(width=W, height=H, a=a, b=b, h_contact=h_c, h_upper=h_u, h_far=h_far, growth=growth,
                   margin=float(margin), split=ARC_SPLIT)
+    if apex_factor is not None:  # only then: the parabola's meshes keep their cache keys
+        params["apex_factor"] = float(apex_factor)
 
     def make(gmsh):
         geo = gmsh.model.geo
 
         def block(y_far, split):
-            """A block between y = 0 and y_far, its y = 0 edge split at split[0] < split[1]; (surface, contact
-            lines, far edge, sides)."""
-            p = [geo.addPoint(-W / 2, 0.0, 0.0), geo.addPoint(split[0], 0.0, 0.0), geo.addPoint(split[1], 0.0, 0.0),
-                 geo.addPoint(W / 2, 0.0, 0.0), geo.addPoint(W / 2, y_far, 0.0), geo.addPoint(-W / 2, y_far, 0.0)]
-            near = [geo.addLine(p[0], p[1]), geo.addLine(p[1], p[2]), geo.addLine(p[2], p[3])]
-            right, far, left = geo.addLine(p[3], p[4]), geo.addLine(p[4], p[5]), geo.addLine(p[5], p[0])
+            """A block between y = 0 and y_far, its y = 0 edge split at split[0] < split[1] (and at x = 0 for a
+            wedge's apex); (surface, contact lines, refined lines, far edge, sides, apex point or None)."""
+            cuts = [split[0], 0.0, split[1]] if apex_factor is not None else list(split)
+            p = ([geo.addPoint(-W / 2, 0.0, 0.0)] + [geo.addPoint(x, 0.0, 0.0) for x in cuts]
+                 + [geo.addPoint(W / 2, 0.0, 0.0), geo.addPoint(W / 2, y_far, 0.0), geo.addPoint(-W / 2, y_far, 0.0)])
+            n = len(cuts) + 2
+            near = [geo.addLine(p[i], p[i + 1]) for i in range(n - 1)]
+            right, far, left = geo.addLine(p[n - 1], p[n]), geo.addLine(p[n], p[n + 1]), geo.addLine(p[n + 1], p[0])
             surf = geo.addPlaneSurface([geo.addCurveLoop([*near, right, far, left])])
-            return surf, near, far, [left, right]
+            return surf, near, near[1:-1], far, [left, right], (p[2] if apex_factor is not None else None)
 
-        low, top, bottom, low_sides = block(-H, (-b, b))
-        up, under, lid, up_sides = block(H, (-ARC_SPLIT[0] * b, ARC_SPLIT[1] * b))
+        low, top, top_window, bottom, low_sides, low_apex = block(-H, (-b, b))
+        up, under, under_window, lid, up_sides, up_apex = block(H, (-ARC_SPLIT[0] * b, ARC_SPLIT[1] * b))
         geo.synchronize()
-        fields = [growth_field(gmsh, h0=h_c, h_max=h_far, growth=growth, curves=[top[1]], curve_length=2 * b,
+        fields = [growth_field(gmsh, h0=h_c, h_max=h_far, growth=growth, curves=top_window, curve_length=2 * b,
                                sampling_size=gi.size(h_c / 4.0)),
-                  growth_field(gmsh, h0=h_u, h_max=h_far, growth=growth, curves=[under[1]],
+                  growth_field(gmsh, h0=h_u, h_max=h_far, growth=growth, curves=under_window,
                                curve_length=sum(ARC_SPLIT) * b, sampling_size=gi.size(h_u / 4.0))]
+        if apex_factor is not None:  # a field of its own per block, at its apex point (min with the window's)
+            for k, (h0, pt) in enumerate(((h_c, low_apex), (h_u, up_apex))):
+                apex = growth_field(gmsh, h0=gi.size(apex_factor * h0), h_max=h_far, growth=growth, points=[pt])
+                both = gmsh.model.mesh.field.add("Min")
+                gmsh.model.mesh.field.setNumbers(both, "FieldsList", [fields[k], apex])
+                fields[k] = both
         restricted = []
         for f, surf, curves in ((fields[0], low, top), (fields[1], up, under)):
             r = gmsh.model.mesh.field.add("Restrict")

@@ -150,10 +150,13 @@ def multiplier_basis(t: np.ndarray, degree: int) -> np.ndarray:
 
 
 def mortar_points(slave: SurfaceGeometry, master: SurfaceGeometry, *, n_gauss: int,
-                  cuts: tuple[float, ...] = ()) -> PairedPoints:
+                  cuts: tuple[float, ...] = (), kinks: np.ndarray | None = None) -> PairedPoints:
     """Mortar segments of every slave facet and ``n_gauss`` Gauss points on each (module docstring); ``cuts``:
-    extra facet parameters where the segments are cut (the kinks of the multiplier basis)."""
+    extra facet parameters where the segments are cut (the kinks of the multiplier basis); ``kinks``: (k, 2)
+    master points (mm) whose projections cut the slave facets as the master facet ends do (the kinks of the
+    master's exact profile, e.g. a wedge's apex: no Gauss segment straddles them)."""
     tg, wg = gauss_legendre_01(n_gauss)
+    kinks = np.zeros((0, 2)) if kinks is None else np.asarray(kinks, dtype=float).reshape(-1, 2)
     rows = []
     for k in range(slave.a.shape[0]):
         cand = _candidates(slave, master, k)
@@ -166,7 +169,8 @@ def mortar_points(slave: SurfaceGeometry, master: SurfaceGeometry, *, n_gauss: i
         cand, lo, hi = cand[keep], lo[keep], hi[keep]
         if cand.size == 0:
             continue
-        breaks = np.unique(np.clip(np.concatenate([[0.0, 1.0], list(cuts), lo, hi]), 0.0, 1.0))
+        tk = _project_params(slave, k, kinks)
+        breaks = np.unique(np.clip(np.concatenate([[0.0, 1.0], list(cuts), lo, hi, tk]), 0.0, 1.0))
         L = np.linalg.norm(slave.b[k] - slave.a[k])
         nu = slave.normal[k]
         for t0, t1 in zip(breaks[:-1], breaks[1:], strict=True):
@@ -227,6 +231,10 @@ class CircleSurface(NamedTuple):
         root = np.sqrt(np.maximum(self.radius**2 - dx * dx, 1e-300))
         return self.center[1] - root, dx / root, self.radius**2 / root**3
 
+    def kinks(self) -> np.ndarray:
+        """(0, 2): a circle has no kink."""
+        return np.zeros((0, 2))
+
     def ray_distance(self, X: np.ndarray, nu: np.ndarray, s_near: np.ndarray) -> np.ndarray:
         """Signed distances s along the rays ``X + s nu`` to the circle, the root nearest to ``s_near``."""
         c = np.asarray(self.center, dtype=float)
@@ -255,6 +263,11 @@ class ProfileSurface(NamedTuple):
         if self.kind == "parabola":
             return 0.5 * x * x / self.size, x / self.size, np.full_like(x, 1.0 / self.size)
         return self.size * np.abs(x), self.size * np.sign(x), np.zeros_like(x)
+
+    def kinks(self) -> np.ndarray:
+        """(k, 2) points of the master's flat face (mm) where h' jumps: the wedge's apex (0, 0); none for the
+        parabola. The mortar segments are cut at their projections (:func:`mortar_points`)."""
+        return np.array([[0.0, 0.0]]) if self.kind == "wedge" else np.zeros((0, 2))
 
     def ray_distance(self, X: np.ndarray, nu: np.ndarray, s_near: np.ndarray) -> np.ndarray:
         """Signed distances s along the rays ``X + s nu`` to ``y = h(x)`` (Newton from ``s_near``; exact in one

@@ -112,6 +112,9 @@ class MeshedPartner:
             or ``"profile"`` (Ciavarella and Hills's eq. (8): the reference pairing of small kinematics, the
             master's profile read at the convected abscissa: :mod:`fem.two_body.profile_convection`; needs
             ``master_surface`` and ``traction = "halfplane"``). The two coincide for a rigid master.
+        cut_kinks: mortar pairing: cut the slave's segments at the projections of ``master_surface.kinks()`` (a
+            wedge's apex), so that no Gauss segment straddles a jump of the profile's slope (False: for measuring
+            what the kink costs).
     """
 
     bodies: tuple[Body, Body]
@@ -125,6 +128,7 @@ class MeshedPartner:
     master_surface: object | None = None
     traction: str = "halfplane"
     convection: str = "pairing"
+    cut_kinks: bool = True
 
     analytic = False  # the load stepper's test for an analytic (Hertz-predictable) rigid obstacle
 
@@ -224,8 +228,9 @@ class TwoBodyProblem(NewtonControls):
         self.slave_geom = surface_of_group(self.mesh_data, st.slave)
         self.master_geom = surface_of_group(self.mesh_data, st.master)
         if st.pairing == "mortar":
+            kinks = st.master_surface.kinks() if st.master_surface is not None and st.cut_kinks else None
             pts = mortar_points(self.slave_geom, self.master_geom, n_gauss=opts.degree + 1,
-                                cuts=(0.5,) if opts.degree == 2 else ())
+                                cuts=(0.5,) if opts.degree == 2 else (), kinks=kinks)
         else:
             pts = node_points(self.slave_geom, self.master_geom, degree=opts.degree)
         pts = exact_master_gaps(pts, st.master_surface)

@@ -65,6 +65,7 @@ from typing import NamedTuple
 import numpy as np
 
 from analytic.subsurface import hertz_subsurface_stress, von_mises_plane_strain
+from analytic.wedge import wedge_moment_half_width
 from cases.schema import Case, Run
 from workbench.error_budget import (
     FORMAL_ORDER,
@@ -233,7 +234,7 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
         w_class = curve_moment_half_width(sol.x, sol.p_classical)
         # the theory's own error: its classical moment on the same grid against the closed form (wedge
         # b0/sqrt(6), parabola b0/2); measured 5.3e-6 (wedge, log apex) and 1.4e-9 (parabola)
-        exact_class = 1.0 / math.sqrt(6.0) if conv_fine.theory.kind == "wedge" else 0.5
+        exact_class = wedge_moment_half_width(1.0) if conv_fine.theory.kind == "wedge" else 0.5
         theory_err = abs(w_class - exact_class) / exact_class
         for key, q in (("b_over_b0", "half_width"), ("b_over_b0_moment", "moment")):
             fh, fw = series(lambda k, q=q: meas[lc][k][q] / meas[ls][k][q])
@@ -253,8 +254,8 @@ def case_error_budget(case: Case, *, solve, progress=print) -> tuple[dict, list 
             a_h = th.half_width
             suffix = "" if len(case.runs()) == 1 else f"[{run.label}]"
             if th.kind == "wedge":  # classical wedge: half-widths only (the peak is log-singular)
-                # p = (E* m / pi) arccosh(b/|x|): M0 = pi b, M2 = pi b^3 / 6, so 2 sqrt(M2/M0) = 2 b / sqrt(6)
-                theory = {"half_width": 1.0, "moment": 2.0 / math.sqrt(6.0)}
+                # p = (E* m / pi) arccosh(b/|x|): 2 sqrt(M2/M0) = 2 b / sqrt(6) (analytic.wedge)
+                theory = {"half_width": 1.0, "moment": 2.0 * wedge_moment_half_width(1.0)}
                 for q, name in (("half_width", "half_width"), ("moment", "half_width_moment")):
                     scale = 2.0 if q == "moment" else 1.0
                     fh, fw = series(lambda k, q=q, s=scale, m=meas[run.label]: s * m[k][q])

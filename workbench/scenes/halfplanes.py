@@ -3,8 +3,8 @@
 
 Reads top to bottom: estimate -> mesh (two graded blocks, flat at y = 0, non-matching: :func:`meshes.two_body.
 build_profile_blocks`) -> the meshed contact partner (the upper block, whose reference surface is the profile
-``y = X1^2 / (2 R)`` above its flat face: :class:`fem.two_body.geometry.ProfileSurface`) -> the solve -> comparison.
-Units mm, N, MPa.
+above its flat face, ``y = X1^2 / (2 R)`` or the wedge ``y = m |X1|``: :class:`fem.two_body.geometry.ProfileSurface`)
+-> the solve -> comparison. Units mm, N, MPa.
 
 * The lower block (the first ``[[body]]``, Ciavarella-Hills's body 2) is clamped at its bottom; the upper block (the
   second, their body 1, which carries the profile) is driven through its top (force control). Both are W x H
@@ -16,9 +16,16 @@ Units mm, N, MPa.
   ``convective`` kinematics a lower-surface point meets the upper body's material point at the same current
   abscissa, and the profile travels with that point: the relative tangential displacement of dissimilar
   materials enters the gap, which is Ciavarella and Hills's model (:mod:`fem.two_body.convective`).
-* Theory at the measured load: Hertz (small run); the converged Ciavarella-Hills solution at the bodies' beta
-  (:func:`analytic.materials.bimaterial`, body 1 the upper one) and b0/R, b0 Hertz's half-width at that load
-  (:func:`analytic.convective.solve`); its first-order closed form is the alternative the bands must exclude.
+* The wedge's apex: the profile's slope jumps at X1 = 0. With ``apex = "refined"`` (the default) both contact lines
+  have a node at x = 0, refined there as the block scene's apex, and the mortar segments are cut at the apex's
+  projection (:func:`fem.two_body.geometry.mortar_points`), so no Gauss segment straddles the kink. That is exact for
+  small kinematics; with the profile model the kink sits at X_m1 + delta = 0, and delta(0) = 0 by symmetry (the
+  relative tangential displacement is odd in x), up to the meshes' asymmetry.
+* Theory at the measured load: the classical solution at E* (small run): Hertz (parabola) or the wedge
+  (:mod:`analytic.wedge`: b = P / (E* m), the peak log-singular: half-widths and RMS only); the converged
+  Ciavarella-Hills solution at the bodies' beta (:func:`analytic.materials.bimaterial`, body 1 the upper one) and
+  b0/R (parabola) or m (wedge), b0 the classical half-width at that load (:func:`analytic.convective.solve`); its
+  first-order closed form is the alternative the bands must exclude.
   b/b0 is measured as the block scene's (:func:`workbench.scenes.convective.fem_b_over_b0`): each run's half-width
   over Hertz's at its own measured load, convective over small; both in the lower body's material abscissa.
 """
@@ -31,7 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from analytic import convective, materials
+from analytic import convective, materials, wedge
 from analytic.hertz import hertz, hertz_load_from_half_width, hertz_pressure
 from cases.schema import Case, Run
 from measures.contact import moment_half_width, rms_error
@@ -40,20 +47,66 @@ from workbench.scenes.budget_theory import curve_moment_half_width
 from workbench.scenes.halfplanes_schema import HALFPLANES_SCHEMA
 from workbench.scenes.two_body import SOLVER_DEFAULTS
 
-__all__ = ["HalfplanesScene", "HalfplanesTheory", "bimaterial_of", "convective_theory"]
+APEX_FACTOR = 0.25  # a wedge's apex: element size over the contact size (as the block scene's apex_factor)
+
+__all__ = ["HalfplanesScene", "HalfplanesTheory", "bimaterial_of", "classical_theory", "convective_theory",
+           "profile_size"]
 
 
 class HalfplanesTheory(NamedTuple):
-    """Hertz at a run's measured load (mm, N/mm, MPa): ``kind``, ``P``, ``R``, ``E_star``, ``half_width`` b0,
-    ``p_ref`` p0, and Dundurs' ``beta`` of the bodies."""
+    """The classical solution at a run's measured load and E* (mm, N/mm, MPa).
+
+    Attributes:
+        kind: the profile, ``"parabola"`` (Hertz) or ``"wedge"``.
+        P: load (N/mm).  R: the parabola's radius (mm; None for the wedge).  m: the wedge's face slope (None for
+            the parabola).  E_star: E* (MPa).  half_width: b0 (mm).
+        p_ref: Hertz's peak p0, or the wedge's mean pressure P / (2 b0) (the RMS reference; MPa).
+        beta: Dundurs' beta of the bodies.
+        moment: the classical moment half-width 2 sqrt(M2/M0) (mm): b0 (Hertz), 2 b0 / sqrt(6) (wedge).
+    """
 
     kind: str
     P: float
-    R: float
+    R: float | None
     E_star: float
     half_width: float
     p_ref: float
     beta: float
+    m: float | None = None
+    moment: float = math.nan
+
+    def pressure(self, x: np.ndarray) -> np.ndarray:
+        """The classical pressure (MPa) at x (mm); the wedge's is +inf at its apex."""
+        if self.kind == "wedge":
+            return wedge.wedge_pressure(x, b=self.half_width, m=self.m, E_star=self.E_star)
+        return hertz_pressure(x, a=self.half_width, p0=self.p_ref)
+
+    @property
+    def name(self) -> str:
+        """The classical solution's name (plots and tables)."""
+        return "classical wedge" if self.kind == "wedge" else "Hertz"
+
+
+def profile_size(run: Run) -> float:
+    """The profile's size, as :class:`fem.two_body.geometry.ProfileSurface` takes it: R (mm) or the slope m."""
+    g = run.geometry
+    if g.indenter == "wedge":
+        return wedge.wedge_slope(g.wedge_angle, convention=g.wedge_slope)
+    return g.radius
+
+
+def classical_theory(run: Run, P: float) -> HalfplanesTheory:
+    """The classical solution of a run's profile at load P (N/mm) and the bodies' E* (small kinematics: beta does
+    not enter)."""
+    bm, kind = bimaterial_of(run), run.geometry.indenter
+    if kind == "wedge":
+        m = profile_size(run)
+        b = wedge.wedge_half_width(P, m, bm.E_star)
+        return HalfplanesTheory(kind, P, None, bm.E_star, b, P / (2.0 * b), bm.beta, m,
+                                2.0 * wedge.wedge_moment_half_width(b))
+    hz = hertz(P, run.geometry.radius, bm.E_star)
+    return HalfplanesTheory(kind, P, run.geometry.radius, bm.E_star, hz.half_width, hz.p0, bm.beta, None,
+                            hz.half_width)
 
 
 class HalfplanesComparison(NamedTuple):
@@ -70,23 +123,27 @@ def bimaterial_of(run: Run) -> materials.Bimaterial:
     return materials.bimaterial(E1=upper.E, nu1=upper.nu, E2=lower.E, nu2=lower.nu)
 
 
-def convective_theory(outcome: Outcome, *, n_plot: int = 8001) -> convective.ConvectiveSolution:
-    """Ciavarella-Hills at a run's beta and b0/R (b0: Hertz at its measured load)."""
-    th = outcome.theory
-    return convective.solve(convective.parabola_profile(th.half_width / th.R), beta=th.beta, n_plot=n_plot)
+def convective_theory(theory: HalfplanesTheory, *, n_plot: int = 8001) -> convective.ConvectiveSolution:
+    """Ciavarella-Hills at a run's beta and profile: the wedge's m, or the parabola's b0/R (b0 classical at its
+    measured load)."""
+    profile = (convective.wedge_profile(theory.m) if theory.kind == "wedge"
+               else convective.parabola_profile(theory.half_width / theory.R))
+    return convective.solve(profile, beta=theory.beta, n_plot=n_plot)
 
 
 def _estimate(run: Run) -> tuple[float, float]:
-    """(P target in N/mm, Hertz half-width b0 in mm)."""
+    """(P target in N/mm, classical half-width b0 in mm)."""
     g, ld = run.geometry, run.loading
-    E_star = bimaterial_of(run).E_star
+    E_star, size = bimaterial_of(run).E_star, profile_size(run)
     if ld.half_width is not None:
-        return hertz_load_from_half_width(ld.half_width, g.radius, E_star), ld.half_width
-    return ld.P, math.sqrt(4.0 * ld.P * g.radius / (math.pi * E_star))
+        if g.indenter == "wedge":
+            return wedge.wedge_load_from_half_width(ld.half_width, size, E_star), ld.half_width
+        return hertz_load_from_half_width(ld.half_width, size, E_star), ld.half_width
+    return ld.P, classical_theory(run, ld.P).half_width
 
 
 class HalfplanesScene:
-    """Two elastic half-planes with a parabolic gap profile (module docstring)."""
+    """Two elastic half-planes with a parabolic or wedge gap profile (module docstring)."""
 
     name = "halfplanes"
     schema = HALFPLANES_SCHEMA
@@ -110,9 +167,10 @@ class HalfplanesScene:
         g, disc = run.geometry, run.discretisation
         stem = f"{name}_{run.label}".replace("/", "_").replace("=", "_")
         P, a0 = _estimate(run)
+        apex = APEX_FACTOR if g.indenter == "wedge" and g.apex == "refined" else None
         files = build_profile_blocks(width=g.width_factor * a0, height=g.height_factor * a0, contact_half_width=a0,
                                      h_contact=disc.h_contact * a0, size_ratio=g.size_ratio, growth=disc.growth,
-                                     out_dir=mesh_cache, name=stem, stats_dir=stats_dir, comm=comm)
+                                     apex_factor=apex, out_dir=mesh_cache, name=stem, stats_dir=stats_dir, comm=comm)
         cells = files.stats.get("cells", "?")
         return SceneMesh(files, {"P": P, "half_width": a0},
                          f"mesh {cells} cells ({'cached' if files.cached else 'built'}), b0 = {a0:.4g} mm, "
@@ -128,7 +186,8 @@ class HalfplanesScene:
                                      Body(name="upper", E=upper.E, nu=upper.nu, label=upper.name)),
                              slave="contact_lower", master="contact_upper", driven="driven", driven_body="upper",
                              driven_components=(0, 1), pairing=g.pairing, traction="halfplane", convection=g.convection,
-                             master_surface=ProfileSurface(g.indenter, g.radius))
+                             master_surface=ProfileSurface(g.indenter, profile_size(run)),
+                             cut_kinks=g.indenter != "wedge" or g.apex != "none")
 
     def load_path(self, run: Run, mesh: SceneMesh) -> LoadPath:
         return LoadPath("force", mesh.estimate["P"], run.loading.steps, supports={"clamped": "clamped"},
@@ -137,44 +196,46 @@ class HalfplanesScene:
     def compare(self, run: Run, result, mesh: SceneMesh, *, progress) -> Outcome:
         g, smp = run.geometry, result.samples
         bm = bimaterial_of(run)
-        hz = hertz(result.P, g.radius, bm.E_star)
-        theory = HalfplanesTheory(g.indenter, result.P, g.radius, bm.E_star, hz.half_width, hz.p0, bm.beta)
+        th = classical_theory(run, result.P)
         main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
         cmp = HalfplanesComparison(main.half_width if main else math.nan,
                                    moment_half_width(smp.s, smp.p, smp.weight, center=0.0) if main else math.nan,
                                    main.p_max if main else math.nan)
-        p_th = hertz_pressure(smp.s, a=hz.half_width, p0=hz.p0)
-        vs_hertz = {"p_max": abs(cmp.p_max / hz.p0 - 1.0), "half_width": abs(cmp.half_width / hz.half_width - 1.0),
-                    "half_width_moment": abs(2.0 * cmp.moment / hz.half_width - 1.0),
-                    "rms": rms_error(smp.s, smp.p, p_th, center=0.0,
-                                     half_width=max(hz.half_width, cmp.half_width if main else 0.0), p_ref=hz.p0)}
-        if run.solver.kinematics == "convective":  # Hertz ignores what this run measures: for information only
-            vs_hertz = {f"{k}_vs_classical": v for k, v in vs_hertz.items()}
+        p_th = th.pressure(smp.s)
+        signed = {"half_width": cmp.half_width / th.half_width - 1.0,
+                  "half_width_moment": 2.0 * cmp.moment / th.moment - 1.0}
+        if th.kind == "parabola":  # the wedge's peak is log-singular: no p_max
+            signed = {"p_max": cmp.p_max / th.p_ref - 1.0} | signed
+        vs_classical = {k: abs(v) for k, v in signed.items()} | {
+            "rms": rms_error(smp.s, smp.p, p_th, center=0.0,
+                             half_width=max(th.half_width, cmp.half_width if main else 0.0), p_ref=th.p_ref)}
+        if run.solver.kinematics == "convective":  # the classical solution ignores what this run measures: info only
+            vs_classical = {f"{k}_vs_classical": v for k, v in vs_classical.items()}
         errors = {"load_balance": abs(result.P - result.P_pressure) / abs(result.P),
-                  "newton_iterations": float(max(result.newton_iterations, default=0))} | vs_hertz
+                  "newton_iterations": float(max(result.newton_iterations, default=0))} | vs_classical
+        profile = {"b0_over_R": th.half_width / th.R} if th.kind == "parabola" else {"m": th.m}
         metrics = {
             "label": run.label, "scene": "halfplanes", "indenter": g.indenter, "pairing": g.pairing,
             "method": run.solver.method, "kinematics": run.solver.kinematics, "traction": "halfplane",
             "convection": g.convection if run.solver.kinematics == "convective" else None,
             "nu": run.material.nu, "bodies": {b.name: {"role": role, "E": b.E, "nu": b.nu, "model": b.model}
                                               for b, role in zip(run.bodies, ("lower", "upper"), strict=True)},
-            "alpha": bm.alpha, "beta": bm.beta, "b0_over_R": hz.half_width / g.radius, "E_star": bm.E_star,
+            "alpha": bm.alpha, "beta": bm.beta, **profile, "E_star": bm.E_star,
             "degree": run.discretisation.degree, "h_contact": run.discretisation.h_contact, "ndofs": result.ndofs,
             "wall_time_s": result.wall_time_s, "newton_iterations": list(result.newton_iterations),
             "load_steps": result.load_steps, "d": result.d, "P": result.P, "P_pressure": result.P_pressure,
             "patches": [pt._asdict() for pt in result.patches], "warnings": list(result.warnings),
             "p_max": cmp.p_max, "patch_half_width": cmp.half_width, "half_width_moment": 2.0 * cmp.moment,
-            "analytic": {"kind": "hertz", "P": result.P, "R": g.radius, "E_star": bm.E_star, "beta": bm.beta,
-                         "half_width": hz.half_width, "p0": hz.p0,
-                         "signed": {"p_max": cmp.p_max / hz.p0 - 1.0,
-                                    "half_width": cmp.half_width / hz.half_width - 1.0,
-                                    "half_width_moment": 2.0 * cmp.moment / hz.half_width - 1.0}},
+            "analytic": {"kind": "hertz" if th.kind == "parabola" else "wedge", "P": result.P, "E_star": bm.E_star,
+                         "beta": bm.beta, "half_width": th.half_width, "half_width_moment": th.moment,
+                         **({"R": th.R, "p0": th.p_ref} if th.kind == "parabola" else {"m": th.m, "p_mean": th.p_ref}),
+                         "signed": signed},
             "errors": errors, "mesh": mesh.files.stats,
         }
-        lim = 1.6 * hz.half_width
-        series = Series(run.label, smp.s, smp.p, smp.sigma_nn, {"Hertz (at measured P, E*)": p_th},
+        lim = 1.6 * th.half_width
+        series = Series(run.label, smp.s, smp.p, smp.sigma_nn, {f"{th.name} (at measured P, E*)": p_th},
                         "x (mm, lower body's material)", (-lim, lim), weight=smp.weight, q=smp.q)
-        return Outcome(run.label, run, metrics, [series], theory, cmp, result)
+        return Outcome(run.label, run, metrics, [series], th, cmp, result)
 
     def judge(self, case: Case, outcomes: list[Outcome]) -> CaseComparison:
         """b/b0 of the convective run over the small one against Ciavarella-Hills at the bodies' beta."""
@@ -184,11 +245,11 @@ class HalfplanesScene:
         if not {"small", "convective"} <= set(by_kin):
             return CaseComparison({}, {}, bodies.strip(), {})
         small, conv = by_kin["small"], by_kin["convective"]
-        sol = convective_theory(conv)
-        ratio = (conv.comparison.half_width / conv.theory.half_width) / (small.comparison.half_width
-                                                                          / small.theory.half_width)
-        ratio_m = (conv.comparison.moment / conv.theory.half_width) / (small.comparison.moment
-                                                                      / small.theory.half_width)
+        th = conv.theory
+        sol = convective_theory(th)
+        ratio = (conv.comparison.half_width / th.half_width) / (small.comparison.half_width
+                                                                / small.theory.half_width)
+        ratio_m = (conv.comparison.moment / th.half_width) / (small.comparison.moment / small.theory.half_width)
         rows = [("FEM (convective / small, same load), edge", ratio),
                 ("FEM, moment half-widths", ratio_m),
                 ("first order (closed form)", sol.b_over_b0_first_order),
@@ -201,18 +262,19 @@ class HalfplanesScene:
         table += ["", "| moment ratio (2 sqrt(M2/M0), convective over classical) | value |", "|---|---|",
                   f"| FEM | {ratio_m:.5f} |", f"| first order | {moment_first:.5f} |",
                   f"| converged | {moment_theory:.5f} |"]
-        th = conv.theory
         sr = conv.series[0]
         p_conv = np.interp(sr.x, sol.x * th.half_width, sol.p_converged * th.P / th.half_width)
         sr.predictions["Ciavarella-Hills (converged)"] = p_conv
         rms_conv = rms_error(sr.x, sr.p, p_conv, center=0.0, half_width=conv.comparison.half_width, p_ref=th.p_ref)
-        analytic = {"beta": sol.beta, "alpha": conv.metrics["alpha"], "b0_over_R": th.half_width / th.R,
+        profile = ({"b0_over_R": th.half_width / th.R} if th.kind == "parabola" else {"m": th.m})
+        analytic = {"beta": sol.beta, "alpha": conv.metrics["alpha"], **profile,
                     "b_over_b0_first_order": sol.b_over_b0_first_order,
                     "b_over_b0_first_iterate": sol.b_over_b0_first_iterate,
                     "b_over_b0_converged": sol.b_over_b0_converged, "b_over_b0_fem": ratio,
                     "b_over_b0_moment_fem": ratio_m, "b_over_b0_moment_converged": moment_theory,
                     "b_over_b0_moment_first_order": moment_first, "convection": conv.metrics["convection"]}
-        headline = (f"Two half-planes, beta = {sol.beta:+.4f}, b0/R = {th.half_width / th.R:.4g}, convection "
+        shape = f"b0/R = {th.half_width / th.R:.4g}" if th.kind == "parabola" else f"wedge m = {th.m:.6g}"
+        headline = (f"Two half-planes, beta = {sol.beta:+.4f}, {shape}, convection "
                     f"{conv.metrics['convection']!r}: moment ratio b/b0 FEM {ratio_m:.5f}, converged Ciavarella-Hills "
                     f"{moment_theory:.5f}, first order {moment_first:.5f} (edges: FEM {ratio:.5f}, theory "
                     f"{sol.b_over_b0_converged:.5f})." + bodies)

@@ -10,22 +10,25 @@ is O(b0/W), extrapolated in 1/W where that study is asymptotic.
 Rows (dimensionless):
 
 * ``b_over_b0`` and ``b_over_b0_moment``: the convective run over the small run at the same load (edges; moment
-  half-widths), each half-width over Hertz's at its own measured load. Theory: converged Ciavarella-Hills at the
-  bodies' beta and the fine run's b0/R; alternative: the first-order theory (its closed form for the edge, the
-  moment ratio of its pressure for the moments). The theory's moments are taken on its fine plot grid:
-  ``theory_uncertainty`` is that grid's error on the classical moment (closed form b0/2).
-* ``p_max``, ``half_width``, ``half_width_moment`` of the small run over Hertz (theory 1: the normal problem of
-  two half-planes with small kinematics does not depend on beta).
+  half-widths), each half-width over the classical one at its own measured load. Theory: converged Ciavarella-Hills
+  at the bodies' beta and the fine run's b0/R (parabola) or m (wedge); alternative: the first-order theory (its
+  closed form for the edge, the moment ratio of its pressure for the moments). The theory's moments are taken on
+  its fine plot grid: ``theory_uncertainty`` is that grid's error on the classical moment (closed forms b0/2,
+  b0/sqrt(6): :func:`analytic.wedge.wedge_moment_half_width`).
+* ``half_width``, ``half_width_moment`` (and, parabola only, ``p_max``: the wedge's peak is log-singular) of the
+  small run over the classical solution (Hertz or the wedge at E*; theory 1: the normal problem of two
+  half-planes with small kinematics does not depend on beta).
 """
 
 from __future__ import annotations
 
-from analytic import convective
+from analytic import wedge
 from cases.schema import Case
 from workbench.error_budget import FORMAL_ORDER, FORMAL_ORDER_EDGE, tight_resolve
 from workbench.scenes.base import SceneBudget
 from workbench.scenes.budget_rows import budget_row, with_grid
 from workbench.scenes.budget_theory import curve_moment_half_width
+from workbench.scenes.halfplanes import convective_theory
 
 __all__ = ["halfplanes_error_budget"]
 
@@ -33,10 +36,9 @@ _TITLE = "Error budget (three grids, three block sizes of both half-planes)"
 _THEORY_N_PLOT = 64001
 
 
-def _hertz_ratios(o) -> dict[str, float]:
-    s = o.metrics["analytic"]["signed"]
-    return {"p_max": 1.0 + s["p_max"], "half_width": 1.0 + s["half_width"],
-            "half_width_moment": 1.0 + s["half_width_moment"]}
+def _classical_ratios(o) -> dict[str, float]:
+    """The small run over the classical solution: half_width, half_width_moment (and p_max: parabola only)."""
+    return {k: 1.0 + v for k, v in o.metrics["analytic"]["signed"].items()}
 
 
 def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
@@ -63,13 +65,15 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
     if small is not None:
         def hz(key):
             o = small[key]
-            return None if o is None else _hertz_ratios(o) | {f"alt {q}": 1.0 for q in _hertz_ratios(o)}
+            return None if o is None else _classical_ratios(o) | {f"alt {q}": 1.0 for q in _classical_ratios(o)}
 
         by_h = [hz((h, W_max)) for h in levels]
         by_W = {W: hz((h_fine, W)) for W in widths}
-        for q in ("p_max", "half_width", "half_width_moment"):
+        classical = small[(h_fine, W_max)].theory
+        for q in _classical_ratios(small[(h_fine, W_max)]):
             rows[q] = budget_row(q, levels, widths, by_h, by_W, hz("tight"), tight_note=small["tight_note"],
-                                 theory=1.0, theory_name="hertz (E*, measured load)", alt_name="hertz",
+                                 theory=1.0, theory_name=f"{classical.name} (E*, measured load)",
+                                 alt_name=classical.name,
                                  formal_order=FORMAL_ORDER_EDGE if q == "half_width" else FORMAL_ORDER)
             for key in ("alt_theory", "alt_value", "alt_in_band"):
                 rows[q].pop(key)
@@ -77,10 +81,11 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
     if small is not None and conv is not None:
         fine = conv[(h_fine, W_max)]
         th = fine.theory
-        sol = convective.solve(convective.parabola_profile(th.half_width / th.R), beta=th.beta, n_plot=_THEORY_N_PLOT)
+        sol = convective_theory(th, n_plot=_THEORY_N_PLOT)
         w_conv = curve_moment_half_width(sol.x, sol.p_converged)
         w_class = curve_moment_half_width(sol.x, sol.p_classical)
-        theory_err = abs(w_class - 0.5) / 0.5
+        exact_class = wedge.wedge_moment_half_width(1.0) if th.kind == "wedge" else 0.5  # Hertz: a/2
+        theory_err = abs(w_class - exact_class) / exact_class
         theory = {"half_width": sol.b_over_b0_converged, "moment": w_conv / w_class}
         alt = {"half_width": sol.b_over_b0_first_order,
                "moment": curve_moment_half_width(sol.x, sol.p_first_order) / w_class}
@@ -103,6 +108,6 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
                                    alt_name="first order", theory_uncertainty=theory_err if q == "moment" else None,
                                    formal_order=FORMAL_ORDER_EDGE if q == "half_width" else FORMAL_ORDER)
             rows[key]["beta"] = th.beta
-            rows[key]["b0_over_R"] = th.half_width / th.R
+            rows[key] |= {"b0_over_R": th.half_width / th.R} if th.kind == "parabola" else {"m": th.m}
     return SceneBudget(rows, title=_TITLE)
 

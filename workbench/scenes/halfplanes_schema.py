@@ -11,6 +11,7 @@ Units: mm, N, MPa.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from cases.schema import CaseError, Geometry, Run, SceneSchema
@@ -18,7 +19,8 @@ from workbench.scenes.two_body_schema import PAIRINGS, TWO_BODY_METHODS
 
 __all__ = ["BODY_ROLES", "HALFPLANES_SCHEMA", "HalfplanesGeometry", "PROFILES"]
 
-PROFILES = ("parabola",)
+PROFILES = ("parabola", "wedge")
+APEX = ("refined", "cut", "none")  # a wedge's apex (HalfplanesGeometry.apex)
 CONVECTIONS = ("profile", "pairing")  # fem.two_body.problem.CONVECTIONS (the scene layer may not import fem)
 BODY_ROLES = ("first: the lower, flat body (Ciavarella-Hills's body 2; slave surface, held at its bottom)",
               "second: the upper body that carries the profile (their body 1; master surface, driven through its top)")
@@ -26,10 +28,19 @@ BODY_ROLES = ("first: the lower, flat body (Ciavarella-Hills's body 2; slave sur
 
 @dataclass(frozen=True)
 class HalfplanesGeometry(Geometry):
-    """Geometry of the two-half-planes scene (``scene = "halfplanes"``, ``indenter = "parabola"``).
+    """Geometry of the two-half-planes scene (``scene = "halfplanes"``, ``indenter = "parabola"`` or ``"wedge"``).
 
     Attributes:
-        radius: R (mm): the upper body's reference surface is ``y = X1^2 / (2 R)`` above its flat face.
+        radius: parabola: R (mm): the upper body's reference surface is ``y = X1^2 / (2 R)`` above its flat face.
+        wedge_angle: wedge: the external angle theta (rad), 0 < theta < pi/2; the reference surface is
+            ``y = m |X1|`` with the face slope m of ``wedge_slope`` (as the block scene's wedge).
+        wedge_slope: wedge: ``"exact"`` (m = tan(theta)) or ``"paper"`` (m = theta, Ciavarella and Hills's
+            small-angle slope). The profile is analytic here (not meshed), so either is the exact h = m |x| of the
+            half-plane theory; the choice only names m.
+        apex: wedge: how the slope's jump at X1 = 0 is integrated: ``"refined"`` (both contact lines get a node at
+            x = 0, refined there to a quarter of their contact size, and the mortar segments are cut at the
+            apex's projection), ``"cut"`` (the segments cut, the plain meshes) or ``"none"`` (neither: Gauss
+            segments straddle the kink; for measuring what it costs, docs/models.md).
         width_factor, height_factor: each block's W and H over the classical half-width b0 (>= 10).
         pairing: ``"mortar"`` (segment-to-segment) or ``"node_to_segment"``.
         size_ratio: the upper body's element size over the lower body's on the contact (not 1).
@@ -41,6 +52,9 @@ class HalfplanesGeometry(Geometry):
     """
 
     radius: float | None = None
+    wedge_angle: float | None = None
+    wedge_slope: str = "exact"
+    apex: str = "refined"
     width_factor: float = 160.0
     height_factor: float = 160.0
     pairing: str = "mortar"
@@ -48,10 +62,16 @@ class HalfplanesGeometry(Geometry):
     convection: str = "profile"
 
 
+_COMMON = frozenset({"width_factor", "height_factor", "pairing", "size_ratio", "convection"})
+
+
 def _check_geometry(run: Run, where: str) -> None:
     g, sol = run.geometry, run.solver
-    if g.radius is None:
-        raise CaseError(f"{where}: geometry.radius is required for the two-half-planes {g.indenter} scene")
+    if g.indenter == "parabola" and g.radius is None:
+        raise CaseError(f"{where}: geometry.radius is required for the two-half-planes parabola scene")
+    if g.indenter == "wedge" and g.wedge_angle is None:
+        raise CaseError(f"{where}: geometry.wedge_angle is required for the two-half-planes wedge scene; "
+                        "allowed: 0 < wedge_angle < pi/2 (rad)")
     if sol.kinematics not in ("small", "convective"):
         raise CaseError(f"{where}: solver.kinematics = {sol.kinematics!r} is not available for two elastic "
                         "half-planes; allowed: 'small', 'convective'")
@@ -85,24 +105,26 @@ def _check_case(case, runs, where: str) -> None:
 HALFPLANES_SCHEMA = SceneSchema(
     name="halfplanes",
     geometry=HalfplanesGeometry,
-    indenters={"parabola": frozenset({"radius", "width_factor", "height_factor", "pairing", "size_ratio",
-                                           "convection"})},
-    predictions={"parabola": ("hertz", "convective")},
+    indenters={"parabola": frozenset({"radius"} | _COMMON),
+               "wedge": frozenset({"wedge_angle", "wedge_slope", "apex"} | _COMMON)},
+    predictions={"parabola": ("hertz", "convective"), "wedge": ("wedge", "convective")},
     controls=("force",),
-    choices={"pairing": PAIRINGS, "convection": CONVECTIONS},
-    ranges={"size_ratio": (0.2, 5.0, False, False, "0.2 < size_ratio < 5, not 1"),
+    choices={"pairing": PAIRINGS, "convection": CONVECTIONS, "wedge_slope": ("exact", "paper"), "apex": APEX},
+    ranges={"wedge_angle": (0.0, math.pi / 2, False, False, "0 < wedge_angle < pi/2 (rad)"),
+            "size_ratio": (0.2, 5.0, False, False, "0.2 < size_ratio < 5, not 1"),
             "radius": (0.0, 1e8, False, True, "0 < radius <= 1e8 (mm)"),
             "width_factor": (10.0, 1e6, True, True, "10 <= width_factor <= 1e6"),
             "height_factor": (10.0, 1e6, True, True, "10 <= height_factor <= 1e6")},
     tolerances={
         "load_balance": "|P - P_pressure| / P",
-        "p_max": "small run: peak pressure against Hertz at the measured load and E* (relative)",
-        "half_width": "small run: contact half-width against Hertz (relative)",
-        "half_width_moment": "small run: moment half-width 2 sqrt(M2/M0) against Hertz's a (relative)",
-        "rms": "small run: RMS(p - p_Hertz) / p0 over the contact",
+        "p_max": "small run, parabola: peak pressure against Hertz at the measured load and E* (relative)",
+        "half_width": "small run: contact half-width against the classical one (Hertz; wedge b = P / (E* m))",
+        "half_width_moment": "small run: moment half-width 2 sqrt(M2/M0) against the classical one (Hertz's a; "
+                             "the wedge's 2 b / sqrt(6)) (relative)",
+        "rms": "small run: RMS(p - p_classical) / p_ref over the contact (p_ref: Hertz's p0; the wedge's P / (2 b))",
         "b_over_b0": "FEM b/b0 of the edges (convective over small, same load) against converged Ciavarella-Hills",
         "b_over_b0_moment": "FEM moment ratio b/b0 (2 sqrt(M2/M0)) against converged Ciavarella-Hills's (relative)",
-        "rms_convective": "convective run: RMS(p - p_Ciavarella-Hills) / p0 over the contact",
+        "rms_convective": "convective run: RMS(p - p_Ciavarella-Hills) / p_ref over the contact",
         "newton_iterations": "largest number of Newton iterations of a load step (absolute)",
     },
     band_quantities=("p_max", "half_width", "half_width_moment", "b_over_b0", "b_over_b0_moment"),
