@@ -44,6 +44,16 @@ __all__ = ["build_stacked_blocks", "build_cylinder_on_block", "build_profile_blo
 ARC_SPLIT = (1.0, 1.17)
 
 
+def _far_size(*, ratio_name: str, ratio: float, width: float, h_contact: float, h_far: float | None,
+              growth: float) -> float:
+    """Check the two sides' size ratio (non-matching meshes) and the grading; the far size h_far (mm, default W/10)."""
+    if not (0.2 < ratio < 5.0) or abs(ratio - 1.0) < 0.05:
+        raise ValueError(f"{ratio_name} must be in (0.2, 5) and differ from 1 by >= 0.05, got {ratio}")
+    h_far = max(width / 10.0 if h_far is None else float(h_far), h_contact)
+    validate_common(h_contact=h_contact, h_far=h_far, growth=growth)
+    return h_far
+
+
 def _positive(**vals) -> None:
     for arg, val in vals.items():
         if not (val > 0.0 and math.isfinite(val)):
@@ -118,12 +128,9 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
     """
     _positive(radius=radius, width=width, height=height, contact_half_width=contact_half_width,
               h_contact=h_contact)
-    if not (0.2 < disk_size_ratio < 5.0) or abs(disk_size_ratio - 1.0) < 0.05:
-        raise ValueError(f"disk_size_ratio must be in (0.2, 5) and differ from 1 by >= 0.05, got {disk_size_ratio}")
+    h_far = _far_size(ratio_name="disk_size_ratio", ratio=disk_size_ratio, width=width, h_contact=h_contact,
+                      h_far=h_far, growth=growth)
     a = float(contact_half_width)
-    h_far = width / 10.0 if h_far is None else float(h_far)
-    h_far = max(h_far, h_contact)
-    validate_common(h_contact=h_contact, h_far=h_far, growth=growth)
     b = a * (1.0 + margin)
     if not width / 2.0 > b or not radius > ARC_SPLIT[1] * b:
         raise ValueError(f"width / 2 must be > a (1 + margin) = {b} (mm) and radius > {ARC_SPLIT[1] * b} (mm)")
@@ -215,12 +222,9 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
     _positive(width=width, height=height, contact_half_width=contact_half_width, h_contact=h_contact)
     if apex_factor is not None and not 0.0 < apex_factor <= 1.0:
         raise ValueError(f"apex_factor must be in (0, 1], got {apex_factor}")
-    if not (0.2 < size_ratio < 5.0) or abs(size_ratio - 1.0) < 0.05:
-        raise ValueError(f"size_ratio must be in (0.2, 5) and differ from 1 by >= 0.05, got {size_ratio}")
+    h_far = _far_size(ratio_name="size_ratio", ratio=size_ratio, width=width, h_contact=h_contact, h_far=h_far,
+                      growth=growth)
     a = float(contact_half_width)
-    h_far = width / 10.0 if h_far is None else float(h_far)
-    h_far = max(h_far, h_contact)
-    validate_common(h_contact=h_contact, h_far=h_far, growth=growth)
     if not width / 2.0 > ARC_SPLIT[1] * a * (1.0 + margin):
         raise ValueError(f"width / 2 must be > {ARC_SPLIT[1]} a (1 + margin) = {ARC_SPLIT[1] * a * (1 + margin)} (mm)")
     gi = GmshInputs(scale=max(width, height))
