@@ -28,7 +28,7 @@ from workbench.error_budget import FORMAL_ORDER, FORMAL_ORDER_EDGE, tight_resolv
 from workbench.scenes.base import SceneBudget
 from workbench.scenes.budget_rows import budget_row, with_grid
 from workbench.scenes.budget_theory import curve_moment_half_width
-from workbench.scenes.halfplanes import convective_theory
+from workbench.scenes.halfplanes_theory import convective_theory
 
 __all__ = ["halfplanes_error_budget"]
 
