@@ -54,6 +54,19 @@ def _far_size(*, ratio_name: str, ratio: float, width: float, h_contact: float, 
     return h_far
 
 
+def _restricted(gmsh, fields) -> list[int]:
+    """Each size field ``(field, surface, curves)`` restricted to its own body (the surface and its bounding
+    curves), so that one body's refinement does not reach the other's: the Restrict fields' tags."""
+    out = []
+    for f, surf, curves in fields:
+        r = gmsh.model.mesh.field.add("Restrict")
+        gmsh.model.mesh.field.setNumber(r, "InField", f)
+        gmsh.model.mesh.field.setNumbers(r, "SurfacesList", [surf])
+        gmsh.model.mesh.field.setNumbers(r, "CurvesList", list(curves))
+        out.append(r)
+    return out
+
+
 def _positive(**vals) -> None:
     for arg, val in vals.items():
         if not (val > 0.0 and math.isfinite(val)):
@@ -175,14 +188,8 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
         else:
             geo.synchronize()
         # each body's refinement reaches only its own surface: restrict each field to its body
-        restricted = []
-        for f, (surf, curves) in zip(fields, bodies, strict=True):
-            r = gmsh.model.mesh.field.add("Restrict")
-            gmsh.model.mesh.field.setNumber(r, "InField", f)
-            gmsh.model.mesh.field.setNumbers(r, "SurfacesList", [surf])
-            gmsh.model.mesh.field.setNumbers(r, "CurvesList", list(curves))
-            restricted.append(r)
-        apply_background(gmsh, restricted, h_max=h_far)
+        apply_background(gmsh, _restricted(gmsh, [(f, surf, curves) for f, (surf, curves) in
+                                                  zip(fields, bodies, strict=True)]), h_max=h_far)
         groups = {"contact_lower": (1, pg(1, top, name="contact_lower")),
                   "clamped": (1, pg(1, [bottom], name="clamped")),
                   "sides": (1, pg(1, [left, right], name="sides")),
@@ -265,14 +272,7 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
                 both = gmsh.model.mesh.field.add("Min")
                 gmsh.model.mesh.field.setNumbers(both, "FieldsList", [fields[k], apex])
                 fields[k] = both
-        restricted = []
-        for f, surf, curves in ((fields[0], low, top), (fields[1], up, under)):
-            r = gmsh.model.mesh.field.add("Restrict")
-            gmsh.model.mesh.field.setNumber(r, "InField", f)
-            gmsh.model.mesh.field.setNumbers(r, "SurfacesList", [surf])
-            gmsh.model.mesh.field.setNumbers(r, "CurvesList", list(curves))
-            restricted.append(r)
-        apply_background(gmsh, restricted, h_max=h_far)
+        apply_background(gmsh, _restricted(gmsh, [(fields[0], low, top), (fields[1], up, under)]), h_max=h_far)
         pg = gmsh.model.addPhysicalGroup
         groups = {"contact_lower": (1, pg(1, top, name="contact_lower")),
                   "contact_upper": (1, pg(1, under, name="contact_upper")),

@@ -15,7 +15,7 @@ import math
 from dataclasses import dataclass
 
 from cases.schema import CaseError, Geometry, Run, SceneSchema
-from workbench.scenes.two_body_schema import PAIRINGS, TWO_BODY_METHODS
+from workbench.scenes.two_body_schema import PAIRINGS, check_method_and_models
 
 __all__ = ["BODY_ROLES", "HALFPLANES_SCHEMA", "HalfplanesGeometry", "PROFILES"]
 
@@ -79,13 +79,7 @@ def _check_geometry(run: Run, where: str) -> None:
         raise CaseError(f"{where}: solver.traction = {sol.traction!r} is not available for two elastic half-planes "
                         "(the contact traction acts along the flat slave's normal on both bodies); allowed: "
                         "'halfplane'")
-    if sol.method not in TWO_BODY_METHODS:
-        raise CaseError(f"{where}: solver.method = {sol.method!r} is not available for two elastic bodies "
-                        f"(nitsche needs the slave traction); allowed: {', '.join(map(repr, TWO_BODY_METHODS))}")
-    for i, body in enumerate(run.bodies):
-        if body.model != "linear":
-            raise CaseError(f"{where}: body[{i}].model = {body.model!r} is not available for two elastic "
-                            "half-planes; allowed: 'linear'")
+    check_method_and_models(run, where, model_reason="is not available for two elastic half-planes")
 
 
 def _check_load(run: Run, where: str) -> None:

@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 from cases.schema import CaseError, Geometry, Run, SceneSchema
 
-__all__ = ["BODY_ROLES", "TWO_BODY_SCHEMA", "TwoBodyGeometry", "PAIRINGS", "TWO_BODY_METHODS"]
+__all__ = ["BODY_ROLES", "TWO_BODY_SCHEMA", "TwoBodyGeometry", "PAIRINGS", "TWO_BODY_METHODS",
+           "check_method_and_models"]
 
 PAIRINGS = ("mortar", "node_to_segment")  # fem.two_body.problem.PAIRINGS (the scene layer may not import fem)
 TWO_BODY_METHODS = ("penalty", "augmented_lagrangian")  # fem.two_body.laws.TWO_BODY_METHODS
@@ -67,13 +68,20 @@ def _check_geometry(run: Run, where: str) -> None:
     if sol.kinematics != "small":
         raise CaseError(f"{where}: solver.kinematics = {sol.kinematics!r} is not available for two elastic bodies "
                         "yet; allowed: 'small'")
+    check_method_and_models(run, where, model_reason="needs finite kinematics, which two elastic bodies do not "
+                                                      "support yet")
+
+
+def check_method_and_models(run: Run, where: str, *, model_reason: str) -> None:
+    """The contact methods two elastic bodies support (:data:`TWO_BODY_METHODS`) and linear body models; a bad value
+    is a one-line :class:`CaseError` (``model_reason``: why a non-linear model is refused on the scene)."""
+    sol = run.solver
     if sol.method not in TWO_BODY_METHODS:
         raise CaseError(f"{where}: solver.method = {sol.method!r} is not available for two elastic bodies "
                         f"(nitsche needs the slave traction); allowed: {', '.join(map(repr, TWO_BODY_METHODS))}")
     for i, body in enumerate(run.bodies):
         if body.model != "linear":
-            raise CaseError(f"{where}: body[{i}].model = {body.model!r} needs finite kinematics, which two elastic "
-                            "bodies do not support yet; allowed: 'linear'")
+            raise CaseError(f"{where}: body[{i}].model = {body.model!r} {model_reason}; allowed: 'linear'")
 
 
 def _check_load(run: Run, where: str) -> None:
