@@ -13,7 +13,8 @@ Builders:
   not meshed: it is the upper body's analytic reference height above its flat face,
   :class:`fem.two_body.geometry.ProfileSurface`); size ``h_contact`` on the lower block's top where
   ``|x| <= a (1 + margin)`` and ``size_ratio h_contact`` on the upper block's bottom over a window split
-  unsymmetrically (:data:`ARC_SPLIT`), each growing away into its own block.
+  unsymmetrically (:data:`ARC_SPLIT`), each growing away into its own block. With ``wedge_slope`` m the upper body
+  is shaped instead: an elastic wedge whose faces ``y = m |x|`` are meshed (its apex a mesh corner at the origin).
 * :func:`build_cylinder_on_block`: an elastic half disk of radius R (the lower half of the circle centred at
   ``(0, R)``, flat top at ``y = R``) on a block ``[-W/2, W/2] x [-H, 0]``; size ``h_contact`` on both contact
   surfaces where ``|x| <= a (1 + margin)``, growing away (as :mod:`meshes.block`), with another size on the disk
@@ -212,9 +213,9 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
 
 def build_profile_blocks(*, width: float, height: float, contact_half_width: float, h_contact: float,
                          size_ratio: float = 0.77, h_far: float | None = None, growth: float = 1.3,
-                         margin: float = 0.5, apex_factor: float | None = None, out_dir=DEFAULT_CACHE_DIR,
-                         name: str = "profile_blocks", write_xdmf: bool = False, stats_dir=None,
-                         comm=None) -> MeshFiles:
+                         margin: float = 0.5, apex_factor: float | None = None, wedge_slope: float | None = None,
+                         out_dir=DEFAULT_CACHE_DIR, name: str = "profile_blocks", write_xdmf: bool = False,
+                         stats_dir=None, comm=None) -> MeshFiles:
     """Two graded blocks W x H, one above the other, flat at y = 0 (module docstring): two half-planes.
 
     Args:
@@ -225,10 +226,16 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
         h_far, growth, margin: as :func:`meshes.block.build_block_mesh`.
         apex_factor: None, or a wedge's apex: both contact lines get a node at x = 0 and each block's size there
             is ``apex_factor`` times its own contact size, growing away (as the block scene's apex refinement).
+        wedge_slope: None (the upper block is flat at y = 0), or the face slope m > 0 of a shaped upper body: an
+            elastic wedge whose lower faces are ``y = m |x|`` (apex at the origin, a corner of the mesh) up to
+            ``|x| = W/2``, with vertical sides up to ``y = m W/2 + H`` (issue 25: the real geometry the
+            half-plane theory idealises). Needs ``apex_factor``.
     """
     _positive(width=width, height=height, contact_half_width=contact_half_width, h_contact=h_contact)
     if apex_factor is not None and not 0.0 < apex_factor <= 1.0:
         raise ValueError(f"apex_factor must be in (0, 1], got {apex_factor}")
+    if wedge_slope is not None and not (0.0 < wedge_slope <= 10.0 and apex_factor is not None):
+        raise ValueError(f"wedge_slope must be in (0, 10] with an apex_factor, got {wedge_slope}")
     h_far = _far_size(ratio_name="size_ratio", ratio=size_ratio, width=width, h_contact=h_contact, h_far=h_far,
                       growth=growth)
     a = float(contact_half_width)
@@ -243,16 +250,22 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
                   margin=float(margin), split=ARC_SPLIT)
     if apex_factor is not None:  # only then: the parabola's meshes keep their cache keys
         params["apex_factor"] = float(apex_factor)
+    m = 0.0 if wedge_slope is None else float(wedge_slope)
+    if wedge_slope is not None:  # only then: the flat blocks keep their cache keys
+        params["wedge_slope"] = m
 
     def make(gmsh):
         geo = gmsh.model.geo
 
-        def block(y_far, split):
-            """A block between y = 0 and y_far, its y = 0 edge split at split[0] < split[1] (and at x = 0 for a
-            wedge's apex); (surface, contact lines, refined lines, far edge, sides, apex point or None)."""
+        def block(y_far, split, slope=0.0):
+            """A block between its near edge ``y = slope |x|`` and y_far (above the near edge's ends when
+            slope > 0), the near edge split at split[0] < split[1] (and at x = 0 for a wedge's apex); (surface,
+            contact lines, refined lines, far edge, sides, apex point or None)."""
             cuts = [split[0], 0.0, split[1]] if apex_factor is not None else list(split)
-            p = ([geo.addPoint(-W / 2, 0.0, 0.0)] + [geo.addPoint(x, 0.0, 0.0) for x in cuts]
-                 + [geo.addPoint(W / 2, 0.0, 0.0), geo.addPoint(W / 2, y_far, 0.0), geo.addPoint(-W / 2, y_far, 0.0)])
+            y_end = slope * W / 2
+            p = ([geo.addPoint(-W / 2, y_end, 0.0)] + [geo.addPoint(x, slope * abs(x), 0.0) for x in cuts]
+                 + [geo.addPoint(W / 2, y_end, 0.0), geo.addPoint(W / 2, y_end + y_far, 0.0),
+                    geo.addPoint(-W / 2, y_end + y_far, 0.0)])
             n = len(cuts) + 2
             near = [geo.addLine(p[i], p[i + 1]) for i in range(n - 1)]
             right, far, left = geo.addLine(p[n - 1], p[n]), geo.addLine(p[n], p[n + 1]), geo.addLine(p[n + 1], p[0])
@@ -260,12 +273,12 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
             return surf, near, near[1:-1], far, [left, right], (p[2] if apex_factor is not None else None)
 
         low, top, top_window, bottom, low_sides, low_apex = block(-H, (-b, b))
-        up, under, under_window, lid, up_sides, up_apex = block(H, (-ARC_SPLIT[0] * b, ARC_SPLIT[1] * b))
+        up, under, under_window, lid, up_sides, up_apex = block(H, (-ARC_SPLIT[0] * b, ARC_SPLIT[1] * b), m)
         geo.synchronize()
         fields = [growth_field(gmsh, h0=h_c, h_max=h_far, growth=growth, curves=top_window, curve_length=2 * b,
                                sampling_size=gi.size(h_c / 4.0)),
                   growth_field(gmsh, h0=h_u, h_max=h_far, growth=growth, curves=under_window,
-                               curve_length=sum(ARC_SPLIT) * b, sampling_size=gi.size(h_u / 4.0))]
+                               curve_length=sum(ARC_SPLIT) * b * math.hypot(1.0, m), sampling_size=gi.size(h_u / 4.0))]
         if apex_factor is not None:  # a field of its own per block, at its apex point (min with the window's)
             for k, (h0, pt) in enumerate(((h_c, low_apex), (h_u, up_apex))):
                 apex = growth_field(gmsh, h0=gi.size(apex_factor * h0), h_max=h_far, growth=growth, points=[pt])

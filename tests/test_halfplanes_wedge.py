@@ -129,6 +129,8 @@ def test_rigid_limit_reproduces_the_rigid_wedge(tmp_path_factory):
     ("radius", "radius"),
     ("apex", "apex"),
     ("angle_range", "wedge_angle"),
+    ("upper_value", "upper"),
+    ("shaped_convective", "upper"),
 ])
 def test_bad_wedge_case_values_are_refused_in_one_line(tmp_path, edit, field):
     text = (ROOT / "cases" / "halfplanes_wedge_beta_neg.toml").read_text()
@@ -139,6 +141,10 @@ def test_bad_wedge_case_values_are_refused_in_one_line(tmp_path, edit, field):
         text = text.replace(angle, angle + "\nradius = 10.0")
     elif edit == "apex":
         text = text.replace('apex = "refined"', 'apex = "smooth"')
+    elif edit == "upper_value":
+        text = text.replace('apex = "refined"', 'apex = "refined"\nupper = "curved"')
+    elif edit == "shaped_convective":  # the case has a convective variant: a shaped wedge is small strain only
+        text = text.replace('apex = "refined"', 'apex = "refined"\nupper = "shaped"')
     else:
         text = text.replace(angle, "wedge_angle = 1.6")
     f = tmp_path / "bad.toml"

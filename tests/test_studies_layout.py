@@ -26,7 +26,8 @@ OWN = {"workbench.studies.bench": {"workbench.studies.bench_report", "workbench.
        "workbench.studies.stability": {"workbench.studies.stability_plot"},
        "workbench.studies.convective_table": set(),
        "workbench.studies.validity": {"workbench.studies.validity_report", "workbench.studies.validity_plot",
-                                      "workbench.studies.validity_halfplanes"}}
+                                      "workbench.studies.validity_halfplanes",
+                                      "workbench.studies.validity_elastic_wedge"}}
 # the shared pieces every study may import: config and rates, the point runner and its executor (local processes or
 # mpi4py.futures ranks), the reference solve measured in the same run, the block scene's point helpers, and the
 # time-and-where section every report ends with

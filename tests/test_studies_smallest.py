@@ -8,6 +8,7 @@ convective-table runs end to end in tests/test_studies_layout.py (test_convectiv
 from __future__ import annotations
 
 import json
+import math
 import os
 import subprocess
 import sys
@@ -58,6 +59,11 @@ def test_validity_smallest(tmp_path):
     md = (out / "report.md").read_text()
     assert "| 0.1 | -0.3 |" in md and "| 0.1 | +0.3 |" in md and (out / "map_halfplanes.png").is_file()
     assert all(x["reason"] for x in d["dropped"])  # every dropped entry says why
+    ew = d["claim_elastic_wedge"]  # the paper's theta < pi/5 claim as stated: an elastic wedge, same material
+    assert [r["theta"] for r in ew["rows"]] == [math.pi / 5] and ew["verdict"]["state"] in (
+        "holds", "does not hold", "undecided")
+    assert ew["rows"][0]["geometry"] > 0.02  # the wedge is no half-plane at pi/5, even on these coarse grids
+    assert "elastic wedge, same material" in md
 
 
 @pytest.mark.parametrize("section", ["linear"])

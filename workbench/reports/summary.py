@@ -171,9 +171,13 @@ def trust_markdown(results: Path) -> list[str]:
         lines += ["", f"Largest gap to classical theory: {worst['scene']} at parameter {worst['param']:.4g}, beta = "
                   f"{worst['beta']:.3g}: {pc('total')} = profile {pc('profile')} + convective {pc('convective')} + "
                   f"traction direction {pc('traction')} + finite strain {pc('finite_strain')} (moment half-width)."]
+    v = (data.get("claim_elastic_wedge") or {}).get("verdict")
+    if v:
+        lines += ["", f"The paper's internal-stress claim (theta < pi/5, 0.5 %), as it states it: {v['text']}."]
     v = (data.get("claim") or {}).get("verdict")
     if v:
-        lines += ["", f"The paper's internal-stress claim (theta < pi/5, 0.5 %): {v['text']}."]
+        lines += ["", f"A rigid wedge, the traction's direction (face normal against vertical; not the paper's "
+                      f"problem): {v['text']}."]
     s = data.get("summary", {})
     lines += ["", f"{s.get('runs')} runs ({s.get('failed')} failed), wall time {s.get('wall_time_s', 0):.0f} s.", ""]
     return lines

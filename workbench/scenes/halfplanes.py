@@ -97,9 +97,13 @@ class HalfplanesScene:
         stem = f"{name}_{run.label}".replace("/", "_").replace("=", "_")
         P, a0 = _estimate(run)
         apex = APEX_FACTOR if g.indenter == "wedge" and g.apex == "refined" else None
+        shaped = g.indenter == "wedge" and g.upper == "shaped"
+        if shaped and apex is None:  # the shaped wedge's apex is a corner: a node of both contact lines
+            apex = 1.0
         files = build_profile_blocks(width=g.width_factor * a0, height=g.height_factor * a0, contact_half_width=a0,
                                      h_contact=disc.h_contact * a0, size_ratio=g.size_ratio, growth=disc.growth,
-                                     apex_factor=apex, out_dir=mesh_cache, name=stem, stats_dir=stats_dir, comm=comm)
+                                     apex_factor=apex, wedge_slope=profile_size(run) if shaped else None,
+                                     out_dir=mesh_cache, name=stem, stats_dir=stats_dir, comm=comm)
         cells = files.stats.get("cells", "?")
         return SceneMesh(files, {"P": P, "half_width": a0},
                          f"mesh {cells} cells ({'cached' if files.cached else 'built'}), b0 = {a0:.4g} mm, "

@@ -495,6 +495,12 @@ class ValidityConfig:
         halfplanes_b0_over_R: The parabolic gaps b0/R of that part (b0 = 1 mm, Hertz's half-width at the load).
         halfplanes_h_ratios: b0/h_c of its three levels (the far run on the middle one, W as above).
         rigid: Run the rigid-indenter part (the circle and the wedge); False: the two-half-planes part alone.
+        elastic_wedge_theta: The paper's theta < pi/5 claim as stated (issue 25,
+            :mod:`workbench.studies.validity_elastic_wedge`): the angles (rad, slope tan theta) of the elastic wedge
+            on a block of the same material; empty: no such part.
+        elastic_wedge_nu: Both bodies' Poisson ratio there (beta = 0 whatever nu).
+        elastic_wedge_h_ratios: b/h_c of its three levels (coarse to fine, a constant ratio).
+        elastic_wedge_width, elastic_wedge_width_far: W/b of both bodies on the levels and of the truncation run.
     """
 
     cylinder_a_over_R: tuple[float, ...] = (1e-3, 1e-2, 0.05, 0.1, 0.2, 0.4)
@@ -521,6 +527,11 @@ class ValidityConfig:
     halfplanes_b0_over_R: tuple[float, ...] = (0.03, 0.1, 0.2)
     halfplanes_h_ratios: tuple[float, ...] = (6.0, 10.0, 16.0)
     rigid: bool = True
+    elastic_wedge_theta: tuple[float, ...] = (math.pi / 10, 3 * math.pi / 20, math.pi / 5, math.pi / 4)
+    elastic_wedge_nu: float = 0.3
+    elastic_wedge_h_ratios: tuple[float, ...] = (4.0, 8.0, 16.0)
+    elastic_wedge_width: float = 40.0
+    elastic_wedge_width_far: float = 160.0
 
     @property
     def out_dir(self) -> Path:
@@ -552,6 +563,13 @@ class ValidityConfig:
         if self.halfplanes_beta:
             each("halfplanes_beta", lambda v: isinstance(v, num) and -0.49 <= v <= 0.49, "numbers in [-0.49, 0.49]")
             each("halfplanes_b0_over_R", lambda v: isinstance(v, num) and 1e-3 <= v <= 0.4, "numbers in [1e-3, 0.4]")
+        if self.elastic_wedge_theta:
+            each("elastic_wedge_theta", lambda v: isinstance(v, num) and math.pi / 40 <= v <= 0.3 * math.pi,
+                 "angles in [pi/40, 0.3 pi] rad")
+        ew = self.elastic_wedge_h_ratios
+        if (not isinstance(ew, tuple) or len(ew) != 3 or not all(isinstance(v, num) and 1.0 <= v <= 100.0 for v in ew)
+                or not ew[1] > ew[0] or abs(ew[2] / ew[1] - ew[1] / ew[0]) > 1e-9 * ew[2] / ew[1]):
+            raise _bad("elastic_wedge_h_ratios", ew, "three numbers in [1, 100] in a constant ratio > 1")
         if not isinstance(self.rigid, bool):
             raise _bad("rigid", self.rigid, "True or False")
         if not self.rigid and not self.halfplanes_beta:
@@ -565,10 +583,15 @@ class ValidityConfig:
         for name, lo, hi in (("E", 1e-6, 1e12), ("growth", 1.0 + 1e-9, 3.0), ("width_factor", 10.0, 1e4),
                              ("width_factor_far", 10.0, 1e5), ("resolve_factor", 1.0, 1e3),
                              ("mixed_from_nu", 0.0, 0.5), ("claim_nu", 0.0, 0.4999999),
-                             ("claim_bound", 1e-9, 1.0), ("claim_theta_max", 1e-9, math.pi / 2)):
+                             ("claim_bound", 1e-9, 1.0), ("claim_theta_max", 1e-9, math.pi / 2),
+                             ("elastic_wedge_nu", 0.0, 0.45), ("elastic_wedge_width", 10.0, 1e4),
+                             ("elastic_wedge_width_far", 10.0, 1e5)):
             v = getattr(self, name)
             if not (isinstance(v, num) and lo <= v <= hi):
                 raise _bad(name, v, f"a number in [{lo:g}, {hi:g}]")
+        if not self.elastic_wedge_width_far > self.elastic_wedge_width:
+            raise _bad("elastic_wedge_width_far", self.elastic_wedge_width_far,
+                       f"a number > elastic_wedge_width = {self.elastic_wedge_width:g}")
         if not self.width_factor_far > self.width_factor:
             raise _bad("width_factor_far", self.width_factor_far, f"a number > width_factor = {self.width_factor:g}")
         for name, lo, hi in (("n_steps", 1, 100), ("workers", 1, 4096)):

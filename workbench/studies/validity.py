@@ -11,7 +11,8 @@ a = 1 mm in every point, so one mesh serves a scene and a level; the load is the
 Two ELASTIC half-planes with a parabolic gap (issue 25, :mod:`workbench.studies.validity_halfplanes`): Dundurs beta
 of both signs (``halfplanes_beta``, through the E ratio at nu = 0) x b0/R, small and convective (Ciavarella-Hills's
 model) through the ``halfplanes`` scene; their moment ratio convective over small against Ciavarella-Hills
-converged and first order (:func:`assemble_halfplanes`).
+converged and first order (:func:`assemble_halfplanes`). An ELASTIC wedge on a block of the same material
+(:mod:`workbench.studies.validity_elastic_wedge`): the paper's theta < pi/5 internal-stress claim as it states it.
 
 Measures (dimensionless, each over the classical value at the run's MEASURED load P): ``moment`` =
 2 sqrt(M2/M0) of the contact pressure over the classical one (Hertz: a; wedge: 2 b / sqrt 6), ``p_max`` (circle)
@@ -53,6 +54,7 @@ from workbench.studies.executor import (
     worker_summary,
 )
 from workbench.studies.scene_point import scene_compare, scene_obstacle
+from workbench.studies.validity_elastic_wedge import ElasticWedgeTask, claim_elastic_wedge, elastic_wedge_tasks
 from workbench.studies.validity_halfplanes import HalfplanesTask, halfplanes_tasks, halfplanes_theories
 
 __all__ = ["Point", "Task", "assemble", "claim_points", "finite_settings", "main", "point_theories", "run_study",
@@ -220,6 +222,10 @@ def run_validity_point(point: Point) -> dict:
         from workbench.studies import validity_halfplanes as hp
 
         return (hp.build_mesh if point.kind == "mesh" else hp.solve_task)(point.task, point.mesh_cache)
+    if isinstance(point.task, ElasticWedgeTask):
+        from workbench.studies import validity_elastic_wedge as ew
+
+        return (ew.build_mesh if point.kind == "mesh" else ew.solve_task)(point.task, point.mesh_cache)
     if point.kind == "mesh":
         return build_mesh(point.task, point.mesh_cache)
     return solve_task(point.task, point.mesh_cache)
@@ -300,7 +306,8 @@ def run_study(cfg: ValidityConfig, *, executor: ExecutorChoice | None = None,
     (with where the runs ran and the JIT compiles and retries: :func:`workbench.studies.executor.worker_summary`)."""
     executor = ExecutorChoice("local", cfg.workers) if executor is None else executor
     todo, skipped = tasks(cfg)
-    todo = [*todo, *halfplanes_tasks(cfg)]  # the two-half-planes part (issue 25): after the rigid runs
+    # the two-half-planes part and the elastic wedge of the paper's claim (issue 25): after the rigid runs
+    todo = [*todo, *halfplanes_tasks(cfg), *elastic_wedge_tasks(cfg)]
     cache = str(cfg.cache_dir)
     ensure_dir(cache, kind="mesh_cache", kinds=("mesh_cache",))  # the workbench's own, or refused
     meshes = {t.mesh_name: t for t in todo}
@@ -439,7 +446,7 @@ def assemble(cfg: ValidityConfig, records: list[dict], skipped: list[dict]) -> t
     list of dropped or failed entries with their reasons. The two-half-planes records go to
     :func:`assemble_halfplanes` (their points come after the rigid ones)."""
     hp_records = [r for r in records if r["task"]["scene"] == "halfplanes"]
-    records = [r for r in records if r["task"]["scene"] != "halfplanes"]
+    records = [r for r in records if r["task"]["scene"] not in ("halfplanes", "elastic_wedge")]
     by_point: dict = {}
     for r in records:
         t = r["task"]
@@ -581,7 +588,7 @@ def claim_points(cfg: ValidityConfig, records: list[dict]) -> dict:
     runs = {}
     for r in records:
         t = r["task"]
-        if r.get("stresses") is not None:
+        if r.get("stresses") is not None and t["scene"] == "wedge":  # the rigid wedge's (not the elastic wedge's)
             runs[(t["param"], t["traction"], t["level"])] = r
     rows = []
     for theta in cfg.wedge_theta:
@@ -666,23 +673,26 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
     add_executor_options(ap, workers=ValidityConfig.workers)
     ap.add_argument("--quick", action="store_true", help="two points per scene, nu = 0 and 0.499; two half-planes "
-                    "at beta = -0.3 and +0.3, b0/R = 0.1 (a smoke run)")
+                    "at beta = -0.3 and +0.3, b0/R = 0.1; the elastic wedge at pi/10 and pi/5 (a smoke run)")
     ap.add_argument("--tiny", action="store_true", help="one point per scene, nu = 0, two half-planes at beta = "
-                    "-0.3 and +0.3, coarse levels on a small block (the end-to-end test: every layer in seconds, no "
-                    "meaningful numbers)")
+                    "-0.3 and +0.3, the elastic wedge at pi/5, coarse levels on small blocks (the end-to-end test: "
+                    "every layer in seconds, no meaningful numbers)")
     ap.add_argument("--halfplanes-only", action="store_true", help="the two-elastic-half-planes part alone (no rigid "
-                    "circle or wedge)")
+                    "circle or wedge, no elastic wedge)")
     args = ap.parse_args(argv)
     kw = {}
     if args.quick:
         kw = {"cylinder_a_over_R": (0.01, 0.2), "wedge_theta": (math.pi / 10, math.pi / 5), "nu": (0.0, 0.499),
-              "halfplanes_beta": (-0.3, 0.3), "halfplanes_b0_over_R": (0.1,)}
+              "halfplanes_beta": (-0.3, 0.3), "halfplanes_b0_over_R": (0.1,),
+              "elastic_wedge_theta": (math.pi / 10, math.pi / 5)}
     if args.tiny:
         kw = {"cylinder_a_over_R": (0.1,), "wedge_theta": (math.pi / 10,), "nu": (0.0,), "h_ratios": (2.0, 3.0, 4.0),
               "width_factor": 20.0, "width_factor_far": 40.0, "halfplanes_beta": (-0.3, 0.3),
-              "halfplanes_b0_over_R": (0.1,), "halfplanes_h_ratios": (2.0, 3.0, 4.0)}
+              "halfplanes_b0_over_R": (0.1,), "halfplanes_h_ratios": (2.0, 3.0, 4.0),
+              "elastic_wedge_theta": (math.pi / 5,), "elastic_wedge_h_ratios": (2.0, 3.0, 4.5),
+              "elastic_wedge_width": 12.0, "elastic_wedge_width_far": 24.0}
     if args.halfplanes_only:
-        kw["rigid"] = False
+        kw |= {"rigid": False, "elastic_wedge_theta": ()}
     try:
         executor = executor_from_args(args)
         cfg = ValidityConfig(out=args.out, mesh_cache=args.mesh_cache, workers=executor.workers, **kw)
@@ -698,6 +708,8 @@ def main(argv: list[str] | None = None) -> int:
             resource.getrusage(resource.RUSAGE_CHILDREN).ru_stime
     points, dropped = assemble(cfg, records, skipped)
     claim = claim_points(cfg, records)
+    claim_elastic = claim_elastic_wedge(cfg, records)
+    dropped += [d | {"nu": cfg.elastic_wedge_nu} for d in claim_elastic.pop("dropped")]
     wall = time.perf_counter() - t0
     from workbench.studies.reference import measure_reference
 
@@ -709,7 +721,8 @@ def main(argv: list[str] | None = None) -> int:
                "jit_compiles_on_workers": timing["where"]["jit_compiles"], "reference": reference, **timing}
     out = cfg.out_dir
     write_json(out / "validity.json", {"config": to_json(cfg), "summary": summary, "points": points,
-                                       "dropped": dropped, "claim": claim, "runs": records,
+                                       "dropped": dropped, "claim": claim, "claim_elastic_wedge": claim_elastic,
+                                       "runs": records,
                                        "finite_settings": finite_settings()})
     from workbench.studies.validity_plot import main as plot_main
     from workbench.studies.validity_report import write_report
