@@ -131,6 +131,7 @@ def test_rigid_limit_reproduces_the_rigid_wedge(tmp_path_factory):
     ("angle_range", "wedge_angle"),
     ("upper_value", "upper"),
     ("shaped_convective", "upper"),
+    ("shaped_no_apex", "apex"),
 ])
 def test_bad_wedge_case_values_are_refused_in_one_line(tmp_path, edit, field):
     text = (ROOT / "cases" / "halfplanes_wedge_beta_neg.toml").read_text()
@@ -145,6 +146,8 @@ def test_bad_wedge_case_values_are_refused_in_one_line(tmp_path, edit, field):
         text = text.replace('apex = "refined"', 'apex = "refined"\nupper = "curved"')
     elif edit == "shaped_convective":  # the case has a convective variant: a shaped wedge is small strain only
         text = text.replace('apex = "refined"', 'apex = "refined"\nupper = "shaped"')
+    elif edit == "shaped_no_apex":  # small runs only, so the apex is what is refused
+        text = text.replace('apex = "refined"', 'apex = "none"\nupper = "shaped"').split("[[variant]]")[0]
     else:
         text = text.replace(angle, "wedge_angle = 1.6")
     f = tmp_path / "bad.toml"

@@ -209,14 +209,22 @@ def _fem_claims(results: Path) -> list[Claim]:
     return out
 
 
+_VERDICTS = {"holds": "confirmed", "does not hold": "not confirmed"}  # a study verdict's state -> the table's
+
+
+def _validity_verdict(results: Path, key: str) -> dict | None:
+    """The verdict under ``key`` of ``<results>/validity/validity.json``, or None (not run, or no verdict)."""
+    f = Path(results) / "validity" / "validity.json"
+    return (json.loads(f.read_text()).get(key) or {}).get("verdict") if f.is_file() else None
+
+
 def _elastic_wedge_claim(results: Path) -> Claim:
     """The C&H claim 'for theta < pi/5 the internal stress state of the elastically similar problem differs by
     at most 0.5 % from the exact solution', as the paper states it: an elastic wedge on a block of the same material
     (the validity study's elastic-wedge part, ``validity/validity.json`` key ``claim_elastic_wedge``)."""
     claim = ("ABAQUS: for theta < pi/5 the internal stress state of the elastically similar problem (elastic wedge, "
              "same material) differs < 0.5 % from the exact (half-plane) solution")
-    f = Path(results) / "validity" / "validity.json"
-    v = (json.loads(f.read_text()).get("claim_elastic_wedge") or {}).get("verdict") if f.is_file() else None
+    v = _validity_verdict(results, "claim_elastic_wedge")
     if not v:
         return Claim(CH, claim, "0.5 %", "not run yet", "FEM (validity study)", "run `make validity`")
     ours = (f"{100 * v['geometry']:.2f} % +- {100 * v['U']:.2f} % (grid and body size) of P/(2b) at theta = "
@@ -224,7 +232,7 @@ def _elastic_wedge_claim(results: Path) -> Claim:
             "b/4 ... 2 b, between the meshed elastic wedge and the half-plane-idealised FEM; shaped FEM against the "
             f"half-plane stresses {100 * v['shaped_vs_theory']:.2f} %, floor {100 * v['floor']:.2f} %; inside the "
             f"wedge {100 * v['geometry_wedge']:.2f} %")
-    verdict = {"holds": "confirmed", "does not hold": "not confirmed"}.get(v["state"], "undecided")
+    verdict = _VERDICTS.get(v["state"], "undecided")
     note = {"confirmed": "within 0.5 % beyond the grid and size uncertainty",
             "not confirmed": "the wedge is not a half-plane at these angles: its stresses differ by far more than "
                              "0.5 % (small strain, the traction vertical on both bodies)",
@@ -238,15 +246,14 @@ def _stress_claim(results: Path) -> Claim:
     at most 0.5 % from the exact solution', measured by the validity study (``validity/validity.json``)."""
     claim = ("Not the paper's problem: a RIGID wedge, the traction along its face normal against the vertical one "
              "(the traction's direction as a modelling choice), theta <= pi/5, beta ~ 0")
-    f = Path(results) / "validity" / "validity.json"
-    v = json.loads(f.read_text()).get("claim", {}).get("verdict") if f.is_file() else None
+    v = _validity_verdict(results, "claim")
     if not v:
         return Claim(CH, claim, "0.5 %", "not run yet", "FEM (validity study)", "run `make validity`")
     ours = (f"up to {100 * v['worst_traction_effect']:.2f} % of P/(2b): largest |stress difference| over "
             "|x| <= 1.5 b, b/4 <= z <= 2 b between the FEM wedge with the traction along the face normal and the "
             f"same FEM with vertical traction (nu = 0.499); numerical floor {100 * v['worst_floor']:.2f} %; "
             f"FEM against the half-plane stresses {100 * v['worst_obstacle_vs_theory']:.2f} %")
-    verdict = {"holds": "confirmed", "does not hold": "not confirmed"}.get(v["state"], "undecided")
+    verdict = _VERDICTS.get(v["state"], "undecided")
     note = {"confirmed": "the direction moves the stresses by less than 0.5 % beyond the numerical floor",
             "not confirmed": "the face-normal traction's horizontal part (~ p sin theta) changes the stresses "
                              "under the contact far more than 0.5 %",

@@ -7,7 +7,7 @@ exactly as a case run gets them (:class:`workbench.scenes.base.Scene`).
 
 from __future__ import annotations
 
-__all__ = ["scene_compare", "scene_obstacle"]
+__all__ = ["run_failure", "run_scene_case", "scene_compare", "scene_obstacle"]
 
 
 def _mesh(files, estimate):
@@ -30,3 +30,35 @@ def scene_compare(run, result, *, files, estimate):
     from workbench.scenes import scene_for
 
     return scene_for(run).compare(run, result, _mesh(files, estimate), progress=lambda _: None).comparison
+
+
+def run_failure(exc: BaseException) -> str:
+    """The named error of a study run that raised, one line of at most 300 characters of its message:
+    ``diverged: ...`` (the solver's :class:`fem.solver.ContactSolveError`), ``refused: ...`` (a ValueError or
+    TypeError: the inputs), else ``failed: <type>: ...`` (e.g. a PETSc error, recorded by name: an exception object
+    holding PETSc state could not be sent back from a worker)."""
+    try:
+        from fem.solver import ContactSolveError
+    except Exception:  # noqa: BLE001  (the import itself failed: that is the error being named)
+        ContactSolveError = ()  # noqa: N806
+    text = " ".join(str(exc).split())[:300]
+    if ContactSolveError and isinstance(exc, ContactSolveError):
+        return f"diverged: {text}"
+    if isinstance(exc, (ValueError, TypeError)):
+        return f"refused: {text}"
+    return f"failed: {type(exc).__name__}: {text}"
+
+
+def run_scene_case(run, *, name: str, mesh_cache):
+    """Mesh (cached under ``name``), solve and compare a case-level ``run`` through its registered scene in this
+    process (:func:`workbench.pipeline.run_case.run_one` on MPI.COMM_SELF, silent): the scene's
+    :class:`workbench.scenes.base.Outcome`, as a case file would get it."""
+    import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
+
+    from pathlib import Path
+
+    from mpi4py import MPI
+
+    from workbench.pipeline.run_case import run_one
+
+    return run_one(run, name=name, mesh_cache=Path(mesh_cache), comm=MPI.COMM_SELF, progress=lambda _msg: None)

@@ -53,7 +53,7 @@ from workbench.studies.executor import (
     run_points,
     worker_summary,
 )
-from workbench.studies.scene_point import scene_compare, scene_obstacle
+from workbench.studies.scene_point import run_failure, scene_compare, scene_obstacle
 from workbench.studies.validity_elastic_wedge import ElasticWedgeTask, claim_elastic_wedge, elastic_wedge_tasks
 from workbench.studies.validity_halfplanes import HalfplanesTask, halfplanes_tasks, halfplanes_theories
 
@@ -236,7 +236,6 @@ def _solve_task(task: Task, mesh_cache: str) -> dict:
 
     from mpi4py import MPI
 
-    from fem.solver import ContactSolveError
     from meshes.block import build_block_mesh
     from workbench.mesh_io import read_mesh
     from workbench.scenes.base import LoadPath
@@ -264,13 +263,8 @@ def _solve_task(task: Task, mesh_cache: str) -> dict:
     try:
         res = solve_run(run, mesh_data, scene_obstacle(run, files=files, estimate=th0), load,
                         case=f"validity {task.model}", **extra)
-    except ContactSolveError as exc:
-        return rec | {"error": f"diverged: {' '.join(str(exc).split())[:300]}", "time_s": time.perf_counter() - t0}
-    except (ValueError, TypeError) as exc:
-        return rec | {"error": f"refused: {' '.join(str(exc).split())[:300]}", "time_s": time.perf_counter() - t0}
-    except Exception as exc:  # noqa: BLE001  (e.g. a PETSc error: recorded by name, never pickled back)
-        return rec | {"error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}",
-                      "time_s": time.perf_counter() - t0}
+    except Exception as exc:  # noqa: BLE001  (named: diverged, refused or failed)
+        return rec | {"error": run_failure(exc), "time_s": time.perf_counter() - t0}
     cmp = scene_compare(run, res, files=files, estimate=th0)
     th = cmp.theory
     s = res.samples

@@ -56,6 +56,7 @@ import numpy as np
 
 from analytic import materials
 from workbench.error_budget import grid_study
+from workbench.studies.scene_point import run_failure, run_scene_case
 
 __all__ = ["EW_LABEL", "PROBE_X", "PROBE_Z", "ElasticWedgeTask", "build_mesh", "claim_elastic_wedge",
            "elastic_wedge_tasks", "solve_task"]
@@ -160,29 +161,15 @@ def solve_task(task: ElasticWedgeTask, mesh_cache: str) -> dict:
     rec = {"task": asdict(task), "model": task.model, "converged": False, "error": None}
     t0 = time.perf_counter()
     try:
-        import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
-
-        from mpi4py import MPI
-
         from fem.probe import stress_at_points
-        from fem.solver import ContactSolveError
-        from workbench.pipeline.run_case import run_one
-    except Exception as exc:  # noqa: BLE001
-        return rec | {"error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}"}
-    try:
-        o = run_one(_run(task), name=task.mesh_name, mesh_cache=Path(mesh_cache), comm=MPI.COMM_SELF,
-                    progress=lambda _msg: None)
+
+        o = run_scene_case(_run(task), name=task.mesh_name, mesh_cache=mesh_cache)
         m = o.metrics
         b = m["analytic"]["half_width"]
         lower, upper, xz = probe_points(b=b, m=math.tan(task.param), shaped=task.upper == "shaped")
         st = {"lower": stress_at_points(o.result, lower), "upper": stress_at_points(o.result, upper)}
-    except ContactSolveError as exc:
-        return rec | {"error": f"diverged: {' '.join(str(exc).split())[:300]}", "time_s": time.perf_counter() - t0}
-    except (ValueError, TypeError) as exc:
-        return rec | {"error": f"refused: {' '.join(str(exc).split())[:300]}", "time_s": time.perf_counter() - t0}
-    except Exception as exc:  # noqa: BLE001  (e.g. a PETSc error: recorded by name, never pickled back)
-        return rec | {"error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}",
-                      "time_s": time.perf_counter() - t0}
+    except Exception as exc:  # noqa: BLE001  (named: diverged, refused or failed)
+        return rec | {"error": run_failure(exc), "time_s": time.perf_counter() - t0}
     stresses = {"x_over_b": xz[:, 0].tolist(), "z_over_b": xz[:, 1].tolist()}
     for body, s in st.items():
         stresses[body] = {"sxx": s.sxx.tolist(), "syy": s.syy.tolist(), "sxy": s.sxy.tolist()}

@@ -26,6 +26,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from analytic import convective, materials
+from workbench.studies.scene_point import run_failure, run_scene_case
 
 __all__ = ["HP_LABEL", "HalfplanesTask", "bodies_for", "build_mesh", "halfplanes_tasks", "halfplanes_theories",
            "solve_task"]
@@ -125,24 +126,9 @@ def solve_task(task: HalfplanesTask, mesh_cache: str) -> dict:
     rec = {"task": asdict(task), "model": task.model, "converged": False, "error": None}
     t0 = time.perf_counter()
     try:
-        import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
-
-        from mpi4py import MPI
-
-        from fem.solver import ContactSolveError
-        from workbench.pipeline.run_case import run_one
-    except Exception as exc:  # noqa: BLE001
-        return rec | {"error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}"}
-    try:
-        o = run_one(_run(task), name=task.mesh_name, mesh_cache=Path(mesh_cache), comm=MPI.COMM_SELF,
-                    progress=lambda _msg: None)
-    except ContactSolveError as exc:
-        return rec | {"error": f"diverged: {' '.join(str(exc).split())[:300]}", "time_s": time.perf_counter() - t0}
-    except (ValueError, TypeError) as exc:
-        return rec | {"error": f"refused: {' '.join(str(exc).split())[:300]}", "time_s": time.perf_counter() - t0}
-    except Exception as exc:  # noqa: BLE001  (e.g. a PETSc error: recorded by name, never pickled back)
-        return rec | {"error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}",
-                      "time_s": time.perf_counter() - t0}
+        o = run_scene_case(_run(task), name=task.mesh_name, mesh_cache=mesh_cache)
+    except Exception as exc:  # noqa: BLE001  (named: diverged, refused or failed)
+        return rec | {"error": run_failure(exc), "time_s": time.perf_counter() - t0}
     m = o.metrics
     b0 = m["analytic"]["half_width"]
     moment = m["half_width_moment"] / b0
