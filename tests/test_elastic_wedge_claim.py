@@ -133,3 +133,20 @@ def test_report_claims_row_and_summary_say_the_verdict(tmp_path):
     assert row.verdict.startswith("not confirmed") and "1.75 % +- 0.00 %" in row.ours and "3.50 %" in row.ours
     assert _stress_claim(tmp_path).claim.startswith("Not the paper's problem: a RIGID wedge")
     assert "as it states it: does not hold" in "\n".join(trust_markdown(tmp_path))
+
+
+def test_the_rigid_claim_ignores_the_elastic_wedge_runs():
+    """Both parts' records carry ``stresses`` (of different shapes): the rigid wedge's claim reads only its own
+    (a make validity run once failed there, after all its runs)."""
+    from workbench.studies import validity as v
+
+    cfg = ValidityConfig(elastic_wedge_theta=(math.pi / 10, math.pi / 5))
+    recs = _synthetic(cfg, geometry=0.02)
+    for r in recs:
+        r["task"] |= {"traction": "halfplane", "kinematics": "small"}
+    # a rigid obstacle-traction run at pi/10 (the elastic records must not stand in for its halfplane twin)
+    z = [0.25] * 3
+    recs.append({"task": {"scene": "wedge", "param": math.pi / 10, "traction": "obstacle", "level": "h2"},
+                 "converged": True, "P": 1.0, "stresses": {"x": [0.0] * 3, "z": z, "sxx": z, "szz": z, "sxz": z}})
+    rigid = v.claim_points(cfg, recs)
+    assert rigid["verdict"] is None and all("reason" in r["h2"] for r in rigid["rows"])

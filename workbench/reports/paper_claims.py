@@ -234,8 +234,9 @@ def _elastic_wedge_claim(results: Path) -> Claim:
             f"wedge {100 * v['geometry_wedge']:.2f} %")
     verdict = _VERDICTS.get(v["state"], "undecided")
     note = {"confirmed": "within 0.5 % beyond the grid and size uncertainty",
-            "not confirmed": "the wedge is not a half-plane at these angles: its stresses differ by far more than "
-                             "0.5 % (small strain, the traction vertical on both bodies)",
+            "not confirmed": "a wedge of the same material is not a half-plane at these angles: the block's "
+                             "stresses differ from the half-plane solution's by more than 0.5 % beyond the "
+                             "uncertainty (small strain, the half-plane's own vertical traction)",
             "undecided": "the uncertainty straddles the bound"}[verdict]
     return Claim(CH, claim, "0.5 %", ours, f"FEM (validity study, elastic wedge nu = {v['nu']:g}, P2 mortar)",
                  f"{verdict}: {note}")
