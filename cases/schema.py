@@ -782,6 +782,22 @@ def label_folder(label: str) -> str:
     return "_" + text[1:] if text.startswith(".") else text
 
 
+KNOWN_CASES_CHARS = 160  # the known-case names an error line lists, at most (the line stays one short line)
+
+
+def _known_cases() -> str:
+    """The shipped case names for an error line: all of them while they fit in ``KNOWN_CASES_CHARS``, else the
+    first ones and how many there are (``workbench list`` shows them all)."""
+    names = case_names()
+    if not names:
+        return "none"
+    text = ", ".join(names)
+    if len(text) <= KNOWN_CASES_CHARS:
+        return text
+    head = text[:KNOWN_CASES_CHARS].rsplit(", ", 1)[0]
+    return f"{head}, ... ({len(names)} in all: `workbench list`)"
+
+
 def load_case(path: str | Path) -> Case:
     """Load and validate a case file.
 
@@ -794,7 +810,7 @@ def load_case(path: str | Path) -> Case:
     Raises:
         CaseError: One line naming the file, the field and the allowed range.
     """
-    known = ", ".join(case_names()) or "none"
+    known = _known_cases()
     p = Path(path)
     if p.suffix != ".toml":
         if not CASE_NAME_RE.fullmatch(str(path)):

@@ -129,8 +129,8 @@ def test_rigid_limit_reproduces_the_rigid_wedge(tmp_path_factory):
     ("radius", "radius"),
     ("apex", "apex"),
     ("angle_range", "wedge_angle"),
-    ("upper_value", "upper"),
-    ("shaped_convective", "upper"),
+    ("upper_value", "wedge_body"),
+    ("shaped_convective", "wedge_body"),
     ("shaped_no_apex", "apex"),
 ])
 def test_bad_wedge_case_values_are_refused_in_one_line(tmp_path, edit, field):
@@ -143,11 +143,11 @@ def test_bad_wedge_case_values_are_refused_in_one_line(tmp_path, edit, field):
     elif edit == "apex":
         text = text.replace('apex = "refined"', 'apex = "smooth"')
     elif edit == "upper_value":
-        text = text.replace('apex = "refined"', 'apex = "refined"\nupper = "curved"')
+        text = text.replace('apex = "refined"', 'apex = "refined"\nwedge_body = "curved"')
     elif edit == "shaped_convective":  # the case has a convective variant: a shaped wedge is small strain only
-        text = text.replace('apex = "refined"', 'apex = "refined"\nupper = "shaped"')
+        text = text.replace('apex = "refined"', 'apex = "refined"\nwedge_body = "shaped"')
     elif edit == "shaped_no_apex":  # small runs only, so the apex is what is refused
-        text = text.replace('apex = "refined"', 'apex = "none"\nupper = "shaped"').split("[[variant]]")[0]
+        text = text.replace('apex = "refined"', 'apex = "none"\nwedge_body = "shaped"').split("[[variant]]")[0]
     else:
         text = text.replace(angle, "wedge_angle = 1.6")
     f = tmp_path / "bad.toml"

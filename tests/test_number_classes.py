@@ -177,3 +177,14 @@ def test_an_estimate_is_reported_not_failed_on_a_foreign_mesh():
     assert gci.cls == "estimate" and gci.ok and abs(gci.moved - math.log(50.0)) < 0.01
     flipped = compare_portable({"c/error_budget/q/gci": 6.0e-6, "c/error_budget/q/theory_in_band": False}, old)
     assert [m.key for m in flipped if not m.ok] == ["c/error_budget/q/theory_in_band"]
+
+
+def test_a_stiff_pair_loosens_only_its_own_balance_ceiling():
+    """Two bodies 1e6 apart in E: the Newton's absolute tolerance is the stiff body's, the soft body's balance is
+    3.2e-5 (measured, halfplanes_wedge_rigid_limit), so its round-off ceiling is 1e-10 times the ratio; a case
+    without a stiffness ratio keeps 1e-10."""
+    stiff = {"rl/errors/load_balance": 3.2e-5, "rl/analytic/stiffness_ratio": 1e6}
+    assert all(m.ok for m in compare_portable(stiff, dict(stiff)))
+    plain = {"hz/errors/load_balance": 3.2e-5}
+    assert not all(m.ok for m in compare_portable(plain, dict(plain)))
+    assert not all(m.ok for m in compare_portable(stiff | {"rl/errors/load_balance": 2e-4}, stiff))

@@ -10,6 +10,10 @@ above its flat face, ``y = X1^2 / (2 R)`` or the wedge ``y = m |X1|``: :class:`f
   second, their body 1, which carries the profile) is driven through its top (force control). Both are W x H
   blocks with W = H = ``width_factor`` b0: half-planes up to the truncation a/W, which the error budget
   extrapolates in 1/W.
+* ``wedge_body = "shaped"`` (wedge, small kinematics): the upper body is meshed as the wedge itself, its faces
+  ``y = m |x|`` the contact facets and its apex a mesh corner (``build_profile_blocks(wedge_slope=m)``); the gap is
+  measured along the same vertical rays to the same ``y = m |x|``, so only the body's shape differs from the flat
+  idealisation (the validity study's elastic wedge: Ciavarella-Hills's theta < pi/5 claim).
 * The contact traction acts along the slave normal (vertical) on both bodies (``traction = "halfplane"``): the
   half-plane theory's frictionless surfaces. With ``small`` kinematics the pairing is fixed in the reference
   configuration: the normal problem is Hertz's at ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` whatever beta. With
@@ -97,7 +101,7 @@ class HalfplanesScene:
         stem = f"{name}_{run.label}".replace("/", "_").replace("=", "_")
         P, a0 = _estimate(run)
         apex = APEX_FACTOR if g.indenter == "wedge" and g.apex == "refined" else None
-        shaped = g.indenter == "wedge" and g.upper == "shaped"
+        shaped = g.indenter == "wedge" and g.wedge_body == "shaped"
         if shaped and apex is None:  # the shaped wedge's apex is a corner: a node of both contact lines
             apex = 1.0
         files = build_profile_blocks(width=g.width_factor * a0, height=g.height_factor * a0, contact_half_width=a0,
@@ -200,7 +204,9 @@ class HalfplanesScene:
         sr.predictions["Ciavarella-Hills (converged)"] = p_conv
         rms_conv = rms_error(sr.x, sr.p, p_conv, center=0.0, half_width=conv.comparison.half_width, p_ref=th.p_ref)
         profile = ({"b0_over_R": th.half_width / th.R} if th.kind == "parabola" else {"m": th.m})
+        moduli = [b.E for b in conv.run.bodies]
         analytic = {"beta": sol.beta, "alpha": conv.metrics["alpha"], **profile,
+                    "stiffness_ratio": max(moduli) / min(moduli),
                     "b_over_b0_first_order": sol.b_over_b0_first_order,
                     "b_over_b0_first_iterate": sol.b_over_b0_first_iterate,
                     "b_over_b0_converged": sol.b_over_b0_converged, "b_over_b0_fem": ratio,

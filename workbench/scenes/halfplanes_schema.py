@@ -21,7 +21,7 @@ __all__ = ["BODY_ROLES", "HALFPLANES_SCHEMA", "HalfplanesGeometry", "PROFILES"]
 
 PROFILES = ("parabola", "wedge")
 APEX = ("refined", "cut", "none")  # a wedge's apex (HalfplanesGeometry.apex)
-UPPER = ("flat", "shaped")  # a wedge's upper body (HalfplanesGeometry.upper)
+WEDGE_BODY = ("flat", "shaped")  # a wedge's upper body (HalfplanesGeometry.wedge_body)
 CONVECTIONS = ("profile", "pairing")  # fem.two_body.problem.CONVECTIONS (the scene layer may not import fem)
 BODY_ROLES = ("first: the lower, flat body (Ciavarella-Hills's body 2; slave surface, held at its bottom)",
               "second: the upper body that carries the profile (their body 1; master surface, driven through its top)")
@@ -50,7 +50,7 @@ class HalfplanesGeometry(Geometry):
             convected abscissa; the theory's own model) or ``"pairing"`` (the particles that touch now carry them:
             a consistent pairing of two deformable bodies, which differs from the theory at the order of the effect
             when the upper body deforms; docs/models.md).
-        upper: wedge: ``"flat"`` (the upper block is flat at y = 0 and carries the wedge as an analytic gap: the
+        wedge_body: wedge: ``"flat"`` (the upper block is flat at y = 0 and carries the wedge as an analytic gap: the
             half-plane idealisation) or ``"shaped"`` (the upper body is the wedge itself, its faces ``y = m |x|``
             meshed: the real geometry the idealisation stands for; small kinematics only, the apex refined or cut).
     """
@@ -64,7 +64,7 @@ class HalfplanesGeometry(Geometry):
     pairing: str = "mortar"
     size_ratio: float = 0.77
     convection: str = "profile"
-    upper: str = "flat"
+    wedge_body: str = "flat"
 
 
 _COMMON = frozenset({"width_factor", "height_factor", "pairing", "size_ratio", "convection"})
@@ -84,14 +84,14 @@ def _check_geometry(run: Run, where: str) -> None:
         raise CaseError(f"{where}: solver.traction = {sol.traction!r} is not available for two elastic half-planes "
                         "(the contact traction acts along the flat slave's normal on both bodies); allowed: "
                         "'halfplane'")
-    if g.upper == "shaped" and sol.kinematics != "small":
-        raise CaseError(f"{where}: geometry.upper = 'shaped' needs solver.kinematics = 'small' (the convective models "
-                        f"read the profile above a flat face), got {sol.kinematics!r}; allowed with convective: "
-                        "geometry.upper = 'flat'")
-    if g.upper == "shaped" and g.apex == "none":
-        raise CaseError(f"{where}: geometry.apex = 'none' is not available with geometry.upper = 'shaped' (the shaped "
-                        "wedge's apex is a mesh corner, where the mortar segments are always cut); allowed: 'refined', "
-                        "'cut'")
+    if g.wedge_body == "shaped" and sol.kinematics != "small":
+        raise CaseError(f"{where}: geometry.wedge_body = 'shaped' needs solver.kinematics = 'small' (the convective "
+                        f"models read the profile above a flat face), got {sol.kinematics!r}; allowed with "
+                        "convective: geometry.wedge_body = 'flat'")
+    if g.wedge_body == "shaped" and g.apex == "none":
+        raise CaseError(f"{where}: geometry.apex = 'none' is not available with geometry.wedge_body = 'shaped' (the "
+                        "shaped wedge's apex is a mesh corner, where the mortar segments are always cut); allowed: "
+                        "'refined', 'cut'")
     check_method_and_models(run, where, model_reason="is not available for two elastic half-planes")
 
 
@@ -113,11 +113,11 @@ HALFPLANES_SCHEMA = SceneSchema(
     name="halfplanes",
     geometry=HalfplanesGeometry,
     indenters={"parabola": frozenset({"radius"} | _COMMON),
-               "wedge": frozenset({"wedge_angle", "wedge_slope", "apex", "upper"} | _COMMON)},
+               "wedge": frozenset({"wedge_angle", "wedge_slope", "apex", "wedge_body"} | _COMMON)},
     predictions={"parabola": ("hertz", "convective"), "wedge": ("wedge", "convective")},
     controls=("force",),
     choices={"pairing": PAIRINGS, "convection": CONVECTIONS, "wedge_slope": ("exact", "paper"), "apex": APEX,
-             "upper": UPPER},
+             "wedge_body": WEDGE_BODY},
     ranges={"wedge_angle": (0.0, math.pi / 2, False, False, "0 < wedge_angle < pi/2 (rad)"),
             "size_ratio": (0.2, 5.0, False, False, "0.2 < size_ratio < 5, not 1"),
             "radius": (0.0, 1e8, False, True, "0 < radius <= 1e8 (mm)"),

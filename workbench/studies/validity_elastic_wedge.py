@@ -11,7 +11,7 @@ that is not a half-plane.
 
 Runs (through the registered ``halfplanes`` scene, small kinematics, mortar, P2, both bodies E and
 ``elastic_wedge_nu``): per theta, the **shaped** pair (the upper body is the wedge itself, its faces meshed:
-``geometry.upper = "shaped"``), and once for all angles the **flat** pair (the half-plane idealisation on the same
+``geometry.wedge_body = "shaped"``), and once for all angles the **flat** pair (the half-plane idealisation on the same
 sizes: the upper block flat, the wedge an analytic gap; self-similar in theta, :func:`elastic_wedge_tasks`), each on
 three levels b/h_c = ``elastic_wedge_h_ratios`` and once on the middle
 level with the wider blocks ``elastic_wedge_width_far`` (the truncation). The load is the classical one of b = 1 mm.
@@ -124,7 +124,7 @@ def _run(task: ElasticWedgeTask):
 
     bodies = (Body("block", task.E, task.nu), Body("wedge", task.E, task.nu))
     geo = HalfplanesGeometry(scene="halfplanes", indenter="wedge", wedge_angle=task.param, wedge_slope="exact",
-                             apex="refined", upper=task.upper, width_factor=task.width_factor,
+                             apex="refined", wedge_body=task.upper, width_factor=task.width_factor,
                              height_factor=task.width_factor)
     return Run(label=EW_LABEL, material=bodies[0].material, geometry=geo,
                loading=Loading(control="force", half_width=1.0, steps=task.n_steps),
