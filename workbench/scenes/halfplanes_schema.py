@@ -15,7 +15,7 @@ import math
 from dataclasses import dataclass
 
 from cases.schema import CaseError, Geometry, Run, SceneSchema
-from workbench.scenes.two_body_schema import PAIRINGS, check_method_and_models
+from workbench.scenes.two_body_schema import PAIR_RANGES, PAIRINGS, check_method_and_models
 
 __all__ = ["BODY_ROLES", "HALFPLANES_SCHEMA", "HalfplanesGeometry", "PROFILES"]
 
@@ -118,11 +118,7 @@ HALFPLANES_SCHEMA = SceneSchema(
     controls=("force",),
     choices={"pairing": PAIRINGS, "convection": CONVECTIONS, "wedge_slope": ("exact", "paper"), "apex": APEX,
              "wedge_body": WEDGE_BODY},
-    ranges={"wedge_angle": (0.0, math.pi / 2, False, False, "0 < wedge_angle < pi/2 (rad)"),
-            "size_ratio": (0.2, 5.0, False, False, "0.2 < size_ratio < 5, not 1"),
-            "radius": (0.0, 1e8, False, True, "0 < radius <= 1e8 (mm)"),
-            "width_factor": (10.0, 1e6, True, True, "10 <= width_factor <= 1e6"),
-            "height_factor": (10.0, 1e6, True, True, "10 <= height_factor <= 1e6")},
+    ranges={"wedge_angle": (0.0, math.pi / 2, False, False, "0 < wedge_angle < pi/2 (rad)"), **PAIR_RANGES},
     tolerances={
         "load_balance": "|P - P_pressure| / P",
         "p_max": "small run, parabola: peak pressure against Hertz at the measured load and E* (relative)",

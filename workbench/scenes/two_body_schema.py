@@ -13,10 +13,15 @@ from dataclasses import dataclass
 
 from cases.schema import CaseError, Geometry, Run, SceneSchema
 
-__all__ = ["BODY_ROLES", "TWO_BODY_SCHEMA", "TwoBodyGeometry", "PAIRINGS", "TWO_BODY_METHODS",
+__all__ = ["BODY_ROLES", "TWO_BODY_SCHEMA", "TwoBodyGeometry", "PAIRINGS", "PAIR_RANGES", "TWO_BODY_METHODS",
            "check_method_and_models"]
 
 PAIRINGS = ("mortar", "node_to_segment")  # fem.two_body.problem.PAIRINGS (the scene layer may not import fem)
+# the geometry ranges both two-body scenes share (the meshed bodies' size ratio, a radius, the blocks over the contact)
+PAIR_RANGES = {"size_ratio": (0.2, 5.0, False, False, "0.2 < size_ratio < 5, not 1"),
+               "radius": (0.0, 1e8, False, True, "0 < radius <= 1e8 (mm)"),
+               "width_factor": (10.0, 1e6, True, True, "10 <= width_factor <= 1e6"),
+               "height_factor": (10.0, 1e6, True, True, "10 <= height_factor <= 1e6")}
 TWO_BODY_METHODS = ("penalty", "augmented_lagrangian")  # fem.two_body.laws.TWO_BODY_METHODS
 # [[body]] order: the lower body carries the slave surface (the gap is integrated on it), the upper one is driven.
 BODY_ROLES = ("first: the lower body (the block, slave surface, held at its bottom)",
@@ -102,13 +107,10 @@ TWO_BODY_SCHEMA = SceneSchema(
     predictions={"cylinder": ("exact_circle",), "stacked": ("uniform",)},
     controls=("force", "displacement"),
     choices={"pairing": PAIRINGS},
-    ranges={"size_ratio": (0.2, 5.0, False, False, "0.2 < size_ratio < 5, not 1"),
-            "radius": (0.0, 1e8, False, True, "0 < radius <= 1e8 (mm)"),
+    ranges={**PAIR_RANGES,
             "block_width": (0.0, 1e8, False, True, "0 < block_width <= 1e8 (mm)"),
             "height_lower": (0.0, 1e8, False, True, "0 < height_lower <= 1e8 (mm)"),
-            "height_upper": (0.0, 1e8, False, True, "0 < height_upper <= 1e8 (mm)"),
-            "width_factor": (10.0, 1e6, True, True, "10 <= width_factor <= 1e6"),
-            "height_factor": (10.0, 1e6, True, True, "10 <= height_factor <= 1e6")},
+            "height_upper": (0.0, 1e8, False, True, "0 < height_upper <= 1e8 (mm)")},
     tolerances={
         "load_balance": "|P - P_pressure| / P",
         "p_max": "peak pressure against the exact circle at the measured load (relative)",

@@ -59,6 +59,14 @@ def _band_table(points: list[dict], scene: str) -> list[str]:
     return lines
 
 
+def _part(r: dict) -> str:
+    """One part of a gap split: its value +- U, marked when within 3 U of zero; "not run" without a value."""
+    if r["value"] is None:
+        return "not run"
+    used = abs(r["value"]) > 3.0 * r["uncertainty"]
+    return f"{_pct(r['value'])} +- {100 * r['uncertainty']:.1g} %" + ("" if used else " (below U)")
+
+
 def _split_table(points: list[dict]) -> list[str]:
     lines = ["| point | beta | complete model | total gap | profile (FEM; theory) | convective term | "
              "traction direction | finite strain |", "|---|---|---|---|---|---|---|---|"]
@@ -72,11 +80,7 @@ def _split_table(points: list[dict]) -> list[str]:
             continue
 
         def cell(k, s=s):
-            r = s[k]
-            if r["value"] is None:
-                return "not run"
-            used = abs(r["value"]) > 3.0 * r["uncertainty"]
-            return f"{_pct(r['value'])} +- {100 * r['uncertainty']:.1g} %" + ("" if used else " (below U)")
+            return _part(s[k])
 
         prof = cell("profile") + f"; {_pct(s['profile']['theory'])}"
         lines.append(f"| {_param(p)} | {p['beta']:.3g} | {s['complete_model']} | {cell('total')} | {prof} | "
@@ -138,9 +142,7 @@ def _hp_sections(points: list[dict], cfg: dict) -> list[str]:
             continue
 
         def cell(k, s=s):
-            r = s[k]
-            used = abs(r["value"]) > 3.0 * r["uncertainty"]
-            return f"{_pct(r['value'])} +- {100 * r['uncertainty']:.1g} %" + ("" if used else " (below U)")
+            return _part(s[k])
 
         c = s["convective"]
         md.append(f"| {p['param']:g} | {p['beta']:+g} | {cell('total')} | {cell('profile')} | {cell('convective')} "
