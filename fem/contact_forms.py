@@ -87,6 +87,8 @@ class ContactForms(NamedTuple):
         ds_c: the contact measure of ``F_c`` (the method's quadrature; resultants of p use it too).
         ds_scale: UFL surface Jacobian ds/dS of finite kinematics (current over reference length), None for
             small and convective kinematics (1): resultants of p are ``int p (...) ds_scale dS``.
+        F_bulk: the bulk part of the residual, ``F - F_c`` written without the contact terms (its derivative, the
+            stiffness, then compiles to one module shared by every obstacle and method of the same degree).
     """
 
     F: Any
@@ -101,6 +103,7 @@ class ContactForms(NamedTuple):
     method: Any = None
     ds_c: Any = None
     ds_scale: Any = None
+    F_bulk: Any = None
 
     def on_surface(self, integrand):
         """``integrand`` times the surface Jacobian ds/dS (unchanged for small and convective kinematics)."""
@@ -278,11 +281,12 @@ def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str | C
     stress_v = sigma(v, lame) if stress_v is None else stress_v
     ds_c = _method_measure(ds_c, method, u)
     terms = method.terms(kin, v=v, stress_u=stress_u, stress_v=stress_v, ds_c=ds_c, mask=mask)
-    F = (ufl.inner(stress_u, ufl.grad(v)) * ufl.dx if bulk is None else bulk) + terms.F_c
+    F_bulk = ufl.inner(stress_u, ufl.grad(v)) * ufl.dx if bulk is None else bulk
+    F = F_bulk + terms.F_c
     J = ufl.derivative(F, u, ufl.TrialFunction(u.function_space)) if bulk is None else None
     return ContactForms(F=F, J=J, gap=kin.gap, argument=terms.argument, pressure=terms.pressure, n_c=kin.n_c,
                         sigma_nn=-kin.sigma_n(stress_u), F_c=terms.F_c, update=kin.update, method=method,
-                        ds_c=ds_c, ds_scale=kin.ds_scale)
+                        ds_c=ds_c, ds_scale=kin.ds_scale, F_bulk=F_bulk)
 
 
 def _method_measure(ds_c, method, u):

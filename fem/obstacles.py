@@ -21,8 +21,9 @@ the outward normal): numpy only, evaluated at nodes through ``curve.project``.
 
 from __future__ import annotations
 
+import copy
 import math
-from typing import Any, NamedTuple
+from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
@@ -73,12 +74,31 @@ def _unit(direction) -> tuple[float, float]:
 
 
 class AnalyticObstacle:
-    """Base of the analytic obstacles: translation by ``d * direction`` and the two gap formulas."""
+    """Base of the analytic obstacles: translation by ``d * direction`` and the two gap formulas.
+
+    ``geometry``: the names of the attributes (floats, or tuples of floats) that size and place the obstacle;
+    :meth:`with_constants` turns them into dolfinx Constants for the UFL forms (:mod:`fem.coefficients`). The
+    loading ``direction`` stays a Python vector (it decides the form's structure).
+    """
 
     analytic = True
+    geometry: ClassVar[tuple[str, ...]] = ()
 
     def __init__(self, direction=(0.0, -1.0)):
         self.direction = _unit(direction)
+
+    def with_constants(self, mesh) -> AnalyticObstacle:
+        """A copy whose :attr:`geometry` attributes are dolfinx Constants on ``mesh`` (same values), for the UFL
+        forms: another radius or apex then reuses the compiled form (:mod:`fem.coefficients`). The numpy
+        formulas keep using ``self``."""
+        from fem.coefficients import scalar
+
+        out = copy.copy(self)
+        for name in self.geometry:
+            value = getattr(self, name)
+            setattr(out, name, tuple(scalar(mesh, v) for v in value) if isinstance(value, tuple)
+                    else scalar(mesh, value))
+        return out
 
     # -- to implement (obstacle at d = 0) ------------------------------------------------------------------
     def _distance0(self, x1, x2, xp) -> Gap:
@@ -111,6 +131,8 @@ class CircleObstacle(AnalyticObstacle):
         radius: R (mm) > 0.
         direction: unit loading direction of the rigid body.
     """
+
+    geometry = ("center", "radius")
 
     def __init__(self, *, center, radius: float, direction=(0.0, -1.0)):
         super().__init__(direction)
@@ -158,6 +180,8 @@ class _GraphObstacle(AnalyticObstacle):
 class ParabolaObstacle(_GraphObstacle):
     """Rigid parabola ``y = v2 + (x - v1)^2 / (2 R)`` (the Hertz approximation of a circle of radius R)."""
 
+    geometry = ("radius", "vertex")
+
     def __init__(self, *, radius: float, vertex=(0.0, 0.0), direction=(0.0, -1.0)):
         super().__init__(direction)
         if not radius > 0:
@@ -187,6 +211,8 @@ class WedgeObstacle(_GraphObstacle):
     apex's normal cone; at and inside contact it is exact).
     """
 
+    geometry = ("slope", "apex")
+
     def __init__(self, *, slope: float, apex=(0.0, 0.0), direction=(0.0, -1.0)):
         super().__init__(direction)
         if not (slope > 0 and math.isfinite(slope)):
@@ -206,6 +232,8 @@ class WedgeObstacle(_GraphObstacle):
 
 class PlaneObstacle(_GraphObstacle):
     """Rigid half-plane (flat punch wider than the body) with lower surface ``y = height`` at d = 0."""
+
+    geometry = ("height",)
 
     def __init__(self, *, height: float = 0.0, direction=(0.0, -1.0)):
         super().__init__(direction)

@@ -42,7 +42,8 @@ class HertzPredictor:
         self.p0 = dolfinx.fem.Constant(mesh, 0.0)
         X = ufl.SpatialCoordinate(mesh)
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
-        p_h = hertz_pressure(X[0], a=self.a, p0=self.p0, center=self.x_c, xp=ufl)
+        self.center = dolfinx.fem.Constant(mesh, float(self.x_c))  # Constants: one form for every case
+        p_h = hertz_pressure(X[0], a=self.a, p0=self.p0, center=self.center, xp=ufl)
         self.uh = dolfinx.fem.Function(V)
         self._forms = (ufl.inner(sigma(du, lame), ufl.grad(v)) * ufl.dx, -p_h * v[1] * ds_c, bcs)
         self._linear_solver, self._prefix, self._problem = linear_solver, prefix, None

@@ -41,6 +41,8 @@ import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from fem.coefficients import lame_constants
+from fem.compiled_forms import compile_forms
 from fem.contact_forms import ContactForms, build_contact_forms
 from fem.elasticity import lame, mixed_constraint, plane_strain_modulus, sigma_mixed
 from fem.far_field import HalfPlaneFarField
@@ -99,6 +101,8 @@ class ContactProblem(NewtonControls):
     Attributes (main ones):
         u: displacement Function (mm); ph: the mixed formulation's pressure Function (MPa) or None.
         d: dolfinx Constant, rigid displacement of the obstacle along its direction (mm).
+        lame: the Lame parameters as dolfinx Constants (MPa); every number of the forms is a Constant
+            (:mod:`fem.coefficients`), so a form compiles once whatever E, nu, the obstacle or kappa0 are.
         mask: Constants ``(on, lo_0, hi_0, ..., lo_3, hi_3)`` of the prescribed-active-set predictor law.
         forms: :class:`fem.contact_forms.ContactForms`; method: its contact method instance.
         bcs: Dirichlet supports; ds_c: the Gauss contact measure (``quadrature_degree``).
@@ -110,9 +114,9 @@ class ContactProblem(NewtonControls):
     def __init__(self, mesh_data, obstacle, options: ContactOptions):
         self.options = opts = options
         self.mesh_data, self.obstacle = mesh_data, obstacle
-        self.lame = lame(E=opts.E, nu=opts.nu)
-        self.E_star = plane_strain_modulus(E=opts.E, nu=opts.nu)
         self.mesh = mesh_data.mesh
+        self.lame = lame_constants(self.mesh, lame(E=opts.E, nu=opts.nu))  # Constants: no recompile per E, nu
+        self.E_star = plane_strain_modulus(E=opts.E, nu=opts.nu)
         self.comm = self.mesh.comm
         self.supports = resolve_supports(mesh_data, opts.supports, opts.symmetric_half)
         self.qdeg = opts.contact_quadrature_degree
@@ -162,7 +166,8 @@ class ContactProblem(NewtonControls):
             self.stress = law.stress
             mixed_kw = dict(v=v_t, stress_u=law.stress, stress_v=law.stress_v)
             self._test_to_support = {v_t: None}
-        return build_contact_forms(u=u, obstacle=self.obstacle, d=self.d, lame=lm, method=opts.method,
+        obstacle = self.obstacle.with_constants(self.mesh) if self.obstacle.analytic else self.obstacle
+        return build_contact_forms(u=u, obstacle=obstacle, d=self.d, lame=lm, method=opts.method,
                                    kinematics=opts.kinematics, traction=opts.traction, ds_c=self.ds_c,
                                    contact_facets=self.contact_facets, mask=self.mask, **opts.method_params(),
                                    **mixed_kw)
@@ -188,10 +193,10 @@ class ContactProblem(NewtonControls):
         # ends at the clamped corners) the symmetric Nitsche term -theta/gamma sigma_n(u) sigma_n(w) works on the
         # support dofs too (-a(u, w) alone missed 1.5e-3 of P in concave_symmetric)
         tests = {k: (w if v is None else v) for k, v in self._test_to_support.items()}
-        self.reaction_form = dolfinx.fem.form(-ufl.replace(self.forms.F, tests))
         forms = self.forms
-        self.pressure_form = dolfinx.fem.form(
-            forms.on_surface(-forms.pressure * ufl.dot(forms.n_c, ufl.as_vector(direction))) * forms.ds_c)
+        self._ufl_measures = {  # compiled with the solver's forms (_build_solver)
+            "reaction": -ufl.replace(forms.F, tests),
+            "pressure": forms.on_surface(-forms.pressure * ufl.dot(forms.n_c, ufl.as_vector(direction))) * forms.ds_c}
 
     def _build_solver(self) -> None:
         """NonlinearProblem with SNES newtonls/basic, LU (MUMPS); atol scaled by E and the body size L."""
@@ -205,22 +210,36 @@ class ContactProblem(NewtonControls):
                  "snes_rtol": opts.snes_rtol, "snes_atol": 1e-13 * opts.E * L, "snes_stol": 0.0,
                  "snes_max_it": opts.max_it}
         petsc.update(opts.petsc_options or {})
+        # every form of the problem in one FFCx module (fem/compiled_forms.py): F and J, the load measures, the
+        # split Jacobian's K and J_c, the method's own (e.g. the augmented Lagrangian's nodal averages)
+        ufl_forms = dict(self._ufl_measures)
         if self.ph is not None:
             du_t, dp_t = self._trials
             J_full = ufl.derivative(forms.F, self.u, du_t) + ufl.derivative(forms.F, self.ph, dp_t)
-            self.problem = dolfinx.fem.petsc.NonlinearProblem(
-                ufl.extract_blocks(forms.F), [self.u, self.ph], bcs=self.bcs, J=ufl.extract_blocks(J_full),
-                kind="mpi", petsc_options_prefix=self.prefix, petsc_options=petsc)
+            ufl_forms |= {"F": ufl.extract_blocks(forms.F), "J": ufl.extract_blocks(J_full)}
         else:
-            self.problem = dolfinx.fem.petsc.NonlinearProblem(forms.F, self.u, bcs=self.bcs, J=forms.J,
+            ufl_forms |= {"F": forms.F, "J": forms.J}
+        # J = K (assembled once) + contact terms per iteration; not for a hyperelastic bulk (K depends on u)
+        split = self.ph is None and opts.split_jacobian and opts.material_model == "linear"
+        if split:
+            ufl_forms |= SplitJacobian.ufl_forms(u=self.u, bulk_residual=forms.F_bulk, contact_residual=forms.F_c)
+        method_forms = self.method.extra_forms()
+        compiled = compile_forms(ufl_forms | method_forms, comm=comm)
+        self.method.bind_forms({name: compiled[name] for name in method_forms})
+        self.reaction_form, self.pressure_form = compiled["reaction"], compiled["pressure"]
+        if self.ph is not None:
+            self.problem = dolfinx.fem.petsc.NonlinearProblem(
+                compiled["F"], [self.u, self.ph], bcs=self.bcs, J=compiled["J"], kind="mpi",
+                petsc_options_prefix=self.prefix, petsc_options=petsc)
+        else:
+            self.problem = dolfinx.fem.petsc.NonlinearProblem(compiled["F"], self.u, bcs=self.bcs, J=compiled["J"],
                                                               petsc_options_prefix=self.prefix,
                                                               petsc_options=petsc)
         self.snes = self.problem.solver
         configure_linear_solver(self.snes, self.problem.A, self.V, opts.linear_solver, **solver_kw)
-        # J = K (assembled once) + contact terms per iteration; not for a hyperelastic bulk (K depends on u)
-        if self.ph is None and opts.split_jacobian and opts.material_model == "linear":
-            self.split_jacobian = SplitJacobian(u=self.u, bulk_residual=forms.F - forms.F_c,
-                                                contact_residual=forms.F_c, J_form=self.problem.J, bcs=self.bcs)
+        if split:
+            self.split_jacobian = SplitJacobian(u=self.u, K_form=compiled["K"], Jc_form=compiled["Jc"],
+                                                J_form=self.problem.J, bcs=self.bcs)
             self.snes.setJacobian(self.split_jacobian, self.problem.A, self.problem.P_mat)
         if forms.update is not None:
             self.snes.setFunction(self._residual_with_update, self.problem.b)

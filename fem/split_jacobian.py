@@ -29,17 +29,22 @@ class SplitJacobian:
 
     Args:
         u: displacement Function (the SNES unknown).
-        bulk_residual: UFL ``int sigma(u) : grad v dx`` (linear in u).
-        contact_residual: UFL ``F_c(u; v)`` (contact boundary integrals only).
+        K_form, Jc_form: the compiled stiffness and contact Jacobian (:meth:`ufl_forms`).
         J_form: the compiled full Jacobian form (its sparsity pattern is the matrix's).
         bcs: Dirichlet conditions.
     """
 
-    def __init__(self, *, u, bulk_residual, contact_residual, J_form, bcs):
+    @staticmethod
+    def ufl_forms(*, u, bulk_residual, contact_residual) -> dict:
+        """The UFL ``K`` (``bulk_residual``: ``int sigma(u) : grad v dx``, linear in u) and ``J_c``
+        (``contact_residual``: ``F_c(u; v)``, contact boundary integrals only), to compile with the problem's
+        other forms (:mod:`fem.compiled_forms`)."""
         du = ufl.TrialFunction(u.function_space)
+        return {"K": ufl.derivative(bulk_residual, u, du), "Jc": ufl.derivative(contact_residual, u, du)}
+
+    def __init__(self, *, u, K_form, Jc_form, J_form, bcs):
         self.u, self.bcs = u, bcs
-        self.K_form = dolfinx.fem.form(ufl.derivative(bulk_residual, u, du))
-        self.Jc_form = dolfinx.fem.form(ufl.derivative(contact_residual, u, du))
+        self.K_form, self.Jc_form = K_form, Jc_form
         self.K = dolfinx.fem.petsc.create_matrix(J_form)
         self.J_form = J_form
         self._assembled = False

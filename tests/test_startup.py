@@ -109,7 +109,10 @@ def test_bench_startup_section_reports_both_times_and_the_ratio():
 
     lines = []
     st = startup_cost(CASE, repeats=1, progress=lines.append)
-    assert set(st["modes"]) == {"full", "no_pictures"} and len(lines) == 2
+    assert set(st["modes"]) == {"full", "no_pictures"} and len(lines) == 3
+    ch = st["changed_material"]  # issue 34: another E reuses every compiled form (the time ratio is load: reported)
+    assert ch["new_modules"] == 0 and ch["pass"] and ch["case"] == f"{CASE}_changed_material", ch
+    assert ch["ratio"] == pytest.approx(ch["process_s"]["all"][0] / ch["original_process_s"]["all"][0], rel=1e-12)
     ms = st["mesh_solve_s"]["best"]
     assert ms > 0 and st["mesh_solve_s"]["first_in_process"] > 0  # which is larger is load, not code
     for mode, r in st["modes"].items():
@@ -125,6 +128,7 @@ def test_bench_startup_section_reports_both_times_and_the_ratio():
     md = to_markdown(data)
     assert "## Start-up and output" in md and f"x its case time | {st['modes']['full']['ratio_to_case']:.1f} x" in md
     assert f"whole CI process (`--no-pictures` (scripts)) <= {TARGET_RATIO:g} x its case time" in md
+    assert "**A changed material compiles nothing**" in md and "added 0 FFCx modules" in md
 
 
 def test_vtk_quoteattr_is_saxutils_quoteattr():

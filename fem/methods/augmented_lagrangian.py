@@ -106,20 +106,29 @@ class AugmentedLagrangian(ContactMethod):
         V = kin.u.function_space
         Q = dolfinx.fem.functionspace(V.mesh, ("Lagrange", V.ufl_element().embedded_superdegree))
         self.multiplier = lam = dolfinx.fem.Function(Q, name="contact_multiplier")
-        kappa = self.kappa0 * self.E / kin.h
+        kappa = self.constant(kin, self.kappa0 * self.E) / kin.h
         q = lam - kappa * kin.gap
         p = contact_law(q, kin.X, mask)
         vq = ufl.TestFunction(Q)
         fields = {"w": 1.0, "p": p, "g": kin.gap} | self.nodal_fields(kin)
-        self._forms = {name: dolfinx.fem.form(f * vq * ds_c) for name, f in fields.items()}
+        self._ufl_forms = {f"nodal_{name}": f * vq * ds_c for name, f in fields.items()}
+        self._forms = None  # compiled with the problem's forms (bind_forms), or alone at the first use
         self._n_owned = Q.dofmap.index_map.size_local
         self._comm = V.mesh.comm
         self._u = kin.u
         self._u_owned = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
+        return MethodTerms(argument=q, pressure=kin.current_pressure(p), F_c=p * ufl.dot(kin.n_c, v) * ds_c)
+
+    def extra_forms(self) -> dict:
+        """The nodal averages ``int^nodal f N_i ds`` of ``w`` (= 1), ``p``, ``g`` and :meth:`nodal_fields`."""
+        return dict(self._ufl_forms)
+
+    def bind_forms(self, compiled: dict) -> None:
+        """The compiled nodal forms; the contact dofs are those with a positive nodal weight ``w_i``."""
+        self._forms = {name[len("nodal_"):]: form for name, form in compiled.items()}
         w = self._nodal("w")
         self._idx = np.flatnonzero(w > 0)  # owned contact dofs
         self._w = w[self._idx]
-        return MethodTerms(argument=q, pressure=kin.current_pressure(p), F_c=p * ufl.dot(kin.n_c, v) * ds_c)
 
     def nodal_fields(self, kin) -> dict:
         """Extra UFL fields f whose nodal averages ``int^nodal f N_i ds / w_i`` :meth:`law_gap` reads (none)."""
@@ -139,6 +148,8 @@ class AugmentedLagrangian(ContactMethod):
     # -- Uzawa ----------------------------------------------------------------------------------------------
     def _nodal(self, name: str) -> np.ndarray:
         """Owned entries of ``int^nodal f N_i ds`` (assembled, ghost contributions added)."""
+        if self._forms is None:  # built outside a ContactProblem: each form compiled on its own
+            self.bind_forms({k: dolfinx.fem.form(f) for k, f in self._ufl_forms.items()})
         vec = dolfinx.fem.assemble_vector(self._forms[name])
         vec.scatter_reverse(dolfinx.la.InsertMode.add)
         return vec.array[:self._n_owned].copy()

@@ -88,6 +88,14 @@ class ContactMethod:
     def __init__(self, *, E: float, **params):
         self.E = E
 
+    @staticmethod
+    def constant(kin, value: float):
+        """``value`` as a dolfinx Constant on the contact mesh: a method's parameters (``kappa0 E``, ``gamma0 E``,
+        ``theta``) enter its terms this way, so another value reuses the compiled form (:mod:`fem.coefficients`)."""
+        from fem.coefficients import scalar
+
+        return scalar(kin.u.function_space.mesh, value)
+
     # -- the weak form ---------------------------------------------------------------------------------------
     def terms(self, kin, *, v, stress_u, stress_v, ds_c, mask) -> MethodTerms:
         """The method's UFL terms from the kinematics ``kin`` (:class:`fem.contact_forms.ContactKinematics`).
@@ -113,6 +121,14 @@ class ContactMethod:
     def state_functions(self) -> list:
         """dolfinx Functions of the method's own unknowns, saved and extrapolated with u (default none)."""
         return []
+
+    def extra_forms(self) -> dict:
+        """UFL forms of the method's own (name -> form, e.g. nodal averages), compiled with the problem's forms
+        into one module (:mod:`fem.compiled_forms`) and handed back through :meth:`bind_forms` (default none)."""
+        return {}
+
+    def bind_forms(self, compiled: dict) -> None:
+        """Receive the compiled :meth:`extra_forms` (name -> ``dolfinx.fem.Form``), before the first solve."""
 
     def solve(self, newton: Callable[..., tuple[int, int]]) -> tuple[int, int, dict]:
         """Solve one load level: ``newton(force_iteration=False)`` runs the SNES solve from the current state and

@@ -42,8 +42,8 @@ class Nitsche(ContactMethod):
         self.gamma0, self.theta = gamma0, theta
 
     def terms(self, kin, *, v, stress_u, stress_v, ds_c, mask) -> MethodTerms:
-        theta = self.theta
-        gamma = self.gamma0 * self.E / kin.h
+        theta = self.constant(kin, self.theta)
+        gamma = self.constant(kin, self.gamma0 * self.E) / kin.h
         sig_n = kin.sigma_n
         P_gamma = sig_n(stress_u) + gamma * kin.gap
         q = -P_gamma

@@ -58,28 +58,16 @@ class Penalty(ContactMethod):
         self.kappa0 = kappa0
         self.stiff = None
         if kappa0 > STIFF_KAPPA0:
-            from fem.methods.augmented_lagrangian import AugmentedLagrangian
+            from fem.methods.nodal_penalty import NodalPenaltyUzawa
 
-            class NodalPenaltyUzawa(AugmentedLagrangian):
-                """The nodal penalty law ``p = kappa [-g]_+`` as the fixed point of relaxed Uzawa updates."""
-
-                label = f"penalty kappa0 = {kappa0:g} (nodal law, Uzawa)"
-                relaxation = 1.0 - KAPPA_SOLVE / kappa0
-
-                def nodal_fields(self, kin) -> dict:
-                    return {"kappa": kappa0 * self.E / kin.h}
-
-                def law_gap(self, gap, p):  # g_i + p_i / kappa_i, kappa_i averaged as the update averages it
-                    return gap + p / (self._nodal("kappa")[self._idx] / self._w)
-
-            self.stiff = NodalPenaltyUzawa(E=E, kappa0=min(kappa0, KAPPA_SOLVE), uzawa_rtol=uzawa_rtol,
+            self.stiff = NodalPenaltyUzawa(E=E, kappa0=kappa0, kappa_solve=KAPPA_SOLVE, uzawa_rtol=uzawa_rtol,
                                            uzawa_max_it=uzawa_max_it)
             self.supports_tangent = False
 
     def terms(self, kin, *, v, stress_u, stress_v, ds_c, mask) -> MethodTerms:
         if self.stiff is not None:
             return self.stiff.terms(kin, v=v, stress_u=stress_u, stress_v=stress_v, ds_c=ds_c, mask=mask)
-        kappa = self.kappa0 * self.E / kin.h
+        kappa = self.constant(kin, self.kappa0 * self.E) / kin.h
         q = -kappa * kin.gap
         p = contact_law(q, kin.X, mask)
         return MethodTerms(argument=q, pressure=kin.current_pressure(p), F_c=p * ufl.dot(kin.n_c, v) * ds_c)
@@ -95,6 +83,13 @@ class Penalty(ContactMethod):
 
     def state_functions(self) -> list:
         return [] if self.stiff is None else self.stiff.state_functions()
+
+    def extra_forms(self) -> dict:
+        return {} if self.stiff is None else self.stiff.extra_forms()
+
+    def bind_forms(self, compiled: dict) -> None:
+        if self.stiff is not None:
+            self.stiff.bind_forms(compiled)
 
     def solve(self, newton):
         return super().solve(newton) if self.stiff is None else self.stiff.solve(newton)

@@ -13,9 +13,10 @@ is a key number too: it says whether two sets of numbers come from the same mesh
 
 Two comparisons, for two questions:
 
-* **same machine, refactor check** (``compare``, ``make check-numbers``): every number at ``rtol`` = 1e-10
-  relative against a baseline saved on this machine (``make save-baseline`` -> ``results/baseline/``, not
-  under version control). Any change of a result shows; it says nothing about another machine.
+* **same machine, refactor check** (``compare``, ``make check-numbers``): every number at ``rtol`` = 1e-10 of its
+  scale (itself, the contact size for a centre, 1 for a fraction) against a baseline saved on this machine
+  (``make save-baseline`` -> ``results/baseline/``, not under version control). Any change of a result shows; it
+  says nothing about another machine.
 * **portable regression** (``portable``, ``tests/test_cases_end_to_end.py``): every number against the saved
   set ``tests/data/key_numbers_{ci,run}.json`` at the tolerance of its class
   (:mod:`workbench.pipeline.number_classes`: verdicts exact, round-off against an absolute ceiling,
@@ -38,7 +39,7 @@ import sys
 from pathlib import Path
 
 from workbench.atomic import write_text
-from workbench.pipeline.number_classes import classify, compare_portable
+from workbench.pipeline.number_classes import classify, compare_portable, scale_kind, scale_of
 
 __all__ = ["key_numbers", "compare_numbers", "saved_file", "load_saved"]
 
@@ -89,7 +90,9 @@ def key_numbers(root: Path) -> dict:
 
 def compare_numbers(new: dict, old: dict, *, rtol: float = 1e-10, allow_new: bool = False) -> list[str]:
     """One line per key number that is missing, new (unless ``allow_new``: e.g. a case added since the saved
-    set), or moved by more than ``rtol`` (relative)."""
+    set), or moved by more than ``rtol`` of its scale (:func:`workbench.pipeline.number_classes.scale_of`: the
+    number itself where it is bounded away from zero, the contact size for a patch centre, 1 for a fraction, never
+    a quantity that is zero in theory against itself)."""
     bad = []
     for k in sorted(set(old) | set(new)):
         if k not in old and allow_new:
@@ -101,8 +104,10 @@ def compare_numbers(new: dict, old: dict, *, rtol: float = 1e-10, allow_new: boo
         if isinstance(a, float) and isinstance(b, float):
             if math.isnan(a) and math.isnan(b):
                 continue
-            if not abs(b - a) <= rtol * max(abs(a), abs(b), 1e-300):
-                bad.append(f"{k}: {a!r} -> {b!r} (rel {abs(b - a) / max(abs(a), 1e-300):.3g})")
+            scale = scale_of(k, old, new)
+            if not abs(b - a) <= rtol * scale:
+                bad.append(f"{k}: {a!r} -> {b!r} (moved {abs(b - a) / scale if scale > 0 else math.inf:.3g} of "
+                           f"its scale {scale:.6g}, {scale_kind(k)})")
         elif a != b:
             bad.append(f"{k}: {a!r} -> {b!r}")
     return bad

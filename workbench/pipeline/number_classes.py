@@ -10,6 +10,28 @@ agree; without fingerprints, or when they differ, the case is compared at its fo
 budget's rows (``error_budget/...``) are always compared at the foreign-mesh tolerances: the budget solves on its
 own meshes, which the runs' fingerprints do not cover.
 
+**Every number is compared on its own scale** (issue 34): a move is ``|new - old| / scale`` with the scale of
+:func:`scale_of`, never a quantity that is zero in theory against itself (a new machine failed ``make test`` on two
+patch centres of symmetric two-body cases that moved 4.5e-11 mm and 9.5e-12 mm, about 1e-10 of the contact
+size, and were called 5e-7 and 1.2e-7 "relative" to themselves):
+
+=================  ==========================================================================================
+scale              which keys
+=================  ==========================================================================================
+``self``           a quantity bounded away from zero: a load P (N/mm), a peak p_max (its p0, MPa), a half-width
+                   (the contact size, mm), a displacement d (mm), b/b0, a budget row's value and its theory
+``contact_size``   a patch centre (mm, 0 for a symmetric case): the patch's half-width (else the run's)
+``run_load``       a patch's load: the run's load P
+``run_peak``       a patch's peak: the run's p_max (its p0)
+``unit``           a fraction, compared absolutely: an error against its reference quantity, a load balance, the
+                   patch-test uniformity, the interior stress error (RMS / p0), Dundurs' alpha and beta (0 for
+                   equal materials), the relative difference of two theories, an iteration count
+=================  ==========================================================================================
+
+``tests/test_number_scales.py`` moves every saved key by 1e-12 and by 1e-6 of its scale (passes, fails on the
+same mesh) and lists the quantities that are zero in theory with the scale each is measured on. ``make
+check-numbers`` (:func:`workbench.pipeline.key_numbers.compare_numbers`) uses the same scales.
+
 ======================  ==============================================  ==================  ====================
 class                   what                                            same mesh           foreign mesh
 ======================  ==============================================  ==================  ====================
@@ -58,7 +80,7 @@ kind                keys                                                       m
 ``peak``            p_max of a run or patch                                    4.27e-4      1.3e-3
 ``step_peak``       p_max of each intermediate load step                       4.56e-3      1.4e-2
 ``width``           half-widths, b/b0 of the FEM                               9.26e-4      2.8e-3
-``position``        patch centres                                              1.13e-4      3.4e-4
+``position``        patch centres (of the contact size)                        1.13e-4      3.4e-4
 ``displacement``    d (a result under force control)                           2.14e-5      6.4e-5
 ``error``           errors against theory (absolute)                           1.87e-3      5.6e-3
 ``step_error``      superposition rms of each step (absolute)                  1.04e-3      3.1e-3
@@ -93,8 +115,8 @@ import math
 import re
 from typing import NamedTuple
 
-__all__ = ["CLASSES", "FOREIGN", "FOREIGN_MEASURED", "MEASURED_SAME_MESH", "SAFETY", "Move", "classify",
-           "explicit_class", "compare_portable", "same_mesh_cases", "worst_by_class"]
+__all__ = ["CLASSES", "FOREIGN", "FOREIGN_MEASURED", "MEASURED_SAME_MESH", "SAFETY", "SCALES", "Move", "classify",
+           "explicit_class", "compare_portable", "same_mesh_cases", "scale_kind", "scale_of", "worst_by_class"]
 
 CLASSES = ("verdict", "roundoff", "iterations", "mesh", "theory", "physics", "error", "mesh_sensitive", "estimate",
            "excluded")
@@ -144,59 +166,133 @@ class Move(NamedTuple):
         return self.moved / self.tolerance if self.tolerance > 0 else math.inf
 
 
-# (pattern on the field path after "case/", class, kind); first match wins
-_RULES: tuple[tuple[str, str, str], ...] = (
-    (r"(^|/)[^/]*time[^/]*$", "excluded", ""),
-    (r"^pass$", "verdict", ""),
-    (r"^band_checks/", "verdict", ""),
-    (r"/(theory|alt)_in_band$", "verdict", ""),
-    (r"/n_patches$", "verdict", ""),
-    (r"(^|/)errors/load_balance$", "roundoff", ""),
+# The scale a key's move is measured on (issue 34): never a quantity that is zero in theory against itself.
+SELF = "self"            # the number itself: a quantity bounded away from zero (a load, a peak, a width, b/b0)
+UNIT = "unit"            # 1: a dimensionless fraction (an error against its reference, a Dundurs parameter, a
+#                          relative difference of two theories), compared absolutely
+CONTACT_SIZE = "contact_size"   # the patch's half-width (mm): a position (patch centre, zero for a symmetric case)
+RUN_LOAD = "run_load"           # the run's load P (N/mm): a patch's share of it
+RUN_PEAK = "run_peak"           # the run's p_max (MPa), its p0: a patch's peak
+SCALES = (SELF, UNIT, CONTACT_SIZE, RUN_LOAD, RUN_PEAK)
+
+# (pattern on the field path after "case/", class, kind, scale); first match wins
+_RULES: tuple[tuple[str, str, str, str], ...] = (
+    (r"(^|/)[^/]*time[^/]*$", "excluded", "", SELF),
+    (r"^pass$", "verdict", "", SELF),
+    (r"^band_checks/", "verdict", "", SELF),
+    (r"/(theory|alt)_in_band$", "verdict", "", SELF),
+    (r"/n_patches$", "verdict", "", SELF),
+    (r"(^|/)errors/load_balance$", "roundoff", "", UNIT),
     # mortar's contact patch test: the uniform pressure holds to round-off (measured 3e-12), a ceiling as the balance
-    (r"(^|/)errors/patch_uniformity$", "roundoff", ""),
-    (r"(^|/)errors/newton_iterations$", "iterations", ""),
-    (r"/newton_iterations/\d+$", "iterations", ""),
-    (r"/ndofs$", "mesh", ""),
+    (r"(^|/)errors/patch_uniformity$", "roundoff", "", UNIT),
+    (r"(^|/)errors/newton_iterations$", "iterations", "", UNIT),   # a count: compared within a margin
+    (r"/newton_iterations/\d+$", "iterations", "", UNIT),
+    (r"/ndofs$", "mesh", "", SELF),
     # the perturbation amplitude is the emulation's own setting (make emulate sets it), not a result
-    (r"/mesh_fingerprint/perturb$", "excluded", ""),
-    (r"/mesh_fingerprint/", "mesh", ""),
-    (r"^errors/(fit_rms|patch_size|rms_convective)$", "mesh_sensitive", ""),
-    (r"/superposition_best_rms_over_p0$", "mesh_sensitive", ""),
-    (r"^error_budget/.*/(observed_order|gci|truncation)$", "estimate", ""),
+    (r"/mesh_fingerprint/perturb$", "excluded", "", SELF),
+    (r"/mesh_fingerprint/", "mesh", "", SELF),
+    (r"^errors/(fit_rms|patch_size|rms_convective)$", "mesh_sensitive", "", SELF),
+    (r"/superposition_best_rms_over_p0$", "mesh_sensitive", "", SELF),
+    (r"^error_budget/.*/(observed_order|gci|truncation)$", "estimate", "", SELF),
+    # the interior stress error (RMS / p0, a fraction; its theory is 0) on the budget's finest grid
+    (r"^error_budget/.*interior_stress_l2/(fine|extrapolated|theory|alt_value)$", "error", "error", UNIT),
     # a budget row's theory is evaluated at the load the FEM carries (concave steps: the superposition of the
     # FEM's patch loads), so it moves with the run: physics, not theory (measured 1.6e-8 under numpy's baseline)
-    (r"^error_budget/.*(P|patch_P\[\d+\])/(fine|extrapolated|theory|alt_value)$", "physics", "load"),
-    (r"^error_budget/.*(p_max|vm_max|interior_stress_l2)/(fine|extrapolated|theory|alt_value)$", "physics", "peak"),
-    (r"^error_budget/.*load_symmetry/(fine|extrapolated|theory|alt_value)$", "physics", "load"),
-    (r"^error_budget/.*(width|b_over_b0).*/(fine|extrapolated|theory|alt_value)$", "physics", "width"),
-    (r"^analytic/b_over_b0(_moment)?_fem$", "physics", "width"),
-    (r"^analytic/", "theory", ""),
-    (r"(^|/)errors/", "error", "error"),
-    (r"/superposition_independent_rms_over_p0$", "error", "step_error"),
-    (r"/steps/\d+/(P|P_pressure)$", "physics", "step_load"),
-    (r"/steps/\d+/p_max$", "physics", "step_peak"),
-    (r"(^|/)(P|P_pressure)$", "physics", "load"),
-    (r"/p_max$", "physics", "peak"),
-    (r"/(patch_half_width|half_width)$", "physics", "width"),
-    (r"/center$", "physics", "position"),
-    (r"/d$", "physics", "displacement"),
+    (r"^error_budget/.*(P|patch_P\[\d+\])/(fine|extrapolated|theory|alt_value)$", "physics", "load", SELF),
+    (r"^error_budget/.*(p_max|vm_max)/(fine|extrapolated|theory|alt_value)$", "physics", "peak", SELF),
+    (r"^error_budget/.*load_symmetry/(fine|extrapolated|theory|alt_value)$", "physics", "load", SELF),
+    (r"^error_budget/.*(width|b_over_b0).*/(fine|extrapolated|theory|alt_value)$", "physics", "width", SELF),
+    (r"^analytic/b_over_b0(_moment)?_fem$", "physics", "width", SELF),
+    # Dundurs' parameters (0 for equal materials) and the relative difference of two theories: fractions
+    (r"^analytic/(alpha|beta|hertz_vs_[a-z_0-9]+)$", "theory", "", UNIT),
+    (r"^analytic/", "theory", "", SELF),
+    (r"(^|/)errors/", "error", "error", UNIT),
+    (r"/superposition_independent_rms_over_p0$", "error", "step_error", UNIT),
+    (r"/steps/\d+/(P|P_pressure)$", "physics", "step_load", SELF),
+    (r"/steps/\d+/p_max$", "physics", "step_peak", SELF),
+    (r"/patches/\d+/(P|P_pressure)$", "physics", "load", RUN_LOAD),
+    (r"/patches/\d+/p_max$", "physics", "peak", RUN_PEAK),
+    (r"(^|/)(P|P_pressure)$", "physics", "load", SELF),
+    (r"/p_max$", "physics", "peak", SELF),
+    (r"/(patch_half_width|half_width)$", "physics", "width", SELF),
+    (r"/center$", "physics", "position", CONTACT_SIZE),
+    (r"/d$", "physics", "displacement", SELF),
 )
-_COMPILED = tuple((re.compile(p), c, k) for p, c, k in _RULES)
+_COMPILED = tuple((re.compile(p), c, k, sc) for p, c, k, sc in _RULES)
+
+
+def _rule(key: str) -> tuple[str, str, str] | None:
+    field = key.split("/", 1)[1] if "/" in key else key
+    for pat, cls, kind, scale in _COMPILED:
+        if pat.search(field):
+            return cls, kind, scale
+    return None
 
 
 def explicit_class(key: str) -> tuple[str, str] | None:
     """``(class, kind)`` of the first rule matching ``key`` (``"case/field..."``), ``None`` if no rule does."""
-    field = key.split("/", 1)[1] if "/" in key else key
-    for pat, cls, kind in _COMPILED:
-        if pat.search(field):
-            return cls, kind
-    return None
+    rule = _rule(key)
+    return None if rule is None else rule[:2]
 
 
 def classify(key: str) -> tuple[str, str]:
     """``(class, kind)`` of ``key``; a key no rule knows is ``physics`` of kind ``unknown`` (compared at the
     tightest foreign-mesh tolerance, never loosely by accident)."""
     return explicit_class(key) or ("physics", "unknown")
+
+
+def scale_kind(key: str) -> str:
+    """The scale ``key`` is measured on (one of :data:`SCALES`; an unknown key: :data:`SELF`)."""
+    rule = _rule(key)
+    return SELF if rule is None else rule[2]
+
+
+_PATCH = re.compile(r"/patches/(\d+)/[^/]+$")
+
+
+def _references(key: str, scale: str) -> list[str]:
+    """The keys whose magnitude is the scale of ``key`` (best first)."""
+    m = _PATCH.search(key)
+    run = key[:m.start()] if m else key.rsplit("/", 1)[0]
+    if scale == CONTACT_SIZE:
+        own = [f"{run}/patches/{m.group(1)}/half_width"] if m else []
+        return [*own, f"{run}/patch_half_width"]
+    if scale == RUN_LOAD:
+        return [f"{run}/P"]
+    if scale == RUN_PEAK:
+        return [f"{run}/p_max"]
+    return []
+
+
+def _magnitude(value) -> float | None:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        return None
+    return abs(float(value))
+
+
+def scale_of(key: str, old: dict, new: dict | None = None) -> float:
+    """The scale (> 0) on which a move of ``key`` is measured, from the saved numbers ``old`` and the new ones.
+
+    :data:`SELF`: the larger magnitude of the two values; :data:`UNIT`: 1; the others: the magnitude of the
+    reference key in the same run (the patch's half-width for its centre, the run's P and p_max for a patch's load
+    and peak), else the largest half-width (or load, or peak) of the case: never the key itself. 0 only when
+    every candidate is 0 or missing (then any move is a failure).
+    """
+    new = new if new is not None else {}
+    scale = scale_kind(key)
+    if scale == UNIT:
+        return 1.0
+    if scale == SELF:
+        return max((v for v in (_magnitude(old.get(key)), _magnitude(new.get(key))) if v is not None), default=0.0)
+    for ref in _references(key, scale):
+        found = [v for v in (_magnitude(old.get(ref)), _magnitude(new.get(ref))) if v is not None]
+        if found and max(found) > 0:
+            return max(found)
+    case = key.split("/", 1)[0] + "/"
+    suffix = {CONTACT_SIZE: ("/half_width", "/patch_half_width"), RUN_LOAD: ("/P",), RUN_PEAK: ("/p_max",)}[scale]
+    found = [v for d in (old, new) for k, x in d.items() if k.startswith(case) and k.endswith(suffix)
+             and "/error_budget/" not in k and (v := _magnitude(x)) is not None]
+    return max(found, default=0.0)
 
 
 def _tolerance(cls: str, kind: str, same_mesh: bool) -> float:
@@ -213,18 +309,27 @@ def _tolerance(cls: str, kind: str, same_mesh: bool) -> float:
 def same_mesh_cases(new: dict, old: dict) -> set[str]:
     """Cases whose meshes are proven equal: every run (every key ending in ``/ndofs``) has a
     ``mesh_fingerprint`` in both sets, and they agree."""
+    prints: dict[str, tuple[dict, dict]] = {}
+    runs: dict[str, set] = {}
+    for side, numbers in enumerate((old, new)):
+        for k, v in numbers.items():
+            case = k.split("/", 1)[0]
+            if "/mesh_fingerprint/" in k:
+                prints.setdefault(case, ({}, {}))[side][k] = v
+            elif k.endswith("/ndofs"):
+                runs.setdefault(case, set()).add(k[:-len("/ndofs")])
     out = set()
-    for case in {k.split("/", 1)[0] for k in old} | {k.split("/", 1)[0] for k in new}:
-        fa = {k: v for k, v in old.items() if k.startswith(f"{case}/") and "/mesh_fingerprint/" in k}
-        fb = {k: v for k, v in new.items() if k.startswith(f"{case}/") and "/mesh_fingerprint/" in k}
-        runs = {k[:-len("/ndofs")] for k in (*old, *new) if k.startswith(f"{case}/") and k.endswith("/ndofs")}
+    for case, (fa, fb) in prints.items():
         fp_runs = {k.split("/mesh_fingerprint/")[0] for k in fa}
-        if fa and fa == fb and fp_runs >= runs:
+        if fa and fa == fb and fp_runs >= runs.get(case, set()):
             out.add(case)
     return out
 
 
-def _move(key: str, a, b, same: bool, *, stiffness_ratio: float = 1.0) -> Move:
+def _move(key: str, a, b, same: bool, *, scale: float, stiffness_ratio: float = 1.0) -> Move:
+    """The move of ``key`` from ``a`` to ``b``: ``|b - a| / scale`` against the class tolerance (a factor for
+    ``mesh_sensitive`` and ``estimate`` on a foreign mesh, a count for ``iterations``, a ceiling on the value for
+    ``roundoff``)."""
     cls, kind = classify(key)
     tol = _tolerance(cls, kind, same) * (stiffness_ratio if cls == "roundoff" else 1.0)
     note = "" if same or cls not in ("physics", "error", "mesh", "mesh_sensitive", "estimate") else "mesh differs"
@@ -247,27 +352,23 @@ def _move(key: str, a, b, same: bool, *, stiffness_ratio: float = 1.0) -> Move:
         tol = max(ITERATIONS_ABS, ITERATIONS_REL * abs(a))
         moved = abs(b - a)
         return Move(key, cls, a, b, moved, tol, moved <= tol, note)
-    if cls == "error":
-        moved = abs(b - a)
-        return Move(key, cls, a, b, moved, tol, moved <= tol, note)
     if cls == "mesh_sensitive" and not same:  # a factor: |ln(new / old)| <= ln(10)
         moved = abs(math.log(abs(b) / abs(a))) if a * b > 0 else (0.0 if a == b else math.inf)
         return Move(key, cls, a, b, moved, tol, moved <= tol, note)
-    scale = max(abs(a), abs(b))
-    moved = abs(b - a) / scale if scale > 0 else 0.0
+    moved = abs(b - a) / scale if scale > 0 else (0.0 if a == b else math.inf)
     return Move(key, cls, a, b, moved, tol, moved <= tol, note)
 
 
-def compare_portable(new: dict, old: dict, *, allow_new: bool = True) -> list[Move]:
+def compare_portable(new: dict, old: dict, *, allow_new: bool = True, keys=None) -> list[Move]:
     """One :class:`Move` per key number of ``old`` (and of ``new`` unless ``allow_new``), in key order.
 
     A key of ``old`` missing from ``new`` is a failed move (note ``"missing now"``); a key only in ``new``
     is a failure (``"new"``) unless ``allow_new`` (numbers added since the saved set). ``excluded`` keys
-    are left out.
+    are left out. ``keys``: only these keys (the others still decide the scales and the same-mesh proof).
     """
     same = same_mesh_cases(new, old)
     out = []
-    for key in sorted(set(old) | set(new)):
+    for key in sorted(set(old) | set(new) if keys is None else set(keys)):
         cls, _ = classify(key)
         if cls == "excluded" or (key not in old and allow_new):
             continue
@@ -280,7 +381,7 @@ def compare_portable(new: dict, old: dict, *, allow_new: bool = True) -> list[Mo
         # close_to_conformal's coarsest budget level only, and its extrapolated p_max moved 1.3e-4)
         case, field = key.split("/", 1) if "/" in key else (key, key)
         out.append(_move(key, old[key], new[key], case in same and not field.startswith("error_budget/"),
-                         stiffness_ratio=_stiffness_ratio(new, case)))
+                         scale=scale_of(key, old, new), stiffness_ratio=_stiffness_ratio(new, case)))
     return out
 
 
