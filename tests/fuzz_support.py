@@ -72,9 +72,26 @@ def to_toml(doc: dict) -> str:
 
 
 _SHA: dict[tuple, str] = {}  # (path, size, mtime_ns, inode, ctime_ns) -> sha256: a file is hashed again when it changes
-SKIP = {".git", ".venv", "__pycache__", ".pytest_cache", ".ruff_cache", ".hypothesis", ".mypy_cache"}
 CHECKOUT = Path(__file__).resolve().parents[1]
 START_DIR = Path.cwd().resolve()  # the working directory pytest was started in
+
+
+def jit_cache_folders() -> set[str]:
+    """The checkout's top-level folders that hold a JIT cache the user put there: ``$XDG_CACHE_HOME`` (dolfinx's
+    FFCx cache ``<it>/fenics``) and ``$WORKBENCH_JIT_CACHE`` (the studies' workers), e.g. a fresh clone tested with
+    ``XDG_CACHE_HOME=$clone/.c make test``. dolfinx writes compiled forms there on a cold cache: the user's
+    cache, not an output of the workbench."""
+    out = set()
+    for given in (os.environ.get("XDG_CACHE_HOME"), os.environ.get("WORKBENCH_JIT_CACHE")):
+        if given:
+            folder = Path(given).expanduser().resolve()
+            if CHECKOUT in folder.parents:
+                out.add(folder.relative_to(CHECKOUT).parts[0])
+    return out
+
+
+SKIP = {".git", ".venv", "__pycache__", ".pytest_cache", ".ruff_cache", ".hypothesis", ".mypy_cache",
+        *jit_cache_folders()}
 
 
 def _sha(path: str, st: os.stat_result) -> str:

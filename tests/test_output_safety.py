@@ -18,7 +18,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from fuzz_support import CHECKOUT, tree
+from fuzz_support import CHECKOUT, SKIP, tree
 from probe_cases import PROBE_BLOCK
 
 from cases.schema import RESERVED_NAMES, label_folder
@@ -63,7 +63,7 @@ def user_files(root: Path, rels) -> None:
 @pytest.fixture
 def checkout_unchanged():
     """The checkout (tracked files, untracked ones and results/; not .git, the venv or caches): byte-identical."""
-    skip = frozenset({".git", ".venv", "__pycache__", ".pytest_cache", ".ruff_cache", ".hypothesis"})
+    skip = frozenset(SKIP)  # fuzz_support's: also a JIT cache the user put inside the checkout
     before = tree(CHECKOUT, skip=skip)
     yield
     assert tree(CHECKOUT, skip=skip) == before

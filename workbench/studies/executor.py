@@ -23,7 +23,10 @@ JIT compiles without races: each worker process compiles its FFCx forms into its
 worker (next run, next study) takes a free slot and finds the forms compiled there. No two processes ever compile
 into the same folder, so FFCx never waits for another's compile: the 10-s ``JIT compilation timed out`` of the
 shared cache cannot happen. The jit cache is ``$WORKBENCH_JIT_CACHE``, else ``<XDG_CACHE_HOME or ~/.cache>/
-fenics-workbench`` (put it on a node-local disk on a cluster). The runner still retries a point that reports a JIT
+fenics-workbench`` (put it on a node-local disk on a cluster). Before each point a slot takes every finished module
+of the shared cache (dolfinx's own, ``$XDG_CACHE_HOME/fenics``) it lacks, and after a point that compiled it gives
+its new modules back (:func:`share_modules`: hard links, FFCx's claim file first and its ready marker last), so on a
+cold cache a form is compiled once, not once per worker (issue 34). The runner still retries a point that reports a JIT
 time-out (at most :data:`JIT_RETRIES` times) and counts it: every study's summary prints the count (0 expected).
 
 Each point record gains ``worker``: executor, host, MPI rank (0 for local processes), pid, jit slot, forms
@@ -33,7 +36,10 @@ time (s).
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import os
+import shutil
 import socket
 import sys
 import time
@@ -41,7 +47,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["EXECUTORS", "JIT_RETRIES", "ExecutorChoice", "add_executor_options", "claim_jit_slot",
+__all__ = ["EXECUTORS", "JIT_RETRIES", "ExecutorChoice", "add_executor_options", "claim_jit_slot", "share_modules",
            "executor_from_args", "jit_cache_root", "mpi_pool_size", "petsc_on_self", "run_point", "run_points",
            "worker_summary"]
 
@@ -150,10 +156,10 @@ def claim_jit_slot(root: Path | None = None, *, limit: int = 4096) -> Path:
             os.close(fd)
             continue
         slot.mkdir(exist_ok=True)
-        _STATE.update(slot=slot, lock_fd=fd)
         import dolfinx.jit
 
-        doc = dolfinx.jit.DOLFINX_DEFAULT_JIT_OPTIONS["cache_dir"][1]
+        shared, doc = dolfinx.jit.DOLFINX_DEFAULT_JIT_OPTIONS["cache_dir"]
+        _STATE.update(slot=slot, lock_fd=fd, shared=Path(shared))
         dolfinx.jit.DOLFINX_DEFAULT_JIT_OPTIONS["cache_dir"] = (slot, doc)
         return slot
     raise RuntimeError(f"no free JIT slot among {limit} in {root}")
@@ -206,6 +212,51 @@ def _count_compiles() -> None:
     fj._compile_objects = counted
 
 
+def share_modules(src: Path, dst: Path) -> int:
+    """Hard-link (or copy) every finished FFCx module of the cache folder ``src`` that ``dst`` lacks; returns how
+    many. A module is finished when FFCx's ready marker ``<name>.c.cached`` exists; its ``<name>.c`` is linked first
+    (FFCx's own claim: a process that finds it waits for the marker, a concurrent claimant skips), then its
+    compiled ``.so``, then the marker. So a worker's slot starts with what the shared cache (dolfinx's own,
+    ``$XDG_CACHE_HOME/fenics``) has, and gives back what it compiled: on a cold cache a form is compiled once per
+    study and test run, not once per worker and run."""
+    if not src.is_dir():
+        return 0
+    dst.mkdir(parents=True, exist_ok=True)
+    have = {e.name for e in os.scandir(dst)}
+    files = [e.name for e in os.scandir(src)]
+    libs = {f.split(".", 1)[0]: f for f in files if f.endswith(".so")}
+    n = 0
+    for ready in (f for f in files if f.endswith(".c.cached")):
+        name = ready[: -len(".c.cached")]
+        if name not in libs or f"{name}.c" in have:
+            continue
+        try:
+            _link(src / f"{name}.c", dst / f"{name}.c")
+        except OSError:  # FileExistsError: claimed meanwhile by a compiling process or another sharer
+            continue
+        try:
+            _link(src / libs[name], dst / libs[name])
+            _link(src / ready, dst / ready)
+            n += 1
+        except OSError:  # leave no claim without its module: FFCx would wait for it, then compile again
+            for f in (dst / f"{name}.c", dst / libs[name]):
+                with contextlib.suppress(OSError):
+                    f.unlink()
+    return n
+
+
+def _link(src: Path, dst: Path) -> None:
+    """``dst`` as a hard link of ``src`` (a copy across file systems); FileExistsError if it exists."""
+    try:
+        os.link(src, dst)
+    except OSError as exc:
+        if isinstance(exc, FileExistsError) or exc.errno not in (errno.EXDEV, errno.EPERM, errno.EMLINK):
+            raise
+        fd = os.open(dst, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
+        with os.fdopen(fd, "wb") as out, open(src, "rb") as inp:
+            shutil.copyfileobj(inp, out)
+
+
 def _jit_timed_out(rec) -> bool:
     return isinstance(rec, dict) and _JIT_TIMEOUT in str(rec.get("error"))
 
@@ -215,6 +266,7 @@ def run_point(fn: Callable, point, kind: str):
     _init_worker()
     before, retries = _STATE.get("compiles", 0), 0
     t0 = time.perf_counter()
+    share_modules(_STATE["shared"], _STATE["slot"])  # what the shared cache has, this slot need not compile
     while True:
         try:
             rec = fn(point)
@@ -226,6 +278,8 @@ def run_point(fn: Callable, point, kind: str):
         if not _jit_timed_out(rec) or retries == JIT_RETRIES:
             break
         retries += 1
+    if _STATE.get("compiles", 0) > before:  # compiled here: given back to the shared cache
+        share_modules(_STATE["slot"], _STATE["shared"])
     where = {"executor": kind, "host": _STATE["host"], "rank": _STATE["rank"], "pid": os.getpid(),
              "jit_slot": _STATE["slot"].name, "jit_compiles": _STATE.get("compiles", 0) - before,
              "jit_retries": retries, "wall_s": time.perf_counter() - t0}
