@@ -12,7 +12,8 @@ cached under the signature of the whole list, so a problem of the same structure
 kinematics, material model, traction; every number is a Constant, :mod:`fem.coefficients`) loads it again.
 
 Under MPI the forms are compiled on rank 0 first and loaded by the others from the cache (dolfinx's
-``mpi_jit_decorator``), as ``dolfinx.fem.form`` does.
+``mpi_jit_decorator``), as ``dolfinx.fem.form`` does. Importing this module configures the JIT cache's waits and
+claims for the whole process (:mod:`fem.jit_cache`).
 """
 
 from __future__ import annotations
@@ -29,7 +30,11 @@ import ufl
 from dolfinx.fem import IntegralType
 from dolfinx.fem.forms import Form, form_cpp_class, get_integration_domains
 
+from fem.jit_cache import configure
+
 __all__ = ["compile_forms"]
+
+configure()  # every process that compiles forms waits long and never for a dead claim (fem/jit_cache.py)
 
 _INTEGRAL_TYPES = {"cell": IntegralType.cell, "exterior_facet": IntegralType.exterior_facet,
                    "interior_facet": IntegralType.interior_facet, "vertex": IntegralType.vertex}

@@ -54,6 +54,7 @@ import ufl
 from petsc4py import PETSc
 
 from analytic import materials
+from fem.compiled_forms import compile_forms
 from fem.elasticity import Lame
 from fem.linear_solver import configure as configure_linear_solver
 from fem.linear_solver import snes_options
@@ -220,7 +221,7 @@ class TwoBodyProblem(NewtonControls):
         self.lame = Lame(lmbda, mu)  # cell-wise (UFL), for the output's stress fields
         self.stress = lmbda * ufl.tr(eps(self.u)) * ufl.Identity(2) + 2 * mu * eps(self.u)
         sig = lmbda * ufl.tr(eps(du)) * ufl.Identity(2) + 2 * mu * eps(du)
-        self.a_form = dolfinx.fem.form(ufl.inner(sig, eps(v)) * ufl.dx)
+        self.a_form = compile_forms({"a": ufl.inner(sig, eps(v)) * ufl.dx}, comm=self.comm)["a"]
         self.n_u = self.u.x.array.size
 
     def _build_pairing(self) -> None:
