@@ -43,7 +43,7 @@ class                   what                                            same mes
                         test uniformity                                  times a two-body
                                                                          case's stiffness
                                                                          ratio)
-``iterations``          Newton iterations of each solve (and the         +-max(2, 25 %)      +-max(2, 25 %)
+``iterations``          Newton iterations of each solve (and the         +-max(2, 25 %)      +-max(2, 100 %)
                         largest one, ``errors/newton_iterations``)
 ``mesh``                ``ndofs``, the mesh fingerprint                  exact               "mesh differs",
                                                                                              rel <= 0.16
@@ -80,7 +80,7 @@ kind                keys                                                       m
 ``peak``            p_max of a run or patch                                    4.27e-4      1.3e-3
 ``step_peak``       p_max of each intermediate load step                       4.56e-3      1.4e-2
 ``width``           half-widths, b/b0 of the FEM                               9.26e-4      2.8e-3
-``position``        patch centres (of the contact size)                        1.13e-4      3.4e-4
+``position``        patch centres (moves of the contact size)                  3.51e-4      1.1e-3
 ``displacement``    d (a result under force control)                           2.14e-5      6.4e-5
 ``error``           errors against theory (absolute)                           1.87e-3      5.6e-3
 ``step_error``      superposition rms of each step (absolute)                  1.04e-3      3.1e-3
@@ -123,6 +123,9 @@ CLASSES = ("verdict", "roundoff", "iterations", "mesh", "theory", "physics", "er
 
 ROUNDOFF_CEILING = 1e-10          # the load_balance tolerance of the concave cases (measured <= 4e-12)
 ITERATIONS_ABS, ITERATIONS_REL = 2, 0.25
+# another valid mesh changes the semismooth Newton's path: halfplanes_beta_pos's small run took 6 iterations instead
+# of 12 in its second load step at 0.999x the contact element size (make emulate --perturb h_contact, issue 34)
+ITERATIONS_REL_FOREIGN = 1.0
 THEORY_REL = 1e-9
 SAME_MESH_REL = 1e-7              # physics (relative) and error (absolute) on the same mesh
 MESH_SENSITIVE_SAME = 1e-2
@@ -132,8 +135,10 @@ MEASURED_SAME_MESH = 5.1e-13      # largest relative move of a physics number on
 # size (and numpy's baseline SIMD, which re-meshed close_to_conformal): physics kinds relative, error kinds
 # absolute (fractions of the reference quantity); "step_*" are the intermediate load steps of the concave
 # scenes (the first touches over ~5 facets); mesh_sensitive is a factor (rms_convective 0.0149 -> 0.00475)
+# position: re-measured in units of the contact size (issue 34; make emulate --perturb h_contact on this code):
+# 3.51e-4 for halfplanes_beta_pos's convective centre (-7.6e-5 -> +2.6e-4 mm of a 0.97 mm half-width)
 FOREIGN_MEASURED = {"load": 1.41e-5, "step_load": 2.28e-4, "peak": 4.27e-4, "step_peak": 4.56e-3,
-                    "width": 9.26e-4, "position": 1.13e-4, "displacement": 2.14e-5, "error": 1.87e-3,
+                    "width": 9.26e-4, "position": 3.51e-4, "displacement": 2.14e-5, "error": 1.87e-3,
                     "step_error": 1.04e-3, "ndofs": 0.0547, "mesh_sensitive_factor": 3.13}
 FOREIGN = {kind: SAFETY * v for kind, v in FOREIGN_MEASURED.items()}
 MESH_REL = FOREIGN["ndofs"]
@@ -349,7 +354,7 @@ def _move(key: str, a, b, same: bool, *, scale: float, stiffness_ratio: float = 
         moved = abs(b - a)
         return Move(key, cls, a, b, moved, tol, abs(b) <= tol and moved <= tol, note)
     if cls == "iterations":
-        tol = max(ITERATIONS_ABS, ITERATIONS_REL * abs(a))
+        tol = max(ITERATIONS_ABS, (ITERATIONS_REL if same else ITERATIONS_REL_FOREIGN) * abs(a))
         moved = abs(b - a)
         return Move(key, cls, a, b, moved, tol, moved <= tol, note)
     if cls == "mesh_sensitive" and not same:  # a factor: |ln(new / old)| <= ln(10)
