@@ -66,10 +66,10 @@ def interior_stress_error(result, exact: Callable, *, x_max: float, z_max: float
     vx, vy = geom[dofs, 0], geom[dofs, 1]
     inside_v = (np.abs(vx) <= x_max) & (vy >= -z_max)
     cells = cells[np.any(inside_v, axis=1)]
-    fem_vals = dolfinx.fem.Expression(comps, pts_ref).eval(mesh, cells).reshape(len(cells), len(wts), 5)
-    xq = dolfinx.fem.Expression(ufl.SpatialCoordinate(mesh), pts_ref).eval(mesh, cells).reshape(len(cells), len(wts), 2)
-    detj = np.abs(dolfinx.fem.Expression(ufl.JacobianDeterminant(mesh), pts_ref).eval(mesh, cells))
-    detj = detj.reshape(len(cells), len(wts))
+    X = ufl.SpatialCoordinate(mesh)
+    everything = ufl.as_vector([*comps, X[0], X[1], ufl.JacobianDeterminant(mesh)])  # one Expression, one module
+    vals = dolfinx.fem.Expression(everything, pts_ref).eval(mesh, cells).reshape(len(cells), len(wts), 8)
+    fem_vals, xq, detj = vals[..., :5], vals[..., 5:7], np.abs(vals[..., 7])
     x, y = xq[..., 0].ravel(), xq[..., 1].ravel()
     ind = ((np.abs(x) <= x_max) & (y >= -z_max)).astype(float)
     w = (detj * wts[None, :]).ravel() * ind

@@ -124,10 +124,11 @@ class _BodyFields:
         self.ph = None if ph is None else dolfinx.fem.Function(ph.function_space)
         lm = result.lame
         Vd = dolfinx.fem.functionspace(mesh, ("DG", 1, (2,)))
-        T = dolfinx.fem.functionspace(mesh, ("DG", 1, (2, 2)))
+        # stress (xx, xy, yx, yy), sigma_zz and von Mises in one DG1 field of six components: one Expression, one
+        # compiled module (the components are read apart in at())
+        F6 = dolfinx.fem.functionspace(mesh, ("DG", 1, (6,)))
         S = dolfinx.fem.functionspace(mesh, ("DG", 1))
-        self.ud, self.s = dolfinx.fem.Function(Vd), dolfinx.fem.Function(T)
-        self.szz, self.vm = dolfinx.fem.Function(S), dolfinx.fem.Function(S)
+        self.ud, self.fields = dolfinx.fem.Function(Vd), dolfinx.fem.Function(F6)
         stress = sigma(self.u, lm) if self.ph is None else sigma_mixed(self.u, self.ph, lm)
         # a Constant: nu = 0 must not fold sigma_zz to 0.0; two bodies carry cell-wise Lame fields (UFL)
         lmbda = dolfinx.fem.Constant(mesh, float(lm.lmbda)) if np.isscalar(lm.lmbda) else lm.lmbda
@@ -138,9 +139,8 @@ class _BodyFields:
             stress, szz = cauchy(self.u, model, lm), cauchy_zz(self.u, model, lm, lmbda)
             vm = ufl.sqrt(0.5 * ((stress[0, 0] - stress[1, 1]) ** 2 + (stress[1, 1] - szz) ** 2
                                  + (szz - stress[0, 0]) ** 2) + 3.0 * stress[0, 1] ** 2)
-        self.exprs = [(self.s, dolfinx.fem.Expression(stress, T.element.interpolation_points)),
-                      (self.szz, dolfinx.fem.Expression(szz, S.element.interpolation_points)),
-                      (self.vm, dolfinx.fem.Expression(vm, S.element.interpolation_points))]
+        six = ufl.as_vector([stress[0, 0], stress[0, 1], stress[1, 0], stress[1, 1], szz, vm])
+        self.expr = dolfinx.fem.Expression(six, F6.element.interpolation_points)
         self.n_cells = mesh.topology.index_map(mesh.topology.dim).size_local
         self.S = S
         # several bodies (fem.two_body): each cell's body index, E and nu, constant per cell
@@ -170,10 +170,9 @@ class _BodyFields:
             self.ph.x.array[:] = frame.ph
             self.ph.x.scatter_forward()
         self.ud.interpolate(self.u)
-        for f, expr in self.exprs:
-            f.interpolate(expr)
-        u, s = self._per_cell(self.ud), self._per_cell(self.s)
-        szz, vm = self._per_cell(self.szz), self._per_cell(self.vm)
+        self.fields.interpolate(self.expr)
+        u, six = self._per_cell(self.ud), self._per_cell(self.fields)
+        s, szz, vm = six[..., 0:4], six[..., 4:5], six[..., 5:6]
         zero = np.zeros_like(szz)
         # tensor dofs are row-major (xx, xy, yx, yy)
         out = [u, s[..., 0:1], s[..., 3:4], szz, s[..., 1:2], zero, zero, vm]

@@ -24,6 +24,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from analytic.hertz import hertz, hertz_pressure
+from fem.compiled_forms import compile_forms
 from fem.elasticity import sigma
 from fem.linear_solver import linear_options, resolve, set_near_nullspace
 
@@ -68,8 +69,9 @@ class HertzPredictor:
         """The LinearProblem of K (created at the first solve: a ``hertz_zone`` start never needs it)."""
         if self._problem is None:
             a, L, bcs = self._forms
+            compiled = compile_forms({"a": a, "L": L}, comm=self.comm)  # one FFCx module (fem/compiled_forms.py)
             self._problem = dolfinx.fem.petsc.LinearProblem(
-                a, L, bcs=bcs, u=self.uh, petsc_options_prefix=self._prefix,
+                compiled["a"], compiled["L"], bcs=bcs, u=self.uh, petsc_options_prefix=self._prefix,
                 petsc_options=linear_options(self._linear_solver, ndofs=self._ndofs))
             if resolve(self._linear_solver, ndofs=self._ndofs) == "gamg":
                 set_near_nullspace(self._problem.A, self.uh.function_space)
