@@ -56,23 +56,20 @@ class SurfaceSampler:
     weights).
     """
 
-    def __init__(self, *, u, forms, facets, quadrature_degree: int | None = None, rule=None):
+    def __init__(self, *, u, forms, facets, quadrature_degree: int | None = None, rule=None,
+                 compiled: dict | None = None):
         mesh = u.function_space.mesh
         self._mesh = mesh
         self._ent = integration_entities(mesh, facets)
-        if rule is None:
-            pts, wts = basix.make_quadrature(basix.CellType.interval, quadrature_degree)
-        else:
-            pts, wts = np.asarray(rule.points, dtype=float), np.asarray(rule.weights, dtype=float)
+        _, wts = _points(quadrature_degree, rule)
         self._merge = rule is not None
         self._nq = len(wts)
-        X = ufl.SpatialCoordinate(mesh)
-        fields = ufl.as_vector([X[0], X[1], u[0], u[1], forms.pressure, forms.argument, forms.sigma_nn,
-                                forms.gap])
-        self._expr = dolfinx.fem.Expression(fields, pts)
         # built on every rank: an Expression is compiled collectively (dolfinx's mpi_jit), so a rank without
         # contact facets must build it too, or the ranks that have some wait for it forever (a hang under mpiexec)
-        ends = dolfinx.fem.Expression(X, np.array([[0.0], [1.0]]))
+        if compiled is None:
+            compiled = {name: dolfinx.fem.Expression(e, X) for name, (e, X) in
+                        self.expressions(u=u, forms=forms, quadrature_degree=quadrature_degree, rule=rule).items()}
+        self._expr, ends = compiled["fields"], compiled["ends"]
         if self._ent.shape[0]:
             xe = ends.eval(mesh, self._ent).reshape(self._ent.shape[0], 2, 2)
             length = np.linalg.norm(xe[:, 1] - xe[:, 0], axis=1)
@@ -80,6 +77,16 @@ class SurfaceSampler:
         else:
             w = np.zeros(0)
         self._w = np.concatenate(mesh.comm.allgather(w))
+
+    @staticmethod
+    def expressions(*, u, forms, quadrature_degree: int | None = None, rule=None) -> dict:
+        """The sampler's UFL expressions with their reference points on the facet: ``fields`` (X, u, p, q,
+        sigma_nn, gap at the sample points) and ``ends`` (X at the facet's ends), to compile with the problem's
+        forms (:mod:`fem.compiled_forms`) and hand back as ``compiled``."""
+        X = ufl.SpatialCoordinate(u.function_space.mesh)
+        fields = ufl.as_vector([X[0], X[1], u[0], u[1], forms.pressure, forms.argument, forms.sigma_nn,
+                                forms.gap])
+        return {"fields": (fields, _points(quadrature_degree, rule)[0]), "ends": (X, np.array([[0.0], [1.0]]))}
 
     def __call__(self) -> SurfaceSamples:
         """The samples of the current state, gathered to every rank and sorted by ``s``."""
@@ -96,6 +103,14 @@ class SurfaceSampler:
         Xs = vals[:, 0:2]
         return SurfaceSamples(s=Xs[:, 0].copy(), X=Xs, x=Xs + vals[:, 2:4], p=vals[:, 4], q=vals[:, 5],
                               sigma_nn=vals[:, 6], gap=vals[:, 7], weight=w)
+
+
+def _points(quadrature_degree: int | None, rule) -> tuple[np.ndarray, np.ndarray]:
+    """Sample points (n, 1) on the reference facet and weights (sum 1): ``rule``'s, else the Gauss rule of
+    ``quadrature_degree``."""
+    if rule is None:
+        return basix.make_quadrature(basix.CellType.interval, quadrature_degree)
+    return np.asarray(rule.points, dtype=float), np.asarray(rule.weights, dtype=float)
 
 
 def _merge_coincident(vals: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -125,13 +125,13 @@ class ContactProblem(NewtonControls):
         self._build_spaces()
         self.forms: ContactForms = self._build_forms()
         self.method = self.forms.method
+        self._samplers: dict = {}
+        self.method_rule = self.method.sample_rule(degree=opts.degree)  # None: Gauss points of the contact rule
+        self.sample_rule = self.method_rule if opts.sample_degree is None else None
         self._build_supports()
         self._build_solver()
         self.extras = ([] if self.ph is None else [self.ph]) + list(self.method.state_functions())
         self.n_u = self.u.x.array.size
-        self._samplers: dict = {}
-        self.method_rule = self.method.sample_rule(degree=opts.degree)  # None: Gauss points of the contact rule
-        self.sample_rule = self.method_rule if opts.sample_degree is None else None
 
     # -- construction ---------------------------------------------------------------------------------------
     def _build_spaces(self) -> None:
@@ -224,7 +224,11 @@ class ContactProblem(NewtonControls):
         if split:
             ufl_forms |= SplitJacobian.ufl_forms(u=self.u, bulk_residual=forms.F_bulk, contact_residual=forms.F_c)
         method_forms = self.method.extra_forms()
-        compiled = compile_forms(ufl_forms | method_forms, comm=comm)
+        key, sampling = self._sampling()  # the default surface sampler's expressions join the module too
+        sampler_expressions = SurfaceSampler.expressions(u=self.u, forms=forms, **sampling)
+        compiled, expressions = compile_forms(ufl_forms | method_forms, comm=comm, expressions=sampler_expressions)
+        self._samplers[key] = SurfaceSampler(u=self.u, forms=forms, facets=self.contact_facets, compiled=expressions,
+                                             **sampling)
         self.method.bind_forms({name: compiled[name] for name in method_forms})
         self.reaction_form, self.pressure_form = compiled["reaction"], compiled["pressure"]
         if self.ph is not None:
@@ -296,14 +300,18 @@ class ContactProblem(NewtonControls):
         points of the augmented Lagrangian, else the contact quadrature). ``degree``: the Gauss points of that
         degree; ``rule``: a :class:`fem.methods.base.SampleRule`.
         """
+        key, sampling = self._sampling(degree, rule)
+        if key not in self._samplers:
+            self._samplers[key] = SurfaceSampler(u=self.u, forms=self.forms, facets=self.contact_facets, **sampling)
+        return self._samplers[key]()
+
+    def _sampling(self, degree: int | None = None, rule=None) -> tuple:
+        """The samplers' key and keywords of :meth:`sample`'s arguments (none: the default sample points)."""
         if degree is None and rule is None:
             rule = self.sample_rule
             degree = self.sdeg
         key = ("rule", id(rule)) if rule is not None else degree
-        if key not in self._samplers:
-            self._samplers[key] = SurfaceSampler(u=self.u, forms=self.forms, facets=self.contact_facets,
-                                                 quadrature_degree=degree, rule=rule)
-        return self._samplers[key]()
+        return key, {"quadrature_degree": degree, "rule": rule}
 
     def contact_zones(self) -> tuple[tuple[float, float], ...]:
         """The contact runs (lo, hi) in X1 of the current state where the discrete law holds (the contact
