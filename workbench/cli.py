@@ -39,7 +39,7 @@ import sys
 from pathlib import Path
 
 from workbench.owned import check_dir, check_run_outputs, ensure_dir
-from workbench.paths import check_output_folder, default_paths
+from workbench.paths import check_output_folder, checked_paths
 
 __all__ = ["main", "STUDIES", "EXTERNAL"]
 
@@ -94,19 +94,9 @@ STUDY_FOLDERS = {"convergence": "convergence", "stability": "stability", "bench"
                  "convective-table": "analytic", "validity": "validity"}
 
 
-def _root_option(out) -> str:
-    """How the output folder was given, for its error lines."""
-    import os
-
-    return "--out" if out is not None else "WORKBENCH_RESULTS" if os.environ.get("WORKBENCH_RESULTS") else \
-        "output folder"
-
-
 def _check_study_folders(study: str, given: dict[str, str]) -> None:
     """A study writes into its folder and the mesh cache: each the workbench's own or new (issue 23)."""
-    paths = default_paths()
-    if "--out" not in given or "--mesh-cache" not in given:
-        check_output_folder(paths.root, option=_root_option(None))
+    paths = checked_paths(None) if "--out" not in given or "--mesh-cache" not in given else None
     out = Path(given["--out"]).expanduser() if "--out" in given else paths.study(STUDY_FOLDERS[study])
     check_dir(out)
     if study != "convective-table":
@@ -225,9 +215,7 @@ def _main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
 
     try:
-        paths = default_paths(args.out) if hasattr(args, "out") else None
-        if args.command in ("run", "mesh", "report", "ci"):
-            check_output_folder(paths.root, option=_root_option(args.out))
+        paths = checked_paths(args.out) if args.command in ("run", "mesh", "report", "ci") else None
     except CaseError as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return 2
