@@ -145,16 +145,19 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the CLI; returns the exit code (SIGINT -> 130, SIGTERM -> 143 at any stage: one line, the previous
-    results intact; :mod:`workbench.interrupt`). The program itself (``argv`` None) ends a ``run`` without the
-    interpreter's teardown where nothing can be lost (:mod:`workbench.fast_exit`)."""
-    code = _guarded_main(argv)
-    if argv is None:
-        from workbench.fast_exit import exit_now, fast_exit_allowed
+    """Run the CLI; returns the exit code (SIGINT -> 130, SIGTERM -> 143 at any stage, the exit included: one line,
+    the previous results intact; :mod:`workbench.interrupt`). The program itself (``argv`` None) ends through
+    :func:`workbench.fast_exit.finish`: without the interpreter's teardown where nothing can be lost, and with a
+    signal that arrives during its exit reported in one line."""
+    if argv is not None:
+        return _guarded_main(argv)
+    import atexit
 
-        if fast_exit_allowed(sys.argv[1] if len(sys.argv) > 1 else None):
-            exit_now(code)
-    return code
+    from workbench.fast_exit import at_teardown, finish
+
+    atexit.register(at_teardown)  # registered first, so it runs after every other atexit handler
+    code = _guarded_main(None)
+    return finish(code, sys.argv[1] if len(sys.argv) > 1 else None)
 
 
 def _guarded_main(argv: list[str] | None) -> int:
@@ -172,20 +175,38 @@ def _guarded_main(argv: list[str] | None) -> int:
     previous = interrupt.install()
     interrupt.stage("start-up")
     try:
-        return _main(argv)
+        try:
+            code = _main(argv)
+        except SystemExit as exc:
+            if argv is not None or interrupt.received() is not None:
+                raise
+            code = _system_exit_code(exc)  # the program: its exit goes through the same end as a return
+        interrupt.test_point("work-done")
+        if argv is None:  # the program: its work is over; a signal from now on is reported by its exit
+            interrupt.stage("the exit")
+            interrupt.work_done()
+        return code
     except BaseException as exc:  # noqa: BLE001 - after a signal, whatever native code made of it is an interrupt
         signum = interrupt.received()
         if signum is None and not isinstance(exc, KeyboardInterrupt):
             raise
         signum = signum or signal.SIGINT
+        if argv is None:
+            interrupt.work_done()
         print(interrupt.message(signum), file=sys.stderr)
+        interrupt.reported()
         return interrupt.exit_code(signum)
     finally:
-        if argv is None:  # the program itself: its work is done, a signal now would only garble the exit code
-            signal.signal(signal.SIGINT, signal.SIG_IGN)
-            signal.signal(signal.SIGTERM, signal.SIG_IGN)
-        else:
+        if argv is not None:
             interrupt.restore(previous)
+
+
+def _system_exit_code(exc: SystemExit) -> int:
+    """The exit code of a ``SystemExit`` (its text, if it carries one, printed as Python would)."""
+    if exc.code is None or isinstance(exc.code, int):
+        return int(exc.code or 0)
+    print(exc.code, file=sys.stderr)
+    return 1
 
 
 def _main(argv: list[str] | None = None) -> int:
