@@ -34,6 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from workbench.external.result_files import MAX_POINTS, merge_coincident, open_result, parsing
 from workbench.external.results import ExternalResult, ResultError, make_result
 
 __all__ = ["FrdData", "read_frd", "read_frd_result", "surface_pressure"]
@@ -85,8 +86,6 @@ def read_frd(path: str | Path) -> FrdData:
         ResultError: unreadable or truncated file (no `` 9999`` end, a block without ``-3``), no node block, a
             malformed record (see the module docstring).
     """
-    from workbench.external.result_files import MAX_POINTS, open_result, parsing
-
     where = str(path)
     nodes, coords, blocks = None, None, {}
     last = ""
@@ -178,8 +177,6 @@ def surface_pressure(data: FrdData, *, where: str, top_y: float = 0.0,
     """(x, p, merged) of the nodes on the block top Y = ``top_y``, coincident nodes merged by their largest CPRESS
     (:func:`workbench.external.result_files.merge_coincident`; ``merged`` of them dropped): ``"reference"``:
     x = X, p = CPRESS d(X + u1)/dX; ``"current"``: x = X + u1, p = CPRESS."""
-    from workbench.external.result_files import merge_coincident
-
     if "CONTACT" not in data.blocks:
         raise ResultError(f"{where}: no CONTACT block; allowed: a .frd written with *CONTACT FILE CSTR")
     comps, ids, vals = data.blocks["CONTACT"]

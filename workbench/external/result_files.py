@@ -31,10 +31,12 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.external.results import ResultError
+__all__ = ["ResultError", "MAX_RESULT_BYTES", "MAX_SAMPLES", "MAX_POINTS", "open_result", "read_result_bytes",
+           "inside_folder", "merge_coincident", "shown", "parsing"]
 
-__all__ = ["MAX_RESULT_BYTES", "MAX_SAMPLES", "MAX_POINTS", "open_result", "read_result_bytes", "inside_folder",
-           "merge_coincident", "shown", "parsing"]
+class ResultError(ValueError):
+    """A bad external result file: the message is one line naming the file and the problem."""
+
 
 MAX_RESULT_BYTES = 256 * 2**20
 """The largest result file read (bytes; checked before reading): a CalculiX .frd of a 2D model with 1e6 nodes
@@ -100,7 +102,10 @@ def read_result_bytes(path: str | Path, *, where: str | None = None, max_bytes: 
     where = str(path) if where is None else where
     with open_result(path, where=where, max_bytes=max_bytes, folder=folder) as fh:
         try:
-            data = fh.read(max_bytes + 1)
+            size = os.fstat(fh.fileno()).st_size  # read() of max_bytes + 1 would allocate that much at once
+            data = fh.read(size + 1)
+            if len(data) > size:  # it grew while being read
+                data += fh.read(max_bytes + 1 - len(data))
         except OSError as exc:
             raise ResultError(f"{where}: cannot be read ({exc.strerror or exc})") from None
     if len(data) > max_bytes:  # it grew while being read

@@ -29,6 +29,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from workbench.external.result_files import MAX_SAMPLES, ResultError, merge_coincident, open_result, shown
+
 __all__ = ["ExternalResult", "ResultError", "read_csv_result", "make_result", "POSITION", "PRESSURE", "LOAD", "SIZE"]
 
 POSITION = ("X_mm", "s_mm", "x_mm", "coordinate_mm", "x")  # X_mm first: the workbench's contact_surface.csv
@@ -38,10 +40,6 @@ LOAD = ("P_N_per_mm", "P")
 SIZE = ("h_mm", "h")
 WEIGHT = ("weight_mm",)
 ARGUMENT = ("q_MPa",)
-
-
-class ResultError(ValueError):
-    """A bad external result file: the message is one line naming the file and the problem."""
 
 
 class ExternalResult(NamedTuple):
@@ -106,8 +104,6 @@ def read_csv_result(path: str | Path) -> ExternalResult:
         ResultError: missing file or columns, non-numeric/NaN values, a negative pressure, load or size <= 0,
             fewer than two distinct positions, no positive pressure, several runs.
     """
-    from workbench.external.result_files import MAX_SAMPLES, open_result
-
     where = str(path)
     rows = []
     with open_result(path, where=where) as fh:
@@ -133,8 +129,6 @@ def read_csv_result(path: str | Path) -> ExternalResult:
     xcol, pcol = _pick(header, POSITION), _pick(header, PRESSURE)
     if xcol is None or pcol is None:
         missing = [f"one of {'/'.join(names)}" for col, names in ((xcol, POSITION), (pcol, PRESSURE)) if col is None]
-        from workbench.external.result_files import shown
-
         fields = ",".join(shown(c) for c in header[:8]) + (",..." if len(header) > 8 else "")
         raise ResultError(f"{where}: missing column {' and '.join(missing)} (header fields: {fields[:160]})")
     body = rows[1:]
@@ -143,8 +137,6 @@ def read_csv_result(path: str | Path) -> ExternalResult:
         raise ResultError(f"{where}: line {bad[0]} has a different number of fields than the header")
     col = {name: [r[i].strip() for r in body] for i, name in enumerate(header)}
     if "run" in col and len(set(col["run"])) > 1:
-        from workbench.external.result_files import shown
-
         runs = ", ".join(shown(r) for r in sorted(set(col["run"]))[:6])
         raise ResultError(f"{where}: holds {len(set(col['run']))} runs ({runs[:80]}); allowed: one run per file")
     x = _numbers(col[xcol], what=xcol, where=where)
@@ -181,8 +173,6 @@ def make_result(where: str, x: np.ndarray, p: np.ndarray, *, load: float | None,
     """Sort by x, merge samples at one position (the largest pressure kept; ``merged`` adds to the count of a
     reader that merged before), and mirror a half model (samples all at x >= 0) to the full body (a sample at
     x = 0 once, weights and arguments mirrored with it)."""
-    from workbench.external.result_files import merge_coincident
-
     x = np.asarray(x, dtype=float)
     scale = max(1.0, float(np.max(np.abs(x)))) if x.size else 1.0
     x, p, weight, q, more = merge_coincident(x, np.asarray(p, dtype=float),

@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from workbench.external.result_files import MAX_POINTS, inside_folder, open_result, parsing, read_result_bytes, shown
 from workbench.external.results import ExternalResult, ResultError, make_result
 
 __all__ = ["read_vtk_result"]
@@ -44,8 +45,6 @@ def _b64(text: str, *, where: str) -> bytes:
 
 def _array(el, *, root, where: str, count: int) -> np.ndarray:
     """The values of a DataArray, exactly ``count`` of them (its declared tuples times components)."""
-    from workbench.external.result_files import shown
-
     name = shown(el.get("Name") or "")
     fmt = el.get("format", "ascii")
     dtype = _TYPES.get(el.get("type", ""))
@@ -115,8 +114,6 @@ def _array(el, *, root, where: str, count: int) -> np.ndarray:
 
 def _parse(path: Path, *, where: str):
     """The XML root of a VTK file (checked: regular file, bounded size, no DTD)."""
-    from workbench.external.result_files import read_result_bytes
-
     data = read_result_bytes(path, where=where)
     if b"<!DOCTYPE" in data or b"<!ENTITY" in data:
         raise ResultError(f"{where}: an XML document type definition (DOCTYPE/ENTITY); allowed: VTK XML without one")
@@ -128,8 +125,6 @@ def _parse(path: Path, *, where: str):
 
 def _dataset_file(path: Path, *, where: str) -> Path:
     """A .pvd's last dataset (the last time step), else the file itself; inside the .pvd's folder."""
-    from workbench.external.result_files import inside_folder, shown
-
     if path.suffix != ".pvd":
         return path
     sets = _parse(path, where=where).findall(".//DataSet")
@@ -148,8 +143,6 @@ def _dataset_file(path: Path, *, where: str) -> Path:
 def read_vtk_result(path: str | Path, *, field: str = "p_MPa", load: float | None = None,
                     h: float | None = None) -> ExternalResult:
     """One level's pressure from the point field ``field`` of a .vtu/.vtp/.pvd (see the module docstring)."""
-    from workbench.external.result_files import MAX_POINTS, open_result, parsing, shown
-
     where = str(path)
     with parsing(where):
         f = _dataset_file(Path(path), where=where)
