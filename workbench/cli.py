@@ -176,6 +176,7 @@ def _guarded_main(argv: list[str] | None) -> int:
     interrupt.stage("start-up")
     try:
         try:
+            interrupt.check()  # a signal that came while the program started (interrupt.early)
             code = _main(argv)
         except SystemExit as exc:
             if argv is not None or interrupt.received() is not None:
@@ -221,7 +222,10 @@ def _main(argv: list[str] | None = None) -> int:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return 2
 
+    from workbench import interrupt
+
     if argv and argv[0] in OWN_OPTIONS:  # the study parses its own options (``workbench convergence --help``)
+        interrupt.stage(f"workbench {argv[0]}")
         try:
             for opt, folder in _study_out_options(argv[1:]):
                 if not folder.strip():
@@ -234,6 +238,7 @@ def _main(argv: list[str] | None = None) -> int:
             print(f"error: {_one_line(exc)}", file=sys.stderr)
             return 2
     args = _parser().parse_args(argv)
+    interrupt.stage(f"workbench {args.command}")  # the command's own stages follow (meshing, the Newton solve, ...)
 
     try:
         paths = checked_paths(args.out) if args.command in ("run", "mesh", "report", "ci") else None

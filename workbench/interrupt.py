@@ -40,7 +40,7 @@ import sys
 import threading
 import time
 
-__all__ = ["Interrupted", "install", "received", "stage", "current_stage", "exit_code", "message", "check",
+__all__ = ["Interrupted", "early", "install", "received", "stage", "current_stage", "exit_code", "message", "check",
            "replaced", "held", "work_done", "unreported", "reported", "test_point", "RETRY_S", "RERAISE_AFTER_S"]
 
 RETRY_S = 0.02  # seconds between two attempts to raise a recorded signal at a safe point
@@ -103,33 +103,57 @@ def _handler(signum, frame) -> None:
 
 
 def _unraisable(unraisable) -> None:
-    """Python could not raise it (a weakref callback, a ``__del__``): raise it again at the next safe point."""
+    """Python could not raise it (a weakref callback, a ``__del__``): raise it again at the next safe point. After a
+    signal, any other exception Python cannot raise is dropped: it comes from an object the signal's exception cut
+    short (measured: pyvista's ``Renderer.__del__`` of a renderer interrupted in its ``__init__`` printed an
+    ``AttributeError`` traceback after the interrupt line), and the command's outcome is the one line."""
     if isinstance(unraisable.exc_value, Interrupted):
         _state["raised_at"] = None
         _defer()
         return
-    sys.__unraisablehook__(unraisable)
+    if _state["signum"] is not None:
+        return
+    (_state.get("unraisablehook") or sys.__unraisablehook__)(unraisable)
+
+
+def early() -> None:
+    """Record SIGINT and SIGTERM from the program's first line on, before the command line's modules are imported
+    (``python -m workbench`` and the console command: :func:`workbench.__main__.program`); :func:`install` keeps
+    what arrived, and the command's first :func:`check` raises it."""
+    if threading.current_thread() is not threading.main_thread():
+        return
+    _state.update(signum=None, replaced=[], pending=False, raised_at=None, hold=0, done=True, reported=False,
+                  early=True)
+    for s in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(s, _handler)
 
 
 def install() -> dict:
-    """Install the SIGINT and SIGTERM handlers (main thread only); returns the previous ones."""
+    """Install the SIGINT and SIGTERM handlers (main thread only); returns the previous ones. A signal recorded
+    since :func:`early` is kept."""
     if threading.current_thread() is not threading.main_thread():
         return {}
-    _state.update(signum=None, replaced=[], pending=False, raised_at=None, hold=0, done=False, reported=False)
+    kept = _state["signum"] if _state.get("early") and signal.getsignal(signal.SIGINT) is _handler else None
+    _state.update(signum=kept, replaced=[], pending=False, raised_at=None, hold=0, done=False, reported=False,
+                  early=False)
     previous = {s: signal.signal(s, _handler) for s in (signal.SIGINT, signal.SIGTERM)}
     previous["unraisablehook"] = sys.unraisablehook
+    if sys.unraisablehook is not _unraisable:
+        _state["unraisablehook"] = sys.unraisablehook  # what an exception that is not ours goes to
     sys.unraisablehook = _unraisable
     _arm_import_test_point()
     return previous
 
 
 def restore(previous: dict) -> None:
+    """Put back the handlers :func:`install` replaced, and forget what was recorded (a call of the command line
+    from Python leaves nothing behind for the next one)."""
     for s, h in previous.items():
         if s == "unraisablehook":
             sys.unraisablehook = h
         else:
             signal.signal(s, h)
-    _state["done"] = False
+    _state.update(signum=None, pending=False, raised_at=None, hold=0, done=False, reported=False, early=False)
 
 
 def received() -> int | None:
@@ -152,7 +176,8 @@ def held():
         yield
     finally:
         _state["hold"] -= 1
-    if _state["pending"] and not _state["hold"] and not _state["done"]:
+    installed = signal.getsignal(signal.SIGINT) is _handler  # else the signals are not this module's to raise
+    if installed and _state["pending"] and not _state["hold"] and not _state["done"]:
         _state["pending"] = False
         _state["raised_at"] = time.monotonic()
         raise Interrupted(_state["signum"])

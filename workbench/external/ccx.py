@@ -147,6 +147,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     levels = available[:args.levels]
+    from workbench import interrupt
+
+    interrupt.stage(f"running CalculiX on {case.name} (writing {folder.name})")
     try:
         with atomic_dir(folder, kind="external") as stage:
             ensure_dir(paths.mesh_cache, kind="mesh_cache", kinds=("mesh_cache",))

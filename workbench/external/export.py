@@ -132,6 +132,7 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """``workbench export`` (exit 0 written, 2 bad input, 1 the mesh or the files could not be made: one line)."""
     from cases import CaseError
+    from workbench import interrupt
     from workbench.atomic import atomic_dir
     from workbench.owned import check_dir, ensure_dir
     from workbench.paths import OutputError, checked_paths
@@ -155,6 +156,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     keep = [f for f in sorted(folder.glob(f"{case.name}_h*")) if f.is_file() and not f.is_symlink()]
+    interrupt.stage(f"exporting {case.name} (meshing, writing {folder.name})")
     try:
         with atomic_dir(folder, kind="export") as stage:
             for f in keep:  # other formats and levels exported before stay

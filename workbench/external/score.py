@@ -554,6 +554,7 @@ def _check_options(args) -> None:
 def main(argv: list[str] | None = None) -> int:
     """``workbench score`` (exit 0 written, 2 bad input, 1 the results could not be written)."""
     from cases import CaseError
+    from workbench import interrupt
     from workbench.owned import check_dir
     from workbench.paths import OutputError, checked_paths
 
@@ -568,6 +569,7 @@ def main(argv: list[str] | None = None) -> int:
         scoreable(case)  # before any file is read
         folder = paths.command("score_", case.name)
         check_dir(folder, kinds=("score",))
+        interrupt.stage(f"reading the results scored against {case.name}")
         results = read_results(args.results, fmt=args.format, configuration=args.configuration, field=args.field)
         score = score_levels(args.case, results, h=args.h, samples_per_element=args.samples_per_element)
         fem = read_results([args.fem], fmt="csv")[0] if args.fem else None
@@ -577,6 +579,7 @@ def main(argv: list[str] | None = None) -> int:
     except (ResultError, ScoreError, CaseError, OutputError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
+    interrupt.stage(f"writing {folder.name}")
     try:
         write_score(score, results, folder, fem=fem)
     except OutputError as exc:  # the folder changed meanwhile (atomic_dir checks it again)
