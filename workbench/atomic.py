@@ -2,7 +2,8 @@
 
 An interrupted run never leaves a half-written file, and the previous results stay intact. Every folder made
 here carries the workbench's marker (:mod:`workbench.owned`), and :func:`atomic_dir` replaces only a folder that
-carries it.
+carries it. The swap (and the repair of a swap a killed process left half done) holds an exclusive lock on the
+parent folder, so concurrent commands writing the same folder replace it one after the other.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from workbench import interrupt
-from workbench.owned import check_dir, check_root_file, is_owned, make_dirs, mark, record_root_files
+from workbench.owned import check_dir, check_root_file, is_owned, locked, make_dirs, mark, record_root_files
 
 __all__ = ["atomic_dir", "atomic_path", "strict_json", "write_json", "write_root_text", "write_text"]
 
@@ -123,8 +124,9 @@ def atomic_dir(path: str | Path, *, kind: str = "case") -> Iterator[Path]:
     path = Path(path)
     check_dir(path, kinds=(kind,))
     make_dirs(path.parent)
-    _restore_interrupted_swap(path)
-    _clear_stale_staging(path)
+    with locked(path.parent):  # another process's swap in this folder is never seen half done
+        _restore_interrupted_swap(path)
+        _clear_stale_staging(path)
     stage = _new_staging(path, kind=kind)
     try:
         yield stage
@@ -132,7 +134,7 @@ def atomic_dir(path: str | Path, *, kind: str = "case") -> Iterator[Path]:
         # The swap is two renames: a SIGINT/SIGTERM is held back until both are done and the old folder is removed,
         # so a signal never leaves the case without its folder (a kill -9 there is repaired by the next run:
         # _restore_interrupted_swap), and its line says the new results are in place.
-        with interrupt.held():
+        with interrupt.held(), locked(path.parent):  # one swap at a time in this folder (concurrent commands)
             check_dir(path, kinds=(kind,))  # still the workbench's (never replace what appeared meanwhile)
             had_old = path.exists()
             if had_old:
