@@ -364,3 +364,21 @@ def test_duplicated_positions_are_merged_like_the_frd_and_vtu_readers_do(box):
     for key in ("P_integral", "p_max", "half_width", "half_width_moment", "samples"):
         assert dup[key] == one[key], key
     assert "merged" not in (out / "score_hertz_cylinder" / "report.md").read_text()
+
+
+def test_a_gmsh_failure_in_export_is_one_line_and_nothing_written(box, monkeypatch, capsys):
+    """Under a memory limit gmsh raised an Exception with a traceback (exit 1, 'tolerance FAIL'); the meshing now
+    fails in one line (in-process: a limit that lets the size estimate pass but not gmsh depends on the machine)."""
+    import workbench.scenes.block as block
+    from workbench.external.export import main as export_main
+
+    def failing_mesh(*args, **kwargs):
+        raise Exception("gmsh: Could not allocate memory")  # what gmsh raises: a bare Exception
+
+    monkeypatch.setattr(block, "block_mesh", failing_mesh)
+    out = box / "out"
+    assert export_main(["hertz_cylinder", "--format", "msh", "--out", str(out)]) == 1
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: export hertz_cylinder failed: Exception: gmsh: Could not "
+                                                   "allocate memory; nothing written"), lines
+    assert not (out / "export_hertz_cylinder").exists() and not leftovers(out)
