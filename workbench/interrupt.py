@@ -153,7 +153,8 @@ def restore(previous: dict) -> None:
             sys.unraisablehook = h
         else:
             signal.signal(s, h)
-    _state.update(signum=None, pending=False, raised_at=None, hold=0, done=False, reported=False, early=False)
+    _state.update(signum=None, replaced=[], pending=False, raised_at=None, hold=0, done=False, reported=False,
+                  early=False)
 
 
 def received() -> int | None:

@@ -206,19 +206,15 @@ def plausibility(levels: list[dict], study: dict | None, *, p_max_tolerance: flo
                        f"{max(loads):.6g} N/mm); the case allows {allowed:.2%} (twice its p_max tolerance: p0 goes "
                        "as sqrt(P)), so they are not one problem at several resolutions")
     given = [lv for lv in levels if not lv["h_source"].startswith("estimated")]
-    for a in given:
-        for b in given:
-            sa, sb = a["spacing"], b["spacing"]
-            if (a["h"] < b["h"] and math.isfinite(sa) and math.isfinite(sb)
-                    and sa > (1.0 + SPACING_TIE) * sb):
-                reasons.append(f"the sizes h rank {Path(a['file']).name} (h = {a['h']:.4g} mm) finer than "
-                               f"{Path(b['file']).name} (h = {b['h']:.4g} mm), but its samples are "
-                               f"{sa / sb:.3g} times wider apart: h does not decrease with the levels (--h in reverse "
-                               "order?)")
-                break
-        else:
-            continue
-        break
+    inverted = next(((a, b) for a in given for b in given if a["h"] < b["h"]
+                     and math.isfinite(a["spacing"]) and math.isfinite(b["spacing"])
+                     and a["spacing"] > (1.0 + SPACING_TIE) * b["spacing"]), None)
+    if inverted is not None:
+        a, b = inverted
+        reasons.append(f"the sizes h rank {Path(a['file']).name} (h = {a['h']:.4g} mm) finer than "
+                       f"{Path(b['file']).name} (h = {b['h']:.4g} mm), but its samples are "
+                       f"{a['spacing'] / b['spacing']:.3g} times wider apart: h does not decrease with the levels "
+                       "(--h in reverse order?)")
     s = (study or {}).get("p_max")
     if s is not None:
         if s["status"] == "diverging":
