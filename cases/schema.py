@@ -937,7 +937,7 @@ def _read_toml(p: Path, given: str, known: str) -> dict:
     if p.is_dir():
         raise CaseError(f"{_r(given)}: is a folder, not a case file; allowed: a .toml file or a case name ({known})")
     try:
-        if p.exists() and not p.is_file():  # never opened: a FIFO would block, a device never end
+        if p.exists() and not p.is_file():  # never opened: reading a FIFO would hang, a device never end
             raise CaseError(f"{where}: is not a regular file (a FIFO, a device or a socket); allowed: a .toml "
                             "file or a case name")
         found = p.is_file()
