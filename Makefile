@@ -160,10 +160,11 @@ emulate: setup
 # Property-based fuzzing (hypothesis): `make test` runs the "ci" profile (>= 1000 examples in total), this target
 # the "fuzz" profile (10x as many).
 fuzz: setup
-	HYPOTHESIS_PROFILE=fuzz $(PY) -m pytest -q tests/test_fuzz_cases.py tests/test_fuzz_cli.py
+	HYPOTHESIS_PROFILE=fuzz $(PY) -m pytest -q tests/test_fuzz_cases.py tests/test_fuzz_cli.py tests/test_fuzz_external.py
 
 # Load and faults: 20 concurrent runs on 2 cores, repeated SIGINT/SIGTERM during writes, a full disk (a small
-# tmpfs when it can be mounted, else a simulated ENOSPC); fails unless 0 corrupted and 0 lost.
+# tmpfs when it can be mounted, else a simulated ENOSPC), score and export interrupted and colliding with run;
+# fails unless 0 corrupted and 0 lost.
 faults: setup
 	$(PY) tests/fault_campaign.py --out results/faults
 

@@ -1,7 +1,7 @@
 """Command line: ``python -m analytic {hertz,wedge,convective,halfplane,table1,lcp} ... [--json]``.
 
-Units: mm, N/mm, MPa, rad. A bad value prints ONE line on stderr naming the field and its range and
-exits with code 2. Computing lives in the modules; this file only parses and formats.
+Units: mm, N/mm, MPa, rad. A bad value prints ONE line on stderr, starting with ``error:``, naming the field and
+its range, and exits with code 2. Computing lives in the modules; this file only parses and formats.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ class _Parser(argparse.ArgumentParser):
     """ArgumentParser whose errors are one stderr line and exit code 2."""
 
     def error(self, message: str) -> NoReturn:
-        print(f"{self.prog}: error: {message}", file=sys.stderr)
+        print(f"error: {self.prog}: {' '.join(message.split())}", file=sys.stderr)
         raise SystemExit(2)
 
 
@@ -359,14 +359,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     if argv and argv[0] == "lcp":
         from analytic import lcp
 
-        return lcp.cli(argv[1:])
+        return lcp.cli(argv[1:], parser_class=_Parser)
     parser = _build_parser()
     args = parser.parse_args(argv)
     try:
         _magnitudes(args)
         data = args.func(args)
     except ValueError as exc:
-        print(f"python -m analytic {args.command}: error: {str(exc).splitlines()[0]}", file=sys.stderr)
+        print(f"error: python -m analytic {args.command}: {str(exc).splitlines()[0]}", file=sys.stderr)
         return 2
     if args.command == "table1" and not args.json:
         _print_table1(data)

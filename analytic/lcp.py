@@ -323,12 +323,13 @@ def _print_text(res: LCPResult, out) -> None:
               f"R={c.relative_radius:.6g} angle={c.angle_deg:.4g} deg", file=out)
 
 
-def cli(argv: list[str]) -> int:
+def cli(argv: list[str], *, parser_class=argparse.ArgumentParser) -> int:
     """``lcp --config {symmetric,close_to_conformal} --d D [--json] [--n-samples N]``: solve eq. (2) between
-    the design's concave surface (A) and its particle moved by d along the design direction (B)."""
+    the design's concave surface (A) and its particle moved by d along the design direction (B). ``parser_class``:
+    the command line's (``python -m analytic``: one ``error:`` line)."""
     from analytic.designs import DESIGN_NAMES, design, particle_at
 
-    parser = argparse.ArgumentParser(prog="python -m analytic lcp", description=cli.__doc__)
+    parser = parser_class(prog="python -m analytic lcp", description=cli.__doc__)
     parser.add_argument("--config", required=True, help=f"one of {', '.join(DESIGN_NAMES)}")
     parser.add_argument("--d", type=float, default=0.0,
                         help="particle displacement along the path (mm), [0, 2]")

@@ -85,6 +85,7 @@ __all__ = [
     "CASE_NAME_RE",
     "MAX_ECHO",
     "RESERVED_NAMES",
+    "COMMAND_PREFIXES",
     "label_folder",
 ]
 
@@ -96,6 +97,9 @@ CASE_NAME_RE = re.compile(r"[A-Za-z0-9_-]{1,64}")
 # take one (its results folder would replace them). Compared case-insensitively.
 RESERVED_NAMES = ("mesh_cache", "analytic", "logs", "ci", "ci_report", "convergence", "stability", "bench",
                   "validity", "report", "results", "faults", "vtk")
+# The folders of ``workbench score``, ``export`` and ``external`` are ``<prefix><case>``: no case name may start
+# with one (a case named ``score_x`` would replace the score of case x). Compared case-insensitively.
+COMMAND_PREFIXES = ("score_", "export_", "external_")
 MAX_LABEL = 64  # characters of a [[variant]] label (it names files: cut in file names, refused beyond)
 MAX_ECHO = 60  # characters of a value or key echoed in an error message
 # Near-incompressibility (fem.postprocess.LOCKING_NU: the solver's 'near-incompressible' warning starts there).
@@ -838,6 +842,11 @@ def load_case(path: str | Path) -> Case:
         field_ = "[case] name" if "name" in head else "[case] name (the file name)"
         raise CaseError(f"{where}: {field_} = {_r(name)} is reserved (the workbench's own folders and files under "
                         f"--out: {', '.join(RESERVED_NAMES)}); allowed: any other name")
+    if name.lower().startswith(COMMAND_PREFIXES):
+        field_ = "[case] name" if "name" in head else "[case] name (the file name)"
+        raise CaseError(f"{where}: {field_} = {_r(name)} starts with a reserved prefix (the folders of workbench "
+                        f"score, export and external under --out: {', '.join(p + '<case>' for p in COMMAND_PREFIXES)})"
+                        "; allowed: any other name")
     for sec in _REQUIRED_SECTIONS:
         if sec not in raw:
             raise CaseError(f"{where}: [{sec}] is a required section and is missing")
@@ -928,6 +937,9 @@ def _read_toml(p: Path, given: str, known: str) -> dict:
     if p.is_dir():
         raise CaseError(f"{_r(given)}: is a folder, not a case file; allowed: a .toml file or a case name ({known})")
     try:
+        if p.exists() and not p.is_file():  # never opened: reading a FIFO would hang, a device never end
+            raise CaseError(f"{where}: is not a regular file (a FIFO, a device or a socket); allowed: a .toml "
+                            "file or a case name")
         found = p.is_file()
         size = p.stat().st_size if found else 0
         if size > MAX_FILE_BYTES:

@@ -22,6 +22,14 @@ Scenarios (every run is the real CLI, ``workbench run CASE --ci``, in its own pr
 5. **SIGKILL** (issue 23): runs killed with SIGKILL at times spread over the run (nothing can clean up then);
    the staging folders they leave are counted, then the next run must clear them (``stale``: any left after the
    next run) and leave a complete result (``lost`` otherwise).
+6. **score and export signals** (issue 35): a baseline ``score`` (three Hertz levels) and ``export --format inp``,
+   then each rerun interrupted by SIGINT or SIGTERM (some twice in a row) at times spread over the run, the write
+   and the exit included; and each interrupted at every named moment of its end (``WORKBENCH_TEST_SIGNAL_AT``: the
+   swap, after the work, the exit, the atexit handlers, just before ``os._exit``). Each must exit 130 / 143 (or 0
+   if it finished first) with one line, and leave the previous folder byte-identical or a complete new one.
+7. **score and export collisions** (issue 35): 4 ``score``, 4 ``export`` (json and inp) and 2 ``run`` at once into
+   one output folder (one mesh cache, one score and one export folder): each must exit 0 and the final folders be
+   complete.
 
 Counted: corrupted files (a JSON that does not parse, an empty or headless CSV, a truncated result folder),
 lost previous results (a folder that is neither the previous one byte for byte nor a complete new one), unnamed
@@ -225,6 +233,133 @@ def scenario_sigkill(out: Path, n: int, seed: int = 9) -> dict:
             "unnamed": unnamed, "stale": stale, "leftovers": leftovers(out)}
 
 
+def _levels(folder: Path) -> list[str]:
+    """Three Hertz levels of hertz_cylinder (a = 0.5 mm) as csv, h = 0.04, 0.02, 0.01 mm."""
+    import numpy as np
+
+    sys.path.insert(0, str(ROOT))
+    from analytic import hertz as hz
+    from analytic import materials
+
+    folder.mkdir(parents=True, exist_ok=True)
+    E_star = materials.plane_strain_modulus(210000.0, 0.3)
+    P = hz.hertz_load_from_half_width(0.5, 10.0, E_star)
+    p0 = hz.hertz(P, 10.0, E_star).p0
+    files = []
+    for h in (0.04, 0.02, 0.01):
+        x = np.arange(-int(round(0.8 / h)), int(round(0.8 / h)) + 1) * h
+        p = p0 * (0.995 - 5 * h**2) * np.sqrt(np.clip(1 - (x / 0.5) ** 2, 0, None))
+        f = folder / f"level_{h}.csv"
+        f.write_text("x_mm,p_MPa,P_N_per_mm\n" + "".join(f"{a!r},{b!r},{P!r}\n" for a, b in zip(x.tolist(), p.tolist(),
+                                                                                           strict=True)))
+        files.append(str(f))
+    return files
+
+
+def _external(kind: str, out: Path, levels: list[str], fmt: str = "inp") -> list[str]:
+    if kind == "score":
+        return [*WB, "score", "hertz_cylinder", *levels, "--out", str(out)]
+    return [*WB, "export", "hertz_cylinder", "--format", fmt, "--out", str(out)]
+
+
+def corrupted_external(folder: Path) -> list[str]:
+    """Files of a score or export folder that are missing, empty or do not parse."""
+    if not folder.exists():
+        return []
+    need = ("score.json", "report.md", "report.html", "pressure.png") if folder.name.startswith("score_") else ()
+    bad = [f"{folder.name}/{f} missing" for f in need if not (folder / f).is_file()]
+    files = [p for p in folder.iterdir() if p.is_file() and p.name != ".workbench-owned"]
+    if not files:
+        bad.append(f"{folder.name}: no file")
+    for p in files:
+        if p.stat().st_size == 0:
+            bad.append(f"{folder.name}/{p.name} empty")
+        elif p.suffix == ".json":
+            try:
+                json.loads(p.read_text())
+            except ValueError:
+                bad.append(f"{folder.name}/{p.name} does not parse")
+    return bad
+
+
+def scenario_external_signals(out: Path, n: int, seed: int = 35) -> dict:
+    rng = random.Random(seed)
+    levels = _levels(out.parent / "levels")
+    events, corrupt, lost, unnamed = [], [], [], []
+    durations = {}
+    for kind in ("score", "export"):
+        for _ in range(2):  # the second is timed (the mesh cache is warm)
+            t0 = time.perf_counter()
+            proc = subprocess.run(_external(kind, out, levels), cwd=ROOT, env=ENV, capture_output=True, text=True,
+                                  timeout=900)
+            assert proc.returncode == 0, proc.stderr
+            durations[kind] = time.perf_counter() - t0
+    folders = {"score": out / "score_hertz_cylinder", "export": out / "export_hertz_cylinder"}
+    points = ["swap", "work-done", "exit", "atexit", "os-exit"]
+    plan = ([("time", i, ["score", "export"][i % 2]) for i in range(n)]
+            + [("point", pt, kind) for pt in points for kind in ("score", "export")])
+    for i, (how, what, kind) in enumerate(plan):
+        sig = [signal.SIGINT, signal.SIGTERM][(i // 2) % 2]
+        folder = folders[kind]
+        before = snapshot(folder)
+        env = ENV
+        if how == "point":
+            env = ENV | {"WORKBENCH_TEST_SIGNAL_AT": f"{what}:{sig.name}"}
+        p = subprocess.Popen(_external(kind, out, levels), cwd=ROOT, env=env, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.PIPE, text=True)
+        sent, at = [], None
+        if how == "time":
+            at = rng.uniform(0.2, 1.1) * durations[kind]
+            time.sleep(at)
+            for _ in range(1 + (what % 3 == 2)):  # every third: the signal twice in a row
+                if p.poll() is None:
+                    p.send_signal(sig)
+                    sent.append(sig.name)
+                    time.sleep(0.05)
+        else:
+            sent.append(f"{sig.name} at {what}")
+        code = p.wait(timeout=900)
+        err = p.stderr.read()
+        after = snapshot(folder)
+        if code == 0:
+            state = "finished (new complete result)"
+            corrupt += corrupted_external(folder)
+        elif after == before:
+            state = "previous result byte-identical"
+        elif not corrupted_external(folder):
+            state = "new complete result (the signal came after the swap)"
+        else:
+            state = "CHANGED"
+            lost.append(f"{folder.name} after {sent}")
+        lines = err.strip().splitlines()
+        if code not in (0, 130, 143) or not named(code, err) or (code != 0 and len(lines) != 1) or \
+                (how == "point" and code != 128 + sig):
+            unnamed.append(f"{kind} {sent} at {at}: exit {code}: {err.strip()[-300:]}")
+        events.append({"command": kind, "signals": sent, "at_s": None if at is None else round(at, 2), "exit": code,
+                       "state": state, "line": (lines[-1] if lines else "")[:90]})
+    return {"runs": len(plan), "duration_s": {k: round(v, 2) for k, v in durations.items()}, "events": events,
+            "corrupted": corrupt, "lost": lost, "unnamed": unnamed, "leftovers": leftovers(out)}
+
+
+def scenario_external_collisions(out: Path) -> dict:
+    levels = _levels(out.parent / "levels_c")
+    cmds = ([("score", _external("score", out, levels))] * 4 + [("export json", _external("export", out, levels,
+                                                                                          "json"))] * 2
+            + [("export inp", _external("export", out, levels, "inp"))] * 2
+            + [("run", [*WB, "run", "hertz_cylinder", "--ci", "--no-pictures", "--out", str(out)])] * 2)
+    t0 = time.perf_counter()
+    procs = [(k, subprocess.Popen(c, cwd=ROOT, env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True))
+             for k, c in cmds]
+    results = [(k, p.wait(timeout=1800), p.stderr.read()) for k, p in procs]
+    bad = [f"{k}: exit {code}: {err.strip().splitlines()[-1] if err.strip() else ''}" for k, code, err in results
+           if code != 0]
+    corrupt = (corrupted_external(out / "score_hertz_cylinder") + corrupted_external(out / "export_hertz_cylinder")
+               + corrupted(out / "hertz_cylinder"))
+    return {"runs": len(cmds), "wall_s": round(time.perf_counter() - t0, 1), "exit_nonzero": bad,
+            "unnamed": [k for k, code, err in results if not named(code, err)] + bad, "corrupted": corrupt,
+            "lost": [], "leftovers": leftovers(out)}
+
+
 def _mount_tmpfs(path: Path, size: str) -> bool:
     path.mkdir(parents=True, exist_ok=True)
     return subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(path)],
@@ -340,6 +475,9 @@ def main(argv: list[str] | None = None) -> int:
                 work / "newton", 2 if args.quick else 6),
             "SIGKILL mid-run: staging cleared by the next run": scenario_sigkill(work / "sigkill",
                                                                                 2 if args.quick else 6),
+            "score and export: SIGINT/SIGTERM during their runs, writes and exit": scenario_external_signals(
+                work / "external" / "out", 4 if args.quick else 12),
+            "score, export and run at once into one folder": scenario_external_collisions(work / "collide" / "out"),
         }
     finally:
         shutil.rmtree(work, ignore_errors=True)

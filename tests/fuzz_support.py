@@ -12,6 +12,7 @@ import hashlib
 import json
 import math
 import os
+import stat
 from pathlib import Path
 
 from hypothesis import HealthCheck, settings
@@ -103,7 +104,8 @@ def _sha(path: str, st: os.stat_result) -> str:
 
 
 def tree(root: Path, *, skip: frozenset[str] = frozenset(), depth: int | None = None) -> dict[str, str]:
-    """relative path -> sha256 (files), 'dir', or 'link -> target' (symlinks, never followed) of everything under
+    """relative path -> sha256 (files), 'dir', 'link -> target' (symlinks, never followed) or 'special <mode>' (a
+    FIFO, a device, a socket: never opened) of everything under
     ``root`` (folders named in ``skip`` are listed, not entered; with ``depth``, only that many levels)."""
     out: dict[str, str] = {}
 
@@ -122,7 +124,9 @@ def tree(root: Path, *, skip: frozenset[str] = frozenset(), depth: int | None = 
                     if e.name not in skip and (depth is None or rel.count(os.sep) + 1 < depth):
                         walk(e.path, rel + os.sep)
                 else:
-                    out[rel] = _sha(e.path, e.stat(follow_symlinks=False))
+                    st = e.stat(follow_symlinks=False)
+                    # a FIFO, a device or a socket is never opened (opening a FIFO blocks until a writer comes)
+                    out[rel] = _sha(e.path, st) if stat.S_ISREG(st.st_mode) else f"special {stat.S_IFMT(st.st_mode):o}"
             except OSError as exc:  # e.g. removed while walking
                 out[rel] = f"unreadable: {exc.strerror}"
 
@@ -145,8 +149,23 @@ def _shared(folder: Path) -> bool:
     return folder == tmp or folder in tmp.parents or folder == Path.home().resolve() or folder == Path("/")
 
 
+def _caches_in_checkout() -> frozenset[str]:
+    """The top-level folders of the checkout that are caches the environment points into it (``XDG_CACHE_HOME``,
+    ``WORKBENCH_JIT_CACHE``: FFCx compiles forms there while the tests run), not the project's files."""
+    names = set()
+    for var in ("XDG_CACHE_HOME", "WORKBENCH_JIT_CACHE"):
+        value = os.environ.get(var)
+        if value:
+            p = Path(value).resolve()
+            if CHECKOUT in p.parents:
+                names.add(p.relative_to(CHECKOUT).parts[0])
+    return frozenset(names)
+
+
 def _outside() -> dict[str, str]:
-    out = {str(CHECKOUT / rel): v for rel, v in tree(CHECKOUT, skip=SKIP).items()}
+    caches = _caches_in_checkout()
+    out = {str(CHECKOUT / rel): v for rel, v in tree(CHECKOUT, skip=SKIP | caches).items()
+           if rel.split(os.sep)[0] not in caches}
     # the working directory pytest started in, its top level (inside the checkout: already in its snapshot; a
     # shared folder such as /tmp changes under other programs, so the fuzz tests run inside their sandboxes)
     if not (START_DIR == CHECKOUT or CHECKOUT in START_DIR.parents or _shared(START_DIR)):

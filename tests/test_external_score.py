@@ -191,17 +191,21 @@ def test_verdict_names_the_model_whose_band_holds_the_result(tmp_path, model):
 
     bands = {f"{m['traction']}/{m['kinematics']}": m for m in load_model_bands("hertz_cylinder")["models"]}
     target = bands[model]["study"]["p_max"]["extrapolated"]
+    from scipy.optimize import brentq
+
     E_star = materials.plane_strain_modulus(210000.0, 0.3)
+    P = hz.hertz_load_from_half_width(0.5, 10.0, E_star)  # one load on every level (issue 35: else no verdict)
+    p0 = hz.hertz(P, 10.0, E_star).p0
     files = []
-    for h in (0.04, 0.02, 0.01):  # p = A sqrt(1 - x^2/a^2), the load column its own trapezoid integral (load
-        x = np.arange(-int(round(0.8 / h)), int(round(0.8 / h)) + 1) * h  # balance 0) and p_max/p0(P) = r
-        shape = np.sqrt(np.clip(1 - (x / 0.5) ** 2, 0, None))
-        integral = float(np.trapezoid(shape, x))
+    for h in (0.04, 0.02, 0.01):  # p = r p0 sqrt(1 - x^2/b^2), b such that its trapezoid integral is P exactly
+        x = np.arange(-int(round(0.8 / h)), int(round(0.8 / h)) + 1) * h  # (load balance 0), p_max/p0(P) = r
         r = target * (1.0 + math.copysign(5.0, target - 1.0) * h**2)  # away from 1: no "crossing"
-        A = r**2 * integral * E_star / (np.pi * 10.0)  # p0(P) = sqrt(P E* / (pi R)) with P = A * integral
+        b = brentq(lambda b, x=x, r=r: float(np.trapezoid(r * p0 * np.sqrt(np.clip(1 - (x / b) ** 2, 0, None)), x))
+                   - P, 0.3, 0.7, xtol=1e-15)
+        p = r * p0 * np.sqrt(np.clip(1 - (x / b) ** 2, 0, None))
         f = tmp_path / f"level_{h}.csv"
-        f.write_text("x_mm,p_MPa,P_N_per_mm\n" + "".join(f"{xi!r},{A * si!r},{A * integral!r}\n"
-                                                          for xi, si in zip(x.tolist(), shape.tolist(), strict=True)))
+        f.write_text("x_mm,p_MPa,P_N_per_mm\n" + "".join(f"{xi!r},{pi!r},{P!r}\n"
+                                                          for xi, pi in zip(x.tolist(), p.tolist(), strict=True)))
         files.append(str(f))
     assert score_main(["hertz_cylinder", *files, "--out", str(tmp_path)]) == 0
     score = json.loads((tmp_path / "score_hertz_cylinder" / "score.json").read_text())

@@ -6,22 +6,25 @@ options and values (numbers, NaN/inf, unicode, path-like case names and ``--out`
 folder under a file, a missing parent and a folder no file can be created in) returns 0, or 2 with exactly one
 line on stderr that starts with ``error:``; never a traceback.
 
-Collisions (issue 23): each example plants some of a user's own files and folders in the output folder (a folder
-named like a real case, ``logs``, ``analytic``, ``ci``, ``report.md``, ``ci_report.html``, results of an older
-workbench, a ``mesh_cache`` that is a symlink out of it) and writes a case file whose ``[case] name`` and variant
-labels collide with them, with reserved names, with the source tree, or with each other; ``--out`` and
-``WORKBENCH_RESULTS`` take the checkout, its ``cases/``, the folder above it, the home folder, a user's folder, or
-the folder holding the case file. The checkout they take is a copy of its layout in the sandbox (the guards are
-pointed at it, and ``HOME`` at a sandbox folder), so a guard that fails can never write into the real checkout
-or home; ``/`` is left to ``tests/test_output_safety.py``, with a case file the schema refuses after the guard.
-Before and after each command the sandbox, the checkout (its files and
+Collisions (issues 23 and 35): each example plants some of a user's own files and folders in the output folder (a
+folder named like a real case, ``logs``, ``analytic``, ``ci``, ``report.md``, ``ci_report.html``, results of an
+older workbench, a ``mesh_cache`` that is a symlink out of it or a user's unmarked one holding a file of the cache's
+name, ``score_hertz_cylinder`` and ``export_hertz_cylinder``, an empty folder named like a dead process's staging
+folder) and writes a case file whose ``[case] name`` and variant labels collide with them, with reserved names, with
+the source tree, or with each other; ``--out`` and ``WORKBENCH_RESULTS`` take the checkout, its ``cases/``, the
+folder above it, the home folder, a user's folder, or the folder holding the case file. The checkout they take is a
+copy of its layout in the sandbox (the guards are pointed at it, and ``HOME`` at a sandbox folder), so a guard that
+fails can never write into the real checkout or home; ``/`` is left to ``tests/test_output_safety.py``, with a case
+file the schema refuses after the guard. Before and after each command the sandbox, the checkout (its files and
 ``results/``) and the working directory pytest started in are snapshotted (paths and SHA-256): on exit 2 nothing
 changed anywhere; on exit 0 every change lies in a part of the output folder the workbench owned (its marker) and
-that it owned before the run, never in a parent of ``--out``; a previous result folder stays byte-identical
-unless its own case ran.
+that it owned before the run, never in a parent of ``--out``; a previous result folder stays byte-identical unless
+its own case ran.
 
-The computing steps are replaced by recorders that write where the real ones would, with the real writers
-(``atomic_dir``, ``write_root_text``): what is fuzzed is the argument handling and the ownership checks. Nothing is
+The commands are ``run``, ``validate``, ``mesh``, ``report``, ``ci``, ``score`` (a small Hertz level, or a missing
+file) and ``export``. The computing steps are replaced by recorders that write where the real ones would, with the
+real writers (``atomic_dir``, ``write_root_text``; export's mesh into the mesh cache; score writes its real files
+but an empty picture): what is fuzzed is the argument handling and the ownership checks. Nothing is
 mounted: as root, the folder no file can be created in is a procfs folder; the read-only tmpfs is tested by
 ``tests/test_output_safety.py`` in a private mount namespace.
 """
@@ -58,13 +61,13 @@ OUT_ARGS = ["out", "out/sub", "../out2", "../../out3", "a file", "a file/x", "mi
 # [case] name of the generated case file: fine, reserved, a user's folder, a source folder, not a path component
 NAMES = ["probe", "probe", "previous", "hertz_cylinder", "proj", "wedge", "mesh_cache", "analytic", "logs", "ci",
          "report", "convergence", "validity", "Logs", "cases", "fem", "workbench", "results", ".hidden", "a/b", "..",
-         "-", "x" * 65]
+         "-", "x" * 65, "score_hertz_cylinder", "export_probe", "External_ccx_x"]
 # variant labels of the generated case file: distinct, colliding folders, path-like
 LABELS = [(), ("a/b", "a_b"), ("..",), (".", ".."), ("x", "x"), ("ü", "é"), ("theta=pi/20", "theta_pi_20"),
           ("small", "convective"), ("../../up",), ("a" * 64,)]
 # a user's own files and folders planted in the sandbox (each example plants some)
 USER = ("case_dir", "logs_dir", "report", "ci_report", "analytic", "mesh_link", "ci_dir", "old_results",
-        "owned_report", "proj")
+        "owned_report", "proj", "score_dir", "export_dir", "staging_like", "mesh_user")
 NUMBERS = st.one_of(st.floats(allow_nan=True, allow_infinity=True).map(repr), st.integers().map(str),
                     st.sampled_from(["0", "1", "0.1", "1.5", "-1", "nan", "inf", "1e300", "abc", ""]))
 OPTION = st.one_of(
@@ -74,7 +77,8 @@ OPTION = st.one_of(
     st.tuples(st.sampled_from(CASE_ARGS + [""]), st.none()),
     st.tuples(st.text(max_size=12), st.none()),
 )
-ANY = st.tuples(st.sampled_from(["run", "validate", "mesh", "report", "ci", "list", "bogus", "", "--out"]),
+ANY = st.tuples(st.sampled_from(["run", "validate", "mesh", "report", "ci", "list", "bogus", "", "--out", "score",
+                                 "export"]),
                 st.lists(OPTION, max_size=4))
 # mostly well-formed: a subcommand, a case (a real one or a generated file) where it takes one, maybe a second case,
 # an output folder (good or bad), maybe --h-contact
@@ -84,10 +88,14 @@ _MORE = st.lists(st.one_of(
                                         st.sampled_from(OUT_ARGS))),
     st.tuples(st.just("--h-contact"), st.sampled_from(["0.2", "0.5", "1e-300", "nan"])),
     st.tuples(st.sampled_from(["twin.toml", "concave_symmetric"]), st.none())), max_size=2, unique_by=lambda t: t[0])
+_HEAD = {"score": lambda case: [("hertz_cylinder" if case.startswith("hertz") else case, None), ("level.csv", None)],
+         "export": lambda case: [("hertz_cylinder" if case.startswith("hertz") else case, None), ("--format", "json")]}
 WELL_FORMED = st.builds(
-    lambda cmd, case, more: (cmd, ([(case, None)] if cmd in ("run", "validate", "mesh") else [])
+    lambda cmd, case, more: (cmd, ([(case, None)] if cmd in ("run", "validate", "mesh") else _HEAD[cmd](case)
+                                   if cmd in _HEAD else [])
                              + [m for m in more if cmd == "run" or m[0] == "--out"]),
-    st.sampled_from(["run", "run", "run", "validate", "mesh", "report", "report", "ci"]), _CASE, _MORE)
+    st.sampled_from(["run", "run", "run", "validate", "mesh", "report", "report", "ci", "score", "score", "export",
+                     "export"]), _CASE, _MORE)
 ARGV = st.one_of(ANY, WELL_FORMED, WELL_FORMED)
 SCENE = st.fixed_dictionaries({
     "name": st.one_of(st.sampled_from(NAMES), st.sampled_from(RESERVED_NAMES)),
@@ -160,10 +168,26 @@ def recorders(monkeypatch):
         return {}
 
     monkeypatch.setattr(case_mesh_module, "case_meshes", fake_case_meshes)
+    import workbench.external.export as export_module
+    import workbench.external.score as score_module
+
+    def fake_export_case(case_name, *, fmt, h_contact, folder, mesh_cache, approach=None):
+        from meshes.cache import make_cache_dir
+
+        calls.append(f"export {case_name}")
+        make_cache_dir(mesh_cache)
+        (Path(mesh_cache) / "export_hertz_cylinder_base-7b6bf480fef259fa.msh").write_text("$MeshFormat\n")
+        (Path(folder) / f"{Path(case_name).stem}_h0.1.{fmt}").write_text("{}\n")
+        return [Path(folder) / f"{Path(case_name).stem}_h0.1.{fmt}"]
+
+    monkeypatch.setattr(export_module, "export_case", fake_export_case)
+    monkeypatch.setattr(score_module, "_plot", lambda score, results, path, fem=None: Path(path).write_bytes(b""))
     return calls
 
 
 SOURCE = ("cases", "fem", "meshes", "analytic", "workbench", "tests", "docs", ".git")
+LEVEL = "x_mm,p_MPa\n" + "".join(f"{0.05 * i!r},{5770.0 * max(0.0, 1 - (0.05 * i / 0.5) ** 2) ** 0.5!r}\n"
+                                  for i in range(-16, 17))  # one Hertz level of hertz_cylinder (a = 0.5 mm)
 
 
 def _plant(sandbox: Path, work: Path, scene: dict) -> None:
@@ -201,6 +225,18 @@ def _plant(sandbox: Path, work: Path, scene: dict) -> None:
     (work / "case.toml").write_text(_case_text(scene["name"], scene["labels"]))
     (work / "twin.toml").write_text(_case_text(scene["twin"], ()))
     (out / "previous" / "c.toml").write_text(_case_text("previous", ()))
+    if "score_dir" in user:
+        (out / "score_hertz_cylinder").mkdir()
+        (out / "score_hertz_cylinder" / "score.json").write_text("the user's\n")
+    if "export_dir" in user:
+        (out / "export_hertz_cylinder").mkdir()
+        (out / "export_hertz_cylinder" / "hertz_cylinder_h0.1.json").write_text("the user's\n")
+    if "staging_like" in user:  # an empty folder of the user's whose name matches a dead process's staging folder
+        (out / ".score_hertz_cylinder.staging.4194999.mine").mkdir()
+    if "mesh_user" in user and "mesh_link" not in user:
+        (out / "mesh_cache").mkdir()
+        (out / "mesh_cache" / "export_hertz_cylinder_base-7b6bf480fef259fa.msh").write_text("the user's mesh\n")
+    (work / "level.csv").write_text(LEVEL)
     if "proj" in user:
         (work / "proj").mkdir()
         (work / "proj" / "probe.toml").write_text(_case_text("proj", ()))

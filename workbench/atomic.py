@@ -2,7 +2,8 @@
 
 An interrupted run never leaves a half-written file, and the previous results stay intact. Every folder made
 here carries the workbench's marker (:mod:`workbench.owned`), and :func:`atomic_dir` replaces only a folder that
-carries it.
+carries it. The swap (and the repair of a swap a killed process left half done) holds an exclusive lock on the
+parent folder, so concurrent commands writing the same folder replace it one after the other.
 """
 
 from __future__ import annotations
@@ -16,7 +17,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from workbench.owned import check_dir, check_root_file, is_owned, make_dirs, mark, record_root_files
+from workbench import interrupt
+from workbench.owned import check_dir, check_root_file, is_owned, locked, make_dirs, mark, record_root_files
 
 __all__ = ["atomic_dir", "atomic_path", "strict_json", "write_json", "write_root_text", "write_text"]
 
@@ -115,55 +117,57 @@ def atomic_dir(path: str | Path, *, kind: str = "case") -> Iterator[Path]:
 
     The old folder is kept until the new one is complete, so an interrupted run (an exception,
     SIGINT) leaves the previous results of the case intact. ``path`` must not exist or be a workbench folder
-    of the same ``kind`` (else :class:`workbench.paths.OutputError`, before anything is written).
+    of the same ``kind`` (else :class:`workbench.paths.OutputError`, before anything is written). A signal that
+    arrives while the new folder is swapped in is held back until the swap and the removal of the old folder are
+    done; the interrupt line then says that the new results are in place (:func:`workbench.interrupt.replaced`).
     """
     path = Path(path)
     check_dir(path, kinds=(kind,))
     make_dirs(path.parent)
-    _restore_interrupted_swap(path)
-    _clear_stale_staging(path)
-    stage = Path(tempfile.mkdtemp(prefix=f".{path.name}.staging.{os.getpid()}.", dir=path.parent))
-    os.chmod(stage, 0o777 & ~_umask())  # mkdtemp makes 0700; a results folder is an ordinary one (umask)
+    with locked(path.parent):  # another process's swap in this folder is never seen half done
+        _restore_interrupted_swap(path)
+        _clear_stale_staging(path)
+    stage = _new_staging(path, kind=kind)
     try:
-        mark(stage, kind=kind)
         yield stage
         old = path.with_name(f".{path.name}.old.{os.getpid()}")
-        # The swap is two renames: SIGINT/SIGTERM are held back between them, so a signal never leaves the
-        # case without its folder (a kill -9 there is repaired by the next run: _restore_interrupted_swap).
-        with _signals_blocked():
+        # The swap is two renames: a SIGINT/SIGTERM is held back until both are done and the old folder is removed,
+        # so a signal never leaves the case without its folder (a kill -9 there is repaired by the next run:
+        # _restore_interrupted_swap), and its line says the new results are in place.
+        with interrupt.held(), locked(path.parent):  # one swap at a time in this folder (concurrent commands)
             check_dir(path, kinds=(kind,))  # still the workbench's (never replace what appeared meanwhile)
             had_old = path.exists()
             if had_old:
                 os.replace(path, old)
             os.replace(stage, path)
-        if had_old:
-            shutil.rmtree(old, ignore_errors=True)
+            interrupt.replaced(path)  # a signal held back until here finds the new results in place
+            if had_old:
+                shutil.rmtree(old, ignore_errors=True)
     finally:
         if stage.exists():
             shutil.rmtree(stage, ignore_errors=True)
+
+
+def _new_staging(path: Path, *, kind: str) -> Path:
+    """A new staging folder ``.<name>.staging.<pid>.<random>`` beside ``path`` that carries its marker from the
+    moment it has that name (made as ``.<name>.new.<pid>.<random>``, marked, then renamed), so a folder of that
+    pattern without the marker is never the workbench's."""
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.new.{os.getpid()}.", dir=path.parent))
+    try:
+        os.chmod(tmp, 0o777 & ~_umask())  # mkdtemp makes 0700; a results folder is an ordinary one (umask)
+        mark(tmp, kind=kind)
+        stage = tmp.with_name(f".{path.name}.staging.{tmp.name[len(f'.{path.name}.new.'):]}")
+        os.rename(tmp, stage)  # the name is new (pid and mkdtemp's random part): nothing is replaced
+        return stage
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
 
 
 def _umask() -> int:
     umask = os.umask(0)
     os.umask(umask)
     return umask
-
-
-@contextlib.contextmanager
-def _signals_blocked():
-    """Hold SIGINT and SIGTERM back (main thread; elsewhere a no-op) until the block ends."""
-    import signal
-    import threading
-
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    sigs = {signal.SIGINT, signal.SIGTERM}
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 def _alive(pid: int) -> bool:
@@ -177,12 +181,13 @@ def _alive(pid: int) -> bool:
 
 
 def _clear_stale_staging(path: Path) -> None:
-    """Remove the staging folders ``.<name>.staging.<pid>.*`` of runs that were killed (SIGKILL, power loss):
-    their process is gone, so nothing will ever finish them. A live process's staging folder is left alone."""
-    for st in path.parent.glob(f".{path.name}.staging.*"):
-        pid = st.name[len(f".{path.name}.staging."):].split(".", 1)[0]
-        if (st.is_dir() and not st.is_symlink() and pid.isdigit() and not _alive(int(pid))
-                and (is_owned(st) or not any(st.iterdir()))):  # only what the workbench made (marker, or empty)
+    """Remove the staging folders ``.<name>.staging.<pid>.*`` (and ``.<name>.new.<pid>.*``) of runs that were killed
+    (SIGKILL, power loss): their process is gone, so nothing will ever finish them. A live process's staging folder
+    is left alone, and so is every folder without the workbench's marker (a user's folder that only matches the
+    pattern: a staging folder carries its marker from the moment it has that name, :func:`_new_staging`)."""
+    for st in [*path.parent.glob(f".{path.name}.staging.*"), *path.parent.glob(f".{path.name}.new.*")]:
+        pid = st.name[len(f".{path.name}."):].split(".", 2)[1]
+        if st.is_dir() and not st.is_symlink() and pid.isdigit() and not _alive(int(pid)) and is_owned(st):
             shutil.rmtree(st, ignore_errors=True)
 
 

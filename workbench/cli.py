@@ -39,7 +39,7 @@ import sys
 from pathlib import Path
 
 from workbench.owned import check_dir, check_run_outputs, ensure_dir
-from workbench.paths import check_output_folder, default_paths
+from workbench.paths import check_output_folder, checked_paths
 
 __all__ = ["main", "STUDIES", "EXTERNAL"]
 
@@ -94,19 +94,9 @@ STUDY_FOLDERS = {"convergence": "convergence", "stability": "stability", "bench"
                  "convective-table": "analytic", "validity": "validity"}
 
 
-def _root_option(out) -> str:
-    """How the output folder was given, for its error lines."""
-    import os
-
-    return "--out" if out is not None else "WORKBENCH_RESULTS" if os.environ.get("WORKBENCH_RESULTS") else \
-        "output folder"
-
-
 def _check_study_folders(study: str, given: dict[str, str]) -> None:
     """A study writes into its folder and the mesh cache: each the workbench's own or new (issue 23)."""
-    paths = default_paths()
-    if "--out" not in given or "--mesh-cache" not in given:
-        check_output_folder(paths.root, option=_root_option(None))
+    paths = checked_paths(None) if "--out" not in given or "--mesh-cache" not in given else None
     out = Path(given["--out"]).expanduser() if "--out" in given else paths.study(STUDY_FOLDERS[study])
     check_dir(out)
     if study != "convective-table":
@@ -155,16 +145,19 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the CLI; returns the exit code (SIGINT -> 130, SIGTERM -> 143 at any stage: one line, the previous
-    results intact; :mod:`workbench.interrupt`). The program itself (``argv`` None) ends a ``run`` without the
-    interpreter's teardown where nothing can be lost (:mod:`workbench.fast_exit`)."""
-    code = _guarded_main(argv)
-    if argv is None:
-        from workbench.fast_exit import exit_now, fast_exit_allowed
+    """Run the CLI; returns the exit code (SIGINT -> 130, SIGTERM -> 143 at any stage, the exit included: one line,
+    the previous results intact; :mod:`workbench.interrupt`). The program itself (``argv`` None) ends through
+    :func:`workbench.fast_exit.finish`: without the interpreter's teardown where nothing can be lost, and with a
+    signal that arrives during its exit reported in one line."""
+    if argv is not None:
+        return _guarded_main(argv)
+    import atexit
 
-        if fast_exit_allowed(sys.argv[1] if len(sys.argv) > 1 else None):
-            exit_now(code)
-    return code
+    from workbench.fast_exit import at_teardown, finish
+
+    atexit.register(at_teardown)  # registered first, so it runs after every other atexit handler
+    code = _guarded_main(None)
+    return finish(code, sys.argv[1] if len(sys.argv) > 1 else None)
 
 
 def _guarded_main(argv: list[str] | None) -> int:
@@ -182,20 +175,39 @@ def _guarded_main(argv: list[str] | None) -> int:
     previous = interrupt.install()
     interrupt.stage("start-up")
     try:
-        return _main(argv)
+        try:
+            interrupt.check()  # a signal that came while the program started (interrupt.early)
+            code = _main(argv)
+        except SystemExit as exc:
+            if argv is not None or interrupt.received() is not None:
+                raise
+            code = _system_exit_code(exc)  # the program: its exit goes through the same end as a return
+        interrupt.test_point("work-done")
+        if argv is None:  # the program: its work is over; a signal from now on is reported by its exit
+            interrupt.stage("the exit")
+            interrupt.work_done()
+        return code
     except BaseException as exc:  # noqa: BLE001 - after a signal, whatever native code made of it is an interrupt
         signum = interrupt.received()
         if signum is None and not isinstance(exc, KeyboardInterrupt):
             raise
         signum = signum or signal.SIGINT
+        if argv is None:
+            interrupt.work_done()
         print(interrupt.message(signum), file=sys.stderr)
+        interrupt.reported()
         return interrupt.exit_code(signum)
     finally:
-        if argv is None:  # the program itself: its work is done, a signal now would only garble the exit code
-            signal.signal(signal.SIGINT, signal.SIG_IGN)
-            signal.signal(signal.SIGTERM, signal.SIG_IGN)
-        else:
+        if argv is not None:
             interrupt.restore(previous)
+
+
+def _system_exit_code(exc: SystemExit) -> int:
+    """The exit code of a ``SystemExit`` (its text, if it carries one, printed as Python would)."""
+    if exc.code is None or isinstance(exc.code, int):
+        return int(exc.code or 0)
+    print(exc.code, file=sys.stderr)
+    return 1
 
 
 def _main(argv: list[str] | None = None) -> int:
@@ -210,7 +222,10 @@ def _main(argv: list[str] | None = None) -> int:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return 2
 
+    from workbench import interrupt
+
     if argv and argv[0] in OWN_OPTIONS:  # the study parses its own options (``workbench convergence --help``)
+        interrupt.stage(f"workbench {argv[0]}")
         try:
             for opt, folder in _study_out_options(argv[1:]):
                 if not folder.strip():
@@ -223,11 +238,10 @@ def _main(argv: list[str] | None = None) -> int:
             print(f"error: {_one_line(exc)}", file=sys.stderr)
             return 2
     args = _parser().parse_args(argv)
+    interrupt.stage(f"workbench {args.command}")  # the command's own stages follow (meshing, the Newton solve, ...)
 
     try:
-        paths = default_paths(args.out) if hasattr(args, "out") else None
-        if args.command in ("run", "mesh", "report", "ci"):
-            check_output_folder(paths.root, option=_root_option(args.out))
+        paths = checked_paths(args.out) if args.command in ("run", "mesh", "report", "ci") else None
     except CaseError as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return 2

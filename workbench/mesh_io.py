@@ -21,7 +21,9 @@ def read_mesh(path: str | Path, comm):
 
     previous = signal.getsignal(signal.SIGINT)
     if not gmsh.isInitialized():
-        gmsh.initialize(interruptible=False)
+        from meshes._session import initialize
+
+        initialize()  # nothing written in the home folder
     gmsh.option.setNumber("General.Terminal", 0)
     data = gmsh_io.read_from_msh(str(path), comm, 0, gdim=2)
     # gmsh.initialize() installs the default SIGINT action; restore the handler that was there (the command

@@ -31,7 +31,7 @@ from pathlib import Path
 
 from workbench.paths import OutputError, show
 
-__all__ = ["MARKER", "TOOL", "check_dir", "check_root_file", "check_run_outputs", "ensure_dir", "is_owned",
+__all__ = ["MARKER", "TOOL", "check_dir", "check_root_file", "check_run_outputs", "ensure_dir", "is_owned", "locked",
            "make_dirs", "mark", "read_marker", "record_root_files", "root_files"]
 
 MARKER = ".workbench-owned"
@@ -178,7 +178,7 @@ def check_root_file(root: str | Path, name: str) -> None:
 
 
 @contextlib.contextmanager
-def _locked(folder: Path):
+def locked(folder: Path):
     """An exclusive lock on ``folder`` (flock on the folder itself: no lock file left behind)."""
     import fcntl
 
@@ -193,7 +193,7 @@ def _locked(folder: Path):
 def record_root_files(root: str | Path, names: Iterable[str]) -> None:
     """Add ``names`` to the files of ``root``'s marker (a marker ``adopted: true`` if ``root`` had none)."""
     root = Path(root)
-    with _locked(root):
+    with locked(root):
         m = read_marker(root) or _new_marker("root", adopted=True)
         m["files"] = sorted(root_files(root) | set(names))
         _write_marker(root, m)

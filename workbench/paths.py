@@ -9,13 +9,17 @@ Everything the workbench writes lives under one output folder (``--out``; defaul
 ``<root>/logs/``       the log of a failed case
 ``<root>/ci/``         ``workbench ci``: every case at its coarsest level
 ``<root>/<study>/``    a study (convergence, stability, bench) and ``analytic/`` (convective table)
+``<root>/score_<case>/``            ``workbench score``; ``export_<case>/``: ``workbench export``;
+``<root>/external_ccx_<case>/``     ``workbench external ccx`` (names no case may take: :data:`COMMAND_PREFIXES`)
 =====================  ============================================================
 
 Nothing is written outside the output folder: every path handed out here resolves inside ``root`` (a case or
 study name that would leave it, or a symlink in its place, raises :class:`OutputError`), and
 :func:`check_output_folder` refuses an output folder that is a file, has a missing or unwritable parent, is
 read-only, or is ``/``, the home folder, the checkout, above it or in its source (:func:`check_location`), with one
-line (exit code 2) before anything is written. What may be replaced or overwritten inside it: :mod:`workbench.owned`.
+line (exit code 2) before anything is written. Every command that writes takes its output folder from
+:func:`checked_paths` (``--out``, else ``$WORKBENCH_RESULTS``, else ``results/``: the same checks whichever way it
+came). What may be replaced or overwritten inside it: :mod:`workbench.owned`.
 """
 
 from __future__ import annotations
@@ -25,10 +29,10 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from cases.schema import CASE_DIR, MAX_ECHO, CaseError
+from cases.schema import CASE_DIR, COMMAND_PREFIXES, MAX_ECHO, CaseError
 
-__all__ = ["DEFAULT_ROOT", "PROJECT_ROOT", "OutputError", "OutputPaths", "check_location", "check_output_folder",
-           "default_paths", "show"]
+__all__ = ["COMMAND_PREFIXES", "DEFAULT_ROOT", "PROJECT_ROOT", "OutputError", "OutputPaths", "check_location",
+           "check_output_folder", "checked_paths", "default_paths", "root_option", "show"]
 
 
 class OutputError(CaseError):
@@ -161,9 +165,41 @@ class OutputPaths:
     def analytic(self) -> Path:
         return self.root / "analytic"
 
+    def command(self, prefix: str, case: str) -> Path:
+        """The folder of a command's results for ``case``: ``<root>/<prefix><case>`` (``score_``, ``export_``,
+        ``external_ccx_``; prefixes no case name may start with, so a case never replaces them)."""
+        if not any(prefix.startswith(p) for p in COMMAND_PREFIXES):
+            raise ValueError(f"{prefix!r} is not a command prefix ({', '.join(COMMAND_PREFIXES)})")
+        return self.inside(f"{prefix}{case}")
+
 
 def default_paths(out: str | Path | None = None) -> OutputPaths:
-    """``out`` if given, else ``$WORKBENCH_RESULTS``, else ``results/`` of this checkout."""
+    """``out`` if given, else ``$WORKBENCH_RESULTS``, else ``results/`` of this checkout (not checked: a command
+    that writes uses :func:`checked_paths`)."""
     if out is None:
         out = os.environ.get("WORKBENCH_RESULTS") or DEFAULT_ROOT
     return OutputPaths(Path(out))
+
+
+def root_option(out: str | Path | None) -> str:
+    """How the output folder was given, for its error lines: ``--out``, ``WORKBENCH_RESULTS`` or
+    ``output folder`` (the default ``results/``)."""
+    return "--out" if out is not None else "WORKBENCH_RESULTS" if os.environ.get("WORKBENCH_RESULTS") else \
+        "output folder"
+
+
+def checked_paths(out: str | Path | None = None) -> OutputPaths:
+    """The output folder of a command that writes, checked before anything is written: ``out`` (``--out``), else
+    ``$WORKBENCH_RESULTS``, else ``results/`` of this checkout, each through :func:`check_output_folder` under the
+    name it was given by. The one guard of ``run``, ``mesh``, ``report``, ``ci``, the studies, ``score``,
+    ``export`` and ``external``.
+
+    Raises:
+        OutputError: one line naming the option (or ``WORKBENCH_RESULTS``), the folder and what is wrong.
+    """
+    option = root_option(out)
+    given = out if out is not None else (os.environ.get("WORKBENCH_RESULTS") or DEFAULT_ROOT)
+    if not str(given).strip():
+        raise OutputError(f"{option}: an empty folder name is not allowed; allowed: a folder path")
+    check_output_folder(given, option=option)
+    return OutputPaths(Path(given))

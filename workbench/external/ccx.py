@@ -1,5 +1,8 @@
 """``workbench external ccx CASE [--levels N] [--out DIR]``: export, run CalculiX on each level, score.
 
+The output folder, ``external_ccx_<case>/`` and the mesh cache pass the guard every command that writes uses
+(:func:`workbench.paths.checked_paths`, :func:`workbench.owned.check_dir`), before ccx is looked for.
+
 Levels: the case's ``levels`` (h_c / a) from its ``ci_level`` downwards, ``N`` of them (default 3). Per level
 ``<out>/external_ccx_<case>/h<H>/`` holds the exported deck and CalculiX's files (``.frd``, ``.dat``, ``.sta``,
 ``ccx.log``); the load is the rigid band's reaction (the ``.dat``'s last ``total force`` of set CYL, doubled for a
@@ -121,14 +124,18 @@ def main(argv: list[str] | None = None) -> int:
     from workbench.external.frd import read_frd_result
     from workbench.external.results import ResultError, read_csv_result
     from workbench.external.score import ScoreError, level_measures, score_levels, write_score
-    from workbench.paths import OutputError, check_output_folder, default_paths
+    from workbench.owned import check_dir, ensure_dir
+    from workbench.paths import OutputError, checked_paths
     from workbench.scenes.block_theory import block_theory
 
     args = _parser().parse_args(argv)
     try:
-        root = default_paths(None).root if args.out is None else check_output_folder(args.out)
+        paths = checked_paths(args.out)  # the output folder's guard, whichever way it was given
         case = load_case(args.case)
         supported(case)
+        folder = paths.command("external_ccx_", case.name)
+        check_dir(folder, kinds=("external",))
+        check_dir(paths.mesh_cache, kinds=("mesh_cache",))
         disc = case.runs()[0].discretisation
         start = disc.ci_level or disc.h_contact
         available = [lv for lv in sorted(disc.levels, reverse=True) if lv <= start]
@@ -140,9 +147,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     levels = available[:args.levels]
-    folder = Path(root) / f"external_ccx_{case.name}"
+    from workbench import interrupt
+
+    interrupt.stage(f"running CalculiX on {case.name} (writing {folder.name})")
     try:
-        with atomic_dir(folder) as stage:
+        with atomic_dir(folder, kind="external") as stage:
+            ensure_dir(paths.mesh_cache, kind="mesh_cache", kinds=("mesh_cache",))
             results, calibration = [], []
             for lv in levels:
                 sub = stage / f"h{lv:g}"
@@ -155,7 +165,7 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"ccx {case.name} h_c/a = {lv:g} (target load {target.P:.6g} N/mm)", flush=True)
                 nu = run.material.nu
                 log_term = 2.0 * math.log(2.0 * run.geometry.height_factor) - nu / (1.0 - nu)
-                inp, load, runs = calibrated_level(case.name, lv, sub, exe=exe, mesh_cache=Path(root) / "mesh_cache",
+                inp, load, runs = calibrated_level(case.name, lv, sub, exe=exe, mesh_cache=paths.mesh_cache,
                                                    target=target.P, half=half, log_term=log_term)
                 calibration.append({"target_P": target.P, "rtol": LOAD_RTOL, "runs": runs,
                                     "within_rtol": abs(load / target.P - 1.0) <= LOAD_RTOL})
@@ -164,12 +174,15 @@ def main(argv: list[str] | None = None) -> int:
             for lvl, cal in zip(score["levels"], calibration, strict=True):
                 lvl["h_source"] = "export level (h_c of the exported mesh)"
                 lvl["load_calibration"] = cal
-            own = Path(root) / case.name / "pressure.csv"  # the workbench's own run in the same --out, if any
-            fem = read_csv_result(own) if own.is_file() else None
+            try:  # the workbench's own run in the same output folder, if any (never through a symlink out of it)
+                own = paths.case(case.name) / "pressure.csv"
+            except OutputError:
+                own = None
+            fem = read_csv_result(own) if own is not None and own.is_file() and not own.is_symlink() else None
             if fem is not None:
                 score["fem_level"] = level_measures(fem, geometry=run.geometry, material=run.material)
             write_score(score, results, stage / "score", fem=fem)
-    except (CcxError, ResultError, ScoreError, ExportError, subprocess.TimeoutExpired) as exc:
+    except (CcxError, ResultError, ScoreError, ExportError, CaseError, subprocess.TimeoutExpired) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     print(f"external ccx {case.name}: {len(levels)} level(s) -> {folder}")

@@ -8,8 +8,12 @@
   uses) with the case's tolerances;
 * ``inp``: a CalculiX/Abaqus deck of the same mesh (:mod:`workbench.external.inp`).
 
-Files go to ``<out>/export_<case>/<case>_h<H>.{msh,json,inp}`` (staged; nothing written on bad input).
-No dolfinx is imported (the mesh is written without XDMF). Units: mm, N, MPa.
+Files go to ``<out>/export_<case>/<case>_h<H>.{msh,json,inp}`` (staged; nothing written on bad input), the mesh
+into ``<out>/mesh_cache/``: the output folder, the export folder and the mesh cache pass the same guard as
+``workbench run`` (:func:`workbench.paths.checked_paths`, :func:`workbench.owned.check_dir`: a symlink, a file or a
+folder without the workbench's marker is refused before anything is written), and the level passes the same size
+estimate (:func:`workbench.pipeline.size_estimate.check_run_fits`). No dolfinx is imported (the mesh is written
+without XDMF). Units: mm, N, MPa.
 """
 
 from __future__ import annotations
@@ -126,35 +130,50 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``workbench export`` (exit 0 written, 2 bad input)."""
+    """``workbench export`` (exit 0 written, 2 bad input, 1 the mesh or the files could not be made: one line)."""
     from cases import CaseError
+    from workbench import interrupt
     from workbench.atomic import atomic_dir
-    from workbench.paths import OutputError, check_output_folder, default_paths
+    from workbench.owned import check_dir, ensure_dir
+    from workbench.paths import OutputError, checked_paths
 
     args = _parser().parse_args(argv)
     try:
-        root = default_paths(None).root if args.out is None else check_output_folder(args.out)
+        paths = checked_paths(args.out)  # the output folder's guard, whichever way it was given
         import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
         from cases import load_case
+        from workbench.pipeline.size_estimate import check_run_fits
 
         case = load_case(args.case)
-        level_of(case, args.h_contact)
+        level = level_of(case, args.h_contact)
         supported(case)
+        check_run_fits(case.runs(h_contact=level)[0], where=f"{case.path.name}: [{case.runs()[0].label}]",
+                       field="--h-contact" if args.h_contact is not None else "discretisation.ci_level")
+        folder = paths.command("export_", case.name)
+        check_dir(folder, kinds=("export",))
+        check_dir(paths.mesh_cache, kinds=("mesh_cache",))
     except (ExportError, CaseError, OutputError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
-    folder = Path(root) / f"export_{Path(args.case).stem}"
-    keep = sorted(folder.glob("*")) if folder.is_dir() else []
+    keep = [f for f in sorted(folder.glob(f"{case.name}_h*")) if f.is_file() and not f.is_symlink()]
+    interrupt.stage(f"exporting {case.name} (meshing, writing {folder.name})")
     try:
-        with atomic_dir(folder) as stage:
+        with atomic_dir(folder, kind="export") as stage:
             for f in keep:  # other formats and levels exported before stay
-                if f.is_file():
-                    shutil.copy2(f, stage / f.name)
+                shutil.copy2(f, stage / f.name)
+            ensure_dir(paths.mesh_cache, kind="mesh_cache", kinds=("mesh_cache",))
             written = export_case(args.case, fmt=args.format, h_contact=args.h_contact, folder=stage,
-                                  mesh_cache=Path(root) / "mesh_cache")
-    except ExportError as exc:
+                                  mesh_cache=paths.mesh_cache)
+    except (ExportError, CaseError) as exc:  # OutputError among them: the folder changed meanwhile
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        raise  # the command line prints the one line and exits 130 / 143
+    except Exception as exc:  # noqa: BLE001 - gmsh (e.g. out of memory), a full disk: one line, nothing written
+        first = " ".join(str(exc).split())[:200] or type(exc).__name__
+        print(f"error: export {case.name} failed: {type(exc).__name__}: {first}; nothing written (a previous export "
+              "left intact)", file=sys.stderr)
+        return 1
     for w in written:
         print(folder / w.name)
     return 0

@@ -17,22 +17,33 @@ csv's), so with a DISP block in the file the pressure is turned into force per r
 ``p = CPRESS d(X + u1)/dX`` (the stretch of the surface from the nodal u1, ``np.gradient``: 0.988 at the
 centre of hertz_cylinder; the integral then matches the reaction to 0.06 %); ``configuration =
 "current"`` keeps CPRESS at the current positions instead. Units: mm, MPa.
+
+Malformed input is refused in one line naming the file and line (the command exits 2): a record with fewer or
+more values than its block declares (a ``-5`` component line with IEXIST = 1, such as DISP's ``ALL``, is computed
+by cgx and has no value in the records), a node with other than 3 coordinates, a non-finite coordinate or value,
+a node given twice, a block without records, more than 4e6 nodes. The file is opened as
+:func:`workbench.external.result_files.open_result` says and read line by line (only the node block and the last
+CONTACT and DISP blocks are kept).
 """
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
 
+from workbench.external.result_files import MAX_POINTS, merge_coincident, open_result, parsing
 from workbench.external.results import ExternalResult, ResultError, make_result
 
 __all__ = ["FrdData", "read_frd", "read_frd_result", "surface_pressure"]
 
+KEPT = ("CONTACT", "DISP")  # the result blocks read (the last of each); the others are skipped
+
 
 class FrdData(NamedTuple):
-    """Node numbers (n,), coordinates (n, 3) and the last block of each result name: name -> (components,
+    """Node numbers (n,), coordinates (n, 3) and the last block of each kept result name: name -> (components,
     node numbers (m,), values (m, k))."""
 
     nodes: np.ndarray
@@ -40,83 +51,137 @@ class FrdData(NamedTuple):
     blocks: dict
 
 
-def _values(line: str, start: int, width: int, count: int) -> list[float]:
+def _values(line: str, start: int, width: int, count: int, *, where: str) -> list[float]:
+    """``count`` fixed-width numbers from column ``start``; ResultError unless exactly ``count`` are there."""
     out = []
     for k in range(count):
         field = line[start + k * width:start + (k + 1) * width]
         if not field.strip():
             break
         out.append(float(field))
+    rest = line[start + count * width:].strip()
+    if len(out) != count or rest:
+        raise ResultError(f"{where}: a record with {len(out) + (1 if rest else 0)}{'+' if rest else ''} values; "
+                          f"allowed: {count}")
     return out
 
 
+def _width(rec: str, count: int) -> int:
+    """The field width of a ``-1`` record: 25 (long format) or 12 (short)."""
+    return 25 if len(rec.rstrip()) >= 13 + count * 25 else 12
+
+
+def _values_expected(comp_line: str) -> tuple[str, bool]:
+    """A ``-5`` line: the component's name and whether the records hold a value for it (IEXIST != 1)."""
+    name = comp_line[3:13].strip()
+    ints = comp_line[13:38]
+    iexist = ints[20:25].strip()
+    return name, iexist != "1"
+
+
 def read_frd(path: str | Path) -> FrdData:
-    """Parse the node block and the LAST result block of every name (the last increment of the last step).
+    """Parse the node block and the LAST CONTACT and DISP blocks (the last increment of the last step).
 
     Raises:
-        ResultError: unreadable or truncated file (no `` 9999`` end, a block without ``-3``), no node block.
+        ResultError: unreadable or truncated file (no `` 9999`` end, a block without ``-3``), no node block, a
+            malformed record (see the module docstring).
     """
     where = str(path)
-    try:
-        lines = Path(path).read_text(errors="replace").splitlines()
-    except OSError as exc:
-        raise ResultError(f"{where}: cannot be read ({exc.__class__.__name__}: {exc})") from None
-    if not lines or lines[-1].strip() != "9999":
-        raise ResultError(f"{where}: truncated .frd (the last line is not 9999); allowed: a complete CalculiX result")
     nodes, coords, blocks = None, None, {}
-    i, n = 0, len(lines)
-    try:
-        while i < n:
-            line = lines[i]
+    last = ""
+    lineno = 0
+    with open_result(path, where=where) as fh, parsing(where):
+        lines = io.TextIOWrapper(fh, encoding="ascii", errors="replace", newline=None)
+
+        def nxt() -> str | None:
+            nonlocal lineno, last
+            line = lines.readline()
+            if not line:
+                return None
+            lineno += 1
+            line = line.rstrip("\n")
+            if line.strip():
+                last = line
+            return line
+
+        def at() -> str:
+            return f"{where}: line {lineno}"
+
+        line = nxt()
+        while line is not None:
             key = line[:6].strip()
             if key == "2C":
-                i += 1
                 ids, xyz = [], []
-                while i < n and not lines[i].startswith(" -3"):
-                    rec = lines[i]
-                    width = 25 if len(rec) >= 13 + 3 * 25 else 12
-                    ids.append(int(rec[3:13]))
-                    xyz.append(_values(rec, 13, width, 3))
-                    i += 1
-                if i >= n:
+                line = nxt()
+                while line is not None and not line.startswith(" -3"):
+                    if line.startswith(" -1"):
+                        if len(ids) >= MAX_POINTS:
+                            raise ResultError(f"{where}: more than {MAX_POINTS} nodes; allowed: at most {MAX_POINTS}")
+                        ids.append(int(line[3:13]))
+                        xyz.append(_values(line, 13, _width(line, 3), 3, where=f"{at()}: node {ids[-1]}"))
+                    line = nxt()
+                if line is None:
                     raise ResultError(f"{where}: truncated .frd (the node block has no -3 end)")
-                nodes, coords = np.array(ids), np.array(xyz, dtype=float)
+                nodes, coords = np.array(ids, dtype=np.int64), np.array(xyz, dtype=float).reshape(-1, 3)
+                if nodes.size == 0:
+                    raise ResultError(f"{where}: the node block (2C) has no nodes")
+                if np.unique(nodes).size != nodes.size:
+                    raise ResultError(f"{where}: a node number appears twice in the node block; allowed: each once")
+                bad = ~np.all(np.isfinite(coords), axis=1)
+                if bad.any():
+                    raise ResultError(f"{where}: node {int(nodes[bad][0])} has a non-finite coordinate; allowed: "
+                                      "finite coordinates (mm)")
             elif line.startswith(" -4"):
                 name = line[3:13].strip()
                 ncomp = int(line[13:18])
+                if not 1 <= ncomp <= 100:
+                    raise ResultError(f"{at()}: block {name[:12]} declares {ncomp} components; allowed: 1 to 100")
                 comps = []
-                i += 1
-                while i < n and lines[i].startswith(" -5"):
-                    comps.append(lines[i][3:13].strip())
-                    i += 1
+                line = nxt()
+                while line is not None and line.startswith(" -5"):
+                    comps.append(_values_expected(line))
+                    line = nxt()
+                names = [c for c, has in comps[:ncomp] if has]
+                count = len(names)
+                if count == 0:
+                    raise ResultError(f"{at()}: block {name[:12]} has no component with values")
                 ids, vals = [], []
-                while i < n and not lines[i].startswith(" -3"):
-                    rec = lines[i]
-                    if rec.startswith(" -1"):
-                        width = 25 if len(rec) >= 13 + ncomp * 25 else 12
-                        ids.append(int(rec[3:13]))
-                        vals.append(_values(rec, 13, width, ncomp))
-                    i += 1
-                if i >= n:
-                    raise ResultError(f"{where}: truncated .frd (the {name} block has no -3 end)")
-                blocks[name] = (comps[:ncomp], np.array(ids), np.array(vals, dtype=float).reshape(len(ids), -1))
-            i += 1
-    except ValueError as exc:
-        raise ResultError(f"{where}: line {i + 1} is not a CalculiX .frd record ({exc})") from None
+                while line is not None and not line.startswith(" -3"):
+                    if line.startswith(" -1") and name in KEPT:
+                        if len(ids) >= MAX_POINTS:
+                            raise ResultError(f"{where}: more than {MAX_POINTS} records in block {name}")
+                        ids.append(int(line[3:13]))
+                        vals.append(_values(line, 13, _width(line, count), count, where=f"{at()}: {name}"))
+                    line = nxt()
+                if line is None:
+                    raise ResultError(f"{where}: truncated .frd (the {name[:12]} block has no -3 end)")
+                if name in KEPT:
+                    if not ids:
+                        raise ResultError(f"{where}: the {name} block has no node records")
+                    arr = np.array(vals, dtype=float).reshape(len(ids), count)
+                    if not np.all(np.isfinite(arr)):
+                        row = int(np.flatnonzero(~np.all(np.isfinite(arr), axis=1))[0])
+                        raise ResultError(f"{where}: the {name} block has a NaN or infinite value at node {ids[row]}; "
+                                          "allowed: finite values")
+                    blocks[name] = (names, np.array(ids, dtype=np.int64), arr)
+            line = nxt()
+    if last.strip() != "9999":
+        raise ResultError(f"{where}: truncated .frd (the last line is not 9999); allowed: a complete CalculiX result")
     if nodes is None:
         raise ResultError(f"{where}: no node block (2C); allowed: a CalculiX .frd with node coordinates")
     return FrdData(nodes, coords, blocks)
 
 
 def surface_pressure(data: FrdData, *, where: str, top_y: float = 0.0,
-                     configuration: str = "reference") -> tuple[np.ndarray, np.ndarray]:
-    """(x, p) of the nodes on the block top Y = ``top_y``, coincident nodes merged by their largest CPRESS:
-    ``"reference"``: x = X, p = CPRESS d(X + u1)/dX; ``"current"``: x = X + u1, p = CPRESS."""
+                     configuration: str = "reference") -> tuple[np.ndarray, np.ndarray, int]:
+    """(x, p, merged) of the nodes on the block top Y = ``top_y``, coincident nodes merged by their largest CPRESS
+    (:func:`workbench.external.result_files.merge_coincident`; ``merged`` of them dropped): ``"reference"``:
+    x = X, p = CPRESS d(X + u1)/dX; ``"current"``: x = X + u1, p = CPRESS."""
     if "CONTACT" not in data.blocks:
         raise ResultError(f"{where}: no CONTACT block; allowed: a .frd written with *CONTACT FILE CSTR")
     comps, ids, vals = data.blocks["CONTACT"]
     if "CPRESS" not in comps:
-        raise ResultError(f"{where}: the CONTACT block has no CPRESS ({', '.join(comps)})")
+        raise ResultError(f"{where}: the CONTACT block has no CPRESS component")
     cp = dict(zip(ids.tolist(), vals[:, comps.index("CPRESS")].tolist(), strict=True))
     scale = float(np.max(np.abs(data.coords[:, :2]))) or 1.0
     on_top = np.abs(data.coords[:, 1] - top_y) <= 1e-9 * scale
@@ -130,26 +195,24 @@ def surface_pressure(data: FrdData, *, where: str, top_y: float = 0.0,
         u = dict(zip(dids.tolist(), dvals[:, 0].tolist(), strict=True))
         u1 = np.array([u.get(int(k), 0.0) for k in data.nodes[on_top]])
     p = np.array([cp.get(int(k), 0.0) for k in data.nodes[on_top]])
-    order = np.lexsort((-p, x))
-    x, p, u1 = x[order], p[order], u1[order]
-    first = np.ones(x.size, dtype=bool)
-    first[1:] = np.diff(x) > 1e-12 * scale
-    x, p, u1 = x[first], p[first], u1[first]
+    x, p, u1, merged = merge_coincident(x, p, u1, scale=scale)
     if configuration == "current":
-        return x + u1, p
+        return x + u1, p, merged
     if x.size >= 2 and np.any(u1):
         p = p * np.gradient(x + u1, x)  # force per reference length
-    return x, p
+    return x, p, merged
 
 
 def read_frd_result(path: str | Path, *, load: float | None = None, h: float | None = None,
                     configuration: str = "reference") -> ExternalResult:
     """One level's contact pressure from a CalculiX ``.frd`` (``load``: the full-body load if known)."""
     data = read_frd(path)
-    x, p = surface_pressure(data, where=str(path), configuration=configuration)
+    x, p, merged = surface_pressure(data, where=str(path), configuration=configuration)
+    if not np.all(np.isfinite(x)) or not np.all(np.isfinite(p)):
+        raise ResultError(f"{path}: the surface positions or pressures are not finite (the displacements?)")
     if not np.any(p > 0):
         raise ResultError(f"{path}: no positive CPRESS on the contact surface (no contact)")
     if x.size < 2:
         raise ResultError(f"{path}: {x.size} node(s) on the contact surface; allowed: at least 2")
     return make_result(str(path), x, np.clip(p, 0.0, None), load=load, h=h,
-                       configuration=configuration)
+                       configuration=configuration, merged=merged)

@@ -45,7 +45,9 @@ def read_block_msh(path) -> BlockMeshData:
 
     initialised = gmsh.isInitialized()
     if not initialised:
-        gmsh.initialize(interruptible=False)
+        from meshes._session import initialize
+
+        initialize()  # nothing written in the home folder
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.open(str(path))

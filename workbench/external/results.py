@@ -12,17 +12,24 @@ A csv result has a header naming its columns (any order, extra columns ignored):
 * optionally ``run``: a file with several runs (the workbench's own ``pressure.csv``) must hold exactly one.
 
 Samples all at x >= 0 are a half model with its symmetry plane at x = 0: they are mirrored to the full body
-(a sample at x = 0 once), and a given load counts both halves. Units: mm, N/mm, MPa.
+(a sample at x = 0 once), and a given load counts both halves. Samples at one position are merged, the largest
+pressure kept, as the frd and vtu readers do (:func:`workbench.external.result_files.merge_coincident`; the
+count is ``ExternalResult.merged``). The file is opened as :func:`workbench.external.result_files.open_result`
+says (a regular file of at most 256 MB, never a FIFO or a device), and at most a million rows are read.
+Units: mm, N/mm, MPa.
 """
 
 from __future__ import annotations
 
 import csv
+import io
 import math
 from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
+
+from workbench.external.result_files import MAX_SAMPLES, ResultError, merge_coincident, open_result, shown
 
 __all__ = ["ExternalResult", "ResultError", "read_csv_result", "make_result", "POSITION", "PRESSURE", "LOAD", "SIZE"]
 
@@ -33,10 +40,6 @@ LOAD = ("P_N_per_mm", "P")
 SIZE = ("h_mm", "h")
 WEIGHT = ("weight_mm",)
 ARGUMENT = ("q_MPa",)
-
-
-class ResultError(ValueError):
-    """A bad external result file: the message is one line naming the file and the problem."""
 
 
 class ExternalResult(NamedTuple):
@@ -52,6 +55,7 @@ class ExternalResult(NamedTuple):
         weight, q: (n,) quadrature weights (mm) and pressure argument (MPa) when the file gives them.
         configuration: ``"reference"`` (x is the material position; csv) or ``"current"`` (x = X + u, where
             the code's pressure is force per deformed length: CalculiX's CPRESS).
+        merged: Samples dropped because another one had the same position (the largest pressure kept).
     """
 
     path: str
@@ -63,17 +67,26 @@ class ExternalResult(NamedTuple):
     configuration: str = "reference"
     weight: np.ndarray | None = None
     q: np.ndarray | None = None
+    merged: int = 0
 
 
 def _pick(header: list[str], names: tuple[str, ...]) -> str | None:
     return next((n for n in names if n in header), None)
 
 
+def _numbers(values: list[str], *, what: str, where: str) -> np.ndarray:
+    """The column ``what`` as floats; ResultError naming the first line that is not a number (not its text)."""
+    out = np.empty(len(values))
+    for i, v in enumerate(values):
+        try:
+            out[i] = float(v)
+        except ValueError:
+            raise ResultError(f"{where}: line {i + 2}: the {what} value is not a number; allowed: a number") from None
+    return out
+
+
 def _constant(values: list[str], *, what: str, where: str) -> float:
-    try:
-        arr = np.array([float(v) for v in values])
-    except ValueError as exc:
-        raise ResultError(f"{where}: column {what} is not a number ({exc})") from None
+    arr = _numbers(values, what=what, where=where)
     if not np.all(np.isfinite(arr)):
         raise ResultError(f"{where}: column {what} has NaN or infinite values; allowed: finite numbers")
     if not np.all(arr > 0):
@@ -92,11 +105,23 @@ def read_csv_result(path: str | Path) -> ExternalResult:
             fewer than two distinct positions, no positive pressure, several runs.
     """
     where = str(path)
-    try:
-        with open(path, newline="") as fh:
-            rows = list(csv.reader(fh))
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ResultError(f"{where}: cannot be read ({exc.__class__.__name__}: {exc})") from None
+    rows = []
+    with open_result(path, where=where) as fh:
+        reader = csv.reader(io.TextIOWrapper(fh, encoding="utf-8", newline=""))
+        try:
+            for row in reader:
+                if len(rows) > MAX_SAMPLES:
+                    raise ResultError(f"{where}: more than {MAX_SAMPLES} rows; allowed: at most {MAX_SAMPLES} "
+                                      "samples of one mesh level")
+                rows.append(row)
+        except csv.Error as exc:
+            raise ResultError(f"{where}: line {reader.line_num} is not csv ({' '.join(str(exc).split())[:80]})") \
+                from None
+        except UnicodeDecodeError as exc:
+            raise ResultError(f"{where}: not UTF-8 text (byte 0x{exc.object[exc.start]:02x} near line "
+                              f"{reader.line_num + 1}); allowed: a csv text file") from None
+        except OSError as exc:
+            raise ResultError(f"{where}: cannot be read ({exc.strerror or exc})") from None
     rows = [r for r in rows if r and any(c.strip() for c in r)]
     if not rows:
         raise ResultError(f"{where}: the file is empty; allowed: a csv with a header row")
@@ -104,20 +129,18 @@ def read_csv_result(path: str | Path) -> ExternalResult:
     xcol, pcol = _pick(header, POSITION), _pick(header, PRESSURE)
     if xcol is None or pcol is None:
         missing = [f"one of {'/'.join(names)}" for col, names in ((xcol, POSITION), (pcol, PRESSURE)) if col is None]
-        raise ResultError(f"{where}: missing column {' and '.join(missing)} (header: {','.join(header)[:120]})")
+        fields = ",".join(shown(c) for c in header[:8]) + (",..." if len(header) > 8 else "")
+        raise ResultError(f"{where}: missing column {' and '.join(missing)} (header fields: {fields[:160]})")
     body = rows[1:]
     bad = [i + 2 for i, r in enumerate(body) if len(r) != len(header)]
     if bad:
         raise ResultError(f"{where}: line {bad[0]} has a different number of fields than the header")
     col = {name: [r[i].strip() for r in body] for i, name in enumerate(header)}
     if "run" in col and len(set(col["run"])) > 1:
-        raise ResultError(f"{where}: holds {len(set(col['run']))} runs ({', '.join(sorted(set(col['run'])))[:80]}); "
-                          "allowed: one run per file")
-    try:
-        x = np.array([float(v) for v in col[xcol]])
-        p = np.array([float(v) for v in col[pcol]])
-    except ValueError as exc:
-        raise ResultError(f"{where}: a {xcol}/{pcol} value is not a number ({exc})") from None
+        runs = ", ".join(shown(r) for r in sorted(set(col["run"]))[:6])
+        raise ResultError(f"{where}: holds {len(set(col['run']))} runs ({runs[:80]}); allowed: one run per file")
+    x = _numbers(col[xcol], what=xcol, where=where)
+    p = _numbers(col[pcol], what=pcol, where=where)
     for name, arr in ((xcol, x), (pcol, p)):
         if not np.all(np.isfinite(arr)):
             raise ResultError(f"{where}: column {name} has NaN or infinite values at line "
@@ -136,10 +159,7 @@ def read_csv_result(path: str | Path) -> ExternalResult:
     for key, names in (("weight", WEIGHT), ("q", ARGUMENT)):
         name = _pick(header, names)
         if name:
-            try:
-                arr = np.array([float(v) for v in col[name]])
-            except ValueError as exc:
-                raise ResultError(f"{where}: a {name} value is not a number ({exc})") from None
+            arr = _numbers(col[name], what=name, where=where)
             if not np.all(np.isfinite(arr)) or (key == "weight" and arr.min() < 0):
                 raise ResultError(f"{where}: column {name} has NaN, infinite or negative values; allowed: finite"
                                   + (" >= 0" if key == "weight" else ""))
@@ -149,20 +169,24 @@ def read_csv_result(path: str | Path) -> ExternalResult:
 
 def make_result(where: str, x: np.ndarray, p: np.ndarray, *, load: float | None, h: float | None,
                 configuration: str = "reference", weight: np.ndarray | None = None,
-                q: np.ndarray | None = None) -> ExternalResult:
-    """Sort by x and mirror a half model (samples all at x >= 0) to the full body (a sample at x = 0 once,
-    weights and arguments mirrored with it)."""
-    order = np.argsort(x, kind="stable")
-    x = np.asarray(x, dtype=float)[order]
-    arrays = [np.asarray(a, dtype=float)[order] if a is not None else None for a in (p, weight, q)]
-    tol = 1e-12 * max(1.0, float(np.max(np.abs(x))))
+                q: np.ndarray | None = None, merged: int = 0) -> ExternalResult:
+    """Sort by x, merge samples at one position (the largest pressure kept; ``merged`` adds to the count of a
+    reader that merged before), and mirror a half model (samples all at x >= 0) to the full body (a sample at
+    x = 0 once, weights and arguments mirrored with it)."""
+    x = np.asarray(x, dtype=float)
+    scale = max(1.0, float(np.max(np.abs(x)))) if x.size else 1.0
+    x, p, weight, q, more = merge_coincident(x, np.asarray(p, dtype=float),
+                                             None if weight is None else np.asarray(weight, dtype=float),
+                                             None if q is None else np.asarray(q, dtype=float), scale=scale)
+    arrays = [p, weight, q]
+    tol = 1e-12 * scale
     half = bool(x[0] >= -tol)
     if half:
         keep = x > tol
         x = np.concatenate([-x[keep][::-1], x])
         arrays = [np.concatenate([a[keep][::-1], a]) if a is not None else None for a in arrays]
     p, weight, q = arrays
-    return ExternalResult(where, x, p, load, h, half, configuration, weight, q)
+    return ExternalResult(where, x, p, load, h, half, configuration, weight, q, merged + more)
 
 
 def positive(value: float, *, what: str) -> float:

@@ -23,9 +23,15 @@ Per level (:func:`level_measures`; every measure from :mod:`measures.contact`, t
 With three or more levels the three finest go through :func:`workbench.error_budget.grid_study` for the ratios
 ``p_max/p0``, ``half_width_moment/a`` (formal order 2) and ``half_width/a`` (1.5): observed order, GCI band,
 extrapolated value. The verdict splits the extrapolated difference from the theory into the discretisation band
-and a remainder. Output (only inside ``--out``): ``<out>/score_<case>/`` with ``score.json``, ``report.md``,
-``report.html``, ``pressure.png``. Bad input: one line naming the file or option, exit 2, nothing written.
-This module imports no dolfinx (the score needs no solve). Units: mm, N/mm, MPa.
+and a remainder, after the plausibility checks (:func:`plausibility`): the levels carry one load (to twice the
+case's p_max tolerance), their sizes h rank them as their sample spacings do, each level's contact half-width is
+within a factor 2 of the theory's at its load (positions in mm, pressures in MPa), the sequence does not diverge,
+and the band is finite and narrower than the quantity. A failed check gives "no verdict" with its reason, never
+"consistent". Output (only inside the output folder, :func:`workbench.paths.checked_paths`):
+``<out>/score_<case>/`` with ``score.json``, ``report.md``, ``report.html``, ``pressure.png``. Bad input (an option,
+a case score cannot judge: checked before any file is read, a malformed file, a load the theory cannot
+evaluate): one line naming it, exit 2, nothing written. This module imports no dolfinx (the score needs no solve).
+Units: mm, N/mm, MPa.
 """
 
 from __future__ import annotations
@@ -40,9 +46,13 @@ import numpy as np
 from measures.contact import SurfaceSamples, find_patches, moment_half_width, rms_error, trapezoid_weights
 from workbench.external.results import ExternalResult, ResultError, read_csv_result
 
-__all__ = ["level_measures", "score_levels", "write_score", "main", "ScoreError"]
+__all__ = ["level_measures", "score_levels", "write_score", "main", "ScoreError", "scoreable", "plausibility"]
 
 FORMAL = {"p_max": 2.0, "half_width_moment": 2.0, "half_width": 1.5}
+INDENTERS = ("circle", "parabola")  # the block indenters with a Hertz peak, the quantity the verdict reads
+MAX_SAMPLES_PER_ELEMENT = 1000
+HALF_WIDTH_FACTOR = 2.0  # a level's contact half-width within this factor of the theory's at its load
+SPACING_TIE = 0.1  # sample spacings closer than this (relative) do not rank two levels
 
 
 class ScoreError(ValueError):
@@ -55,11 +65,32 @@ def _samples(x: np.ndarray, p: np.ndarray, w: np.ndarray, q: np.ndarray) -> Surf
                           gap=z, weight=w)
 
 
+def _theory(geometry, material, P: float, *, where: str):
+    """The case's classical theory at the level's load ``P``; ResultError (one line) where it cannot be evaluated
+    (a load of 0, or beyond what a half-plane under the indenter carries: a file in other units?)."""
+    from workbench.scenes.block_theory import block_theory
+
+    if not (math.isfinite(P) and P > 0):
+        raise ResultError(f"{where}: its load P = {P:.6g} N/mm; allowed: a finite load > 0 (a pressure that "
+                          "integrates to 0: all weights 0?)")
+    try:
+        th = block_theory(geometry, material, P=P)
+        if geometry.indenter == "circle":
+            from analytic.circle import circle_contact
+
+            circle_contact(P, th.R, th.E_star)
+    except (ValueError, ArithmeticError) as exc:
+        raise ResultError(f"{where}: its load P = {P:.6g} N/mm is outside what the case's theory evaluates "
+                          f"({' '.join(str(exc).split())[:160]}); positions in mm and pressures in MPa?") from None
+    if not all(math.isfinite(v) and v > 0 for v in (th.half_width, th.p_ref)):
+        raise ResultError(f"{where}: its load P = {P:.6g} N/mm gives a theory half-width {th.half_width:.3g} mm and "
+                          f"peak {th.p_ref:.3g} MPa; allowed: a load whose theory is finite and > 0")
+    return th
+
+
 def level_measures(res: ExternalResult, *, geometry, material, h: float | None = None,
                    samples_per_element: int = 1) -> dict:
     """The measures of one level against the case's theory at the level's load (see the module docstring)."""
-    from workbench.scenes.block_theory import block_theory
-
     x, p = res.x, res.p
     w = trapezoid_weights(x) if res.weight is None else res.weight
     q = p if res.q is None else res.q
@@ -67,17 +98,22 @@ def level_measures(res: ExternalResult, *, geometry, material, h: float | None =
     if not patches:
         raise ResultError(f"{res.path}: no contact patch (no positive pressure between two samples)")
     main = max(patches, key=lambda pt: pt.P)
-    P_int = float(np.sum(w * p))
+    with np.errstate(over="ignore", under="ignore"):
+        P_int = float(np.sum(w * p))
     P = res.load if res.load is not None else P_int
-    th = block_theory(geometry, material, P=P)
+    if not (math.isfinite(P_int) and P_int > 0):
+        raise ResultError(f"{res.path}: the pressure integrates to P = {P_int:.6g} N/mm; allowed: a finite load > 0 "
+                          "(all weights 0? pressures in MPa?)")
+    th = _theory(geometry, material, P, where=res.path)
     inside = np.abs(x - main.center) <= main.half_width
+    dx = np.diff(x[inside])
+    spacing = float(np.median(dx)) if dx.size else math.nan
     if h is not None:
         h_val, h_source = h, "option --h"
     elif res.h is not None:
         h_val, h_source = res.h, "column h_mm"
     else:
-        dx = np.diff(x[inside])
-        h_val = float(np.median(dx)) * samples_per_element if dx.size else math.nan
+        h_val = spacing * samples_per_element
         h_source = f"estimated: median sample spacing in the patch x {samples_per_element} sample(s) per element"
     hw_m = 2.0 * moment_half_width(x, p, w)
     errors = {
@@ -101,7 +137,8 @@ def level_measures(res: ExternalResult, *, geometry, material, h: float | None =
     else:
         exact = None
     return {"file": res.path, "half_model": res.half, "configuration": res.configuration,
-            "samples": int(x.size), "h": h_val, "h_source": h_source,
+            "samples": int(x.size), "merged_samples": int(res.merged), "spacing": spacing,
+            "h": h_val, "h_source": h_source,
             "P": P, "P_source": "file" if res.load is not None else "integral", "P_integral": P_int,
             "p_max": main.p_max, "half_width": main.half_width, "half_width_moment": hw_m, "center": main.center,
             "patches": len(patches),
@@ -150,6 +187,45 @@ def _study(levels: list[dict]) -> dict:
                                                   if abs(deviation) > band else 0.0),
                                     "outside_band": bool(abs(deviation) > band)}
     return out
+
+
+def plausibility(levels: list[dict], study: dict | None, *, p_max_tolerance: float | None) -> list[str]:
+    """Why no verdict may be given (empty: a verdict may be given): see the module docstring. ``levels``: the
+    :func:`level_measures` records; ``study``: :func:`_study`'s; ``p_max_tolerance``: the case's (relative)."""
+    reasons = []
+    for lv in levels:
+        ratio = lv["half_width"] / lv["theory"]["half_width"]
+        if not (math.isfinite(ratio) and 1.0 / HALF_WIDTH_FACTOR <= ratio <= HALF_WIDTH_FACTOR):
+            reasons.append(f"{Path(lv['file']).name}: its contact half-width {lv['half_width']:.4g} mm is "
+                           f"{ratio:.3g} times the theory's at its load {lv['P']:.6g} N/mm (allowed: within a factor "
+                           f"{HALF_WIDTH_FACTOR:g}; positions in mm and pressures in MPa?)")
+    loads = [lv["P"] for lv in levels]
+    allowed = 2.0 * (p_max_tolerance if p_max_tolerance else 0.005)
+    if len(loads) > 1 and max(loads) / min(loads) - 1.0 > allowed:
+        reasons.append(f"the levels' loads differ by {max(loads) / min(loads) - 1.0:.3%} ({min(loads):.6g} to "
+                       f"{max(loads):.6g} N/mm); the case allows {allowed:.2%} (twice its p_max tolerance: p0 goes "
+                       "as sqrt(P)), so they are not one problem at several resolutions")
+    given = [lv for lv in levels if not lv["h_source"].startswith("estimated")]
+    inverted = next(((a, b) for a in given for b in given if a["h"] < b["h"]
+                     and math.isfinite(a["spacing"]) and math.isfinite(b["spacing"])
+                     and a["spacing"] > (1.0 + SPACING_TIE) * b["spacing"]), None)
+    if inverted is not None:
+        a, b = inverted
+        reasons.append(f"the sizes h rank {Path(a['file']).name} (h = {a['h']:.4g} mm) finer than "
+                       f"{Path(b['file']).name} (h = {b['h']:.4g} mm), but its samples are "
+                       f"{a['spacing'] / b['spacing']:.3g} times wider apart: h does not decrease with the levels "
+                       "(--h in reverse order?)")
+    s = (study or {}).get("p_max")
+    if s is not None:
+        if s["status"] == "diverging":
+            reasons.append("the three finest levels diverge (their differences grow on refinement): no order, no "
+                           "extrapolation")
+        if not (math.isfinite(s["band"]) and s["band"] < abs(s["fine"])):
+            reasons.append(f"the discretisation band +-{s['band']:.4g} is not finite or not narrower than the "
+                           f"quantity ({s['fine']:.4g})")
+        if not math.isfinite(s["extrapolated"]):
+            reasons.append("the extrapolated value is not finite")
+    return reasons
 
 
 def model_match(study: dict | None, bands: dict | None) -> dict | None:
@@ -204,12 +280,16 @@ def _idealisation(match: dict) -> str:
     return text + "."
 
 
-def verdict(study: dict | None, kind: str, match: dict | None = None, exact: float | None = None) -> str:
+def verdict(study: dict | None, kind: str, match: dict | None = None, exact: float | None = None,
+            reasons: list[str] | None = None) -> str:
     """One paragraph: the extrapolated peak against the theory, split into the discretisation band and the rest,
     and the models of the workbench's hierarchy whose band contains it (``match``, :func:`model_match`).
-    ``exact``: the exact circle's p0 over Hertz's at the finest level's load (circle indenters)."""
+    ``exact``: the exact circle's p0 over Hertz's at the finest level's load (circle indenters). ``reasons``
+    (:func:`plausibility`): no verdict, and why."""
     if study is None or "p_max" not in study:
         return "fewer than three levels: no extrapolation (give three or more RESULT files, one per mesh level)"
+    if reasons:
+        return "No verdict: " + "; ".join(reasons) + "."
     s = study["p_max"]
     dev, band = s["deviation"], s["band"]
     vs = f"{dev:+.3%} from {kind}"
@@ -227,10 +307,14 @@ def verdict(study: dict | None, kind: str, match: dict | None = None, exact: flo
     return text
 
 
-def headline(study: dict | None, match: dict | None) -> str:
-    """One sentence to read first: how far the peak is, how much is discretisation, which models hold it."""
+def headline(study: dict | None, match: dict | None, reasons: list[str] | None = None) -> str:
+    """One sentence to read first: how far the peak is, how much is discretisation, which models hold it (or why
+    there is no verdict: ``reasons``)."""
     if study is None or "p_max" not in study:
         return "Fewer than three mesh levels: no extrapolation, no verdict."
+    if reasons:
+        return f"No verdict: {reasons[0]}" + (f" (and {len(reasons) - 1} more reason(s))." if len(reasons) > 1
+                                              else ".")
     s = study["p_max"]
     part = "not discretisation" if s["outside_band"] else "within it"
     text = (f"The peak extrapolates to {s['deviation']:+.2%} from Hertz; the discretisation band is "
@@ -246,6 +330,16 @@ def fmt_order(v) -> str:
     return "-" if v is None or not math.isfinite(v) else f"{v:.3g}"
 
 
+def scoreable(case) -> None:
+    """ScoreError unless ``score`` can judge ``case``: a block scene under an indenter with a Hertz peak
+    (:data:`INDENTERS`; the verdict reads p_max/p0). Checked before any file is read."""
+    g = case.runs()[0].geometry
+    if g.scene != "block" or getattr(g, "indenter", None) not in INDENTERS:
+        raise ScoreError(f"case {case.name}: scene {g.scene!r} indenter {getattr(g, 'indenter', None)!r} cannot be "
+                         f"scored (the verdict reads the Hertz peak p_max/p0); allowed: block scenes with a "
+                         f"{' or '.join(INDENTERS)} indenter")
+
+
 def score_levels(case_name: str, results: list[ExternalResult], *, h: list[float] | None = None,
                  samples_per_element: int = 1) -> dict:
     """The score of a case's external results (``score.json``'s content)."""
@@ -253,28 +347,29 @@ def score_levels(case_name: str, results: list[ExternalResult], *, h: list[float
     from cases import load_case
 
     case = load_case(case_name)
+    scoreable(case)
     run = case.runs()[0]
-    if run.geometry.scene != "block":
-        raise ScoreError(f"case {case.name}: scene {run.geometry.scene!r} cannot be scored yet; allowed: block scenes")
     _check_surface(results, run)
     if h is not None and len(h) != len(results):
         raise ScoreError(f"--h: {len(h)} sizes for {len(results)} RESULT files; allowed: one per file")
-    levels = [level_measures(r, geometry=run.geometry, material=run.material,
-                             h=None if h is None else h[i], samples_per_element=samples_per_element)
-              for i, r in enumerate(results)]
-    study = _study(levels) if len(levels) >= 3 else None
+    with np.errstate(all="ignore"):  # extreme values are named by the checks below, not as numpy warnings
+        levels = [level_measures(r, geometry=run.geometry, material=run.material,
+                                 h=None if h is None else h[i], samples_per_element=samples_per_element)
+                  for i, r in enumerate(results)]
+        study = _study(levels) if len(levels) >= 3 else None
+    reasons = plausibility(levels, study, p_max_tolerance=case.tolerances.get("p_max"))
     kind = levels[0]["theory"]["kind"]
     from workbench.external.models import load_model_bands
 
-    match = model_match(study, load_model_bands(case.name, run=run))
+    match = None if reasons else model_match(study, load_model_bands(case.name, run=run))
     fine = min(levels, key=lambda lv: lv["h"])
     ex = fine["theory"]["exact_circle"]
     exact = ex["p0"] / fine["theory"]["p0"] if ex else None
     theory = "exact circle" if ex else kind
     return {"case": case.name, "theory": theory, "ratios_to": kind,
             "units": {"length": "mm", "load": "N/mm", "pressure": "MPa"},
-            "levels": levels, "grid_study": study, "models": match, "headline": headline(study, match),
-            "verdict": verdict(study, kind, match, exact)}
+            "levels": levels, "grid_study": study, "plausibility": reasons, "models": match,
+            "headline": headline(study, match, reasons), "verdict": verdict(study, kind, match, exact, reasons)}
 
 
 def _report_md(score: dict) -> str:
@@ -293,6 +388,12 @@ def _report_md(score: dict) -> str:
               f"Positions: {score['levels'][0]['configuration']} configuration. "
               f"Theory ({score['theory']}) at each level's load "
               f"P ({score['levels'][0]['P_source']}).", ""]
+    merged = [f"{Path(lv['file']).name}: {lv['merged_samples']}" for lv in score["levels"] if lv.get("merged_samples")]
+    if merged:
+        lines += [f"Samples at a repeated position were merged, the largest pressure kept (as for coincident nodes of "
+                  f"a .frd or .vtu): {', '.join(merged)}.", ""]
+    if score.get("plausibility"):
+        lines += ["## Why there is no verdict", ""] + [f"- {r}" for r in score["plausibility"]] + [""]
     st = score.get("grid_study")
     if st:
         lines += ["## Grid study (three finest levels)", "",
@@ -386,7 +487,7 @@ def write_score(score: dict, results: list[ExternalResult], folder: Path, *, fem
     from workbench.atomic import atomic_dir, write_json, write_text
     from workbench.reports.markdown import markdown_to_html
 
-    with atomic_dir(folder) as stage:
+    with atomic_dir(folder, kind="score") as stage:
         write_json(stage / "score.json", score)
         md = _report_md(score)
         write_text(stage / "report.md", md)
@@ -408,53 +509,85 @@ def _parser() -> argparse.ArgumentParser:
                    help="frd: positions X with CPRESS per reference length (default), or X + u with CPRESS as written")
     p.add_argument("--fem", default=None, metavar="CSV",
                    help="the workbench's own pressure.csv of the case, drawn beside the external pressure")
-    p.add_argument("--out", default=None, help="output folder (default: results/ of this checkout)")
+    p.add_argument("--out", default=None, help="output folder (default: $WORKBENCH_RESULTS, else results/ of this "
+                   "checkout)")
     return p
 
 
 def read_results(paths: list[str], *, fmt: str, configuration: str = "reference",
                  field: str = "p_MPa") -> list[ExternalResult]:
-    """The RESULT files of one ``--format``."""
-    if fmt == "vtu":
-        from workbench.external.vtk_xml import read_vtk_result
+    """The RESULT files of one ``--format`` (each refused in one line if malformed:
+    :mod:`workbench.external.result_files`)."""
+    from workbench.external.result_files import parsing
 
-        return [read_vtk_result(p, field=field) for p in paths]
-    if fmt == "frd":
-        from workbench.external.frd import read_frd_result
+    out = []
+    for p in paths:
+        with parsing(str(p)):
+            if fmt == "vtu":
+                from workbench.external.vtk_xml import read_vtk_result
 
-        return [read_frd_result(p, configuration=configuration) for p in paths]
-    return [read_csv_result(p) for p in paths]
+                out.append(read_vtk_result(p, field=field))
+            elif fmt == "frd":
+                from workbench.external.frd import read_frd_result
+
+                out.append(read_frd_result(p, configuration=configuration))
+            else:
+                out.append(read_csv_result(p))
+    return out
+
+
+def _check_options(args) -> None:
+    if not 1 <= args.samples_per_element <= MAX_SAMPLES_PER_ELEMENT:
+        text = str(args.samples_per_element)
+        text = text if len(text) <= 20 else f"a number of {len(text)} digits"
+        raise ScoreError(f"--samples-per-element = {text}; allowed: 1 to {MAX_SAMPLES_PER_ELEMENT}")
+    if args.h is not None:
+        for v in args.h:
+            if not (math.isfinite(v) and v > 0):
+                raise ScoreError(f"--h {v!r}; allowed: finite sizes > 0 (mm)")
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``workbench score`` (exit 0 written, 2 bad input)."""
+    """``workbench score`` (exit 0 written, 2 bad input, 1 the results could not be written)."""
     from cases import CaseError
-    from workbench.paths import OutputError, check_output_folder, default_paths
+    from workbench import interrupt
+    from workbench.owned import check_dir
+    from workbench.paths import OutputError, checked_paths
 
     args = _parser().parse_args(argv)
     try:
-        if args.samples_per_element < 1:
-            raise ScoreError(f"--samples-per-element = {args.samples_per_element}; allowed: >= 1")
-        if args.h is not None:
-            for v in args.h:
-                if not (math.isfinite(v) and v > 0):
-                    raise ScoreError(f"--h {v!r}; allowed: finite sizes > 0 (mm)")
-        root = default_paths(args.out).root if args.out is None else check_output_folder(args.out)
+        _check_options(args)
+        paths = checked_paths(args.out)  # the output folder's guard, whichever way it was given
+        import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
+        from cases import load_case
+
+        case = load_case(args.case)
+        scoreable(case)  # before any file is read
+        folder = paths.command("score_", case.name)
+        check_dir(folder, kinds=("score",))
+        interrupt.stage(f"reading the results scored against {case.name}")
         results = read_results(args.results, fmt=args.format, configuration=args.configuration, field=args.field)
         score = score_levels(args.case, results, h=args.h, samples_per_element=args.samples_per_element)
-        fem = read_csv_result(args.fem) if args.fem else None
+        fem = read_results([args.fem], fmt="csv")[0] if args.fem else None
         if fem is not None:
-            import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
-            from cases import load_case
-
-            run = load_case(args.case).runs()[0]
+            run = case.runs()[0]
             score["fem_level"] = level_measures(fem, geometry=run.geometry, material=run.material)
     except (ResultError, ScoreError, CaseError, OutputError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
-    folder = Path(root) / f"score_{score['case']}"
-    write_score(score, results, folder, fem=fem)
-    print(f"score {score['case']}: {len(results)} level(s) -> {folder}")
+    interrupt.stage(f"writing {folder.name}")
+    try:
+        write_score(score, results, folder, fem=fem)
+    except OutputError as exc:  # the folder changed meanwhile (atomic_dir checks it again)
+        print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # e.g. ENOSPC: the staging folder is removed, the previous score stays
+        print(f"error: score {case.name}: cannot write the results: {' '.join(str(exc.strerror or exc).split())}; "
+              "previous results left intact", file=sys.stderr)
+        return 1
+    n_merged = sum(lv["merged_samples"] for lv in score["levels"])
+    print(f"score {score['case']}: {len(results)} level(s) -> {folder}"
+          + (f" ({n_merged} sample(s) at a repeated position merged, the largest pressure kept)" if n_merged else ""))
     print(score.get("headline", ""))
     print(score["verdict"])
     return 0
