@@ -153,6 +153,15 @@ def short_repr(value: Any) -> str:
 
 _r = short_repr
 
+
+def _path_repr(text: str) -> str:
+    """A path quoted for an error line: at most MAX_ECHO characters, cut in the middle (its file name stays)."""
+    text = repr(str(text))
+    if len(text) <= MAX_ECHO:
+        return text
+    head = MAX_ECHO // 3
+    return text[:head] + "..." + text[len(text) - (MAX_ECHO - head - 3):]
+
 class CaseError(ValueError):
     """A case file is malformed or holds an out-of-range value (one-line message)."""
 
@@ -818,7 +827,13 @@ def load_case(path: str | Path) -> Case:
     p = Path(path)
     if p.suffix != ".toml":
         if not CASE_NAME_RE.fullmatch(str(path)):
-            raise CaseError(f"{_r(str(path))}: no such case file; known cases: {known} (or a path to a .toml file)")
+            try:
+                kind = ("is a folder" if p.is_dir() else "is not a regular file (a FIFO, a device or a socket)"
+                        if p.exists() and not p.is_file() else "is not a .toml file" if p.exists() else None)
+            except OSError:
+                kind = None
+            what = kind or "no such case file"
+            raise CaseError(f"{_path_repr(str(path))}: {what}; known cases: {known} (or a path to a .toml file)")
         p = CASE_DIR / f"{path}.toml"
     where = _r(p.name)[1:-1]
     raw = _read_toml(p, str(path), known)

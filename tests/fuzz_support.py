@@ -149,22 +149,9 @@ def _shared(folder: Path) -> bool:
     return folder == tmp or folder in tmp.parents or folder == Path.home().resolve() or folder == Path("/")
 
 
-def _caches_in_checkout() -> frozenset[str]:
-    """The top-level folders of the checkout that are caches the environment points into it (``XDG_CACHE_HOME``,
-    ``WORKBENCH_JIT_CACHE``: FFCx compiles forms there while the tests run), not the project's files."""
-    names = set()
-    for var in ("XDG_CACHE_HOME", "WORKBENCH_JIT_CACHE"):
-        value = os.environ.get(var)
-        if value:
-            p = Path(value).resolve()
-            if CHECKOUT in p.parents:
-                names.add(p.relative_to(CHECKOUT).parts[0])
-    return frozenset(names)
-
-
 def _outside() -> dict[str, str]:
-    caches = _caches_in_checkout()
-    out = {str(CHECKOUT / rel): v for rel, v in tree(CHECKOUT, skip=SKIP | caches).items()
+    caches = jit_cache_folders()  # in SKIP: not entered; left out entirely (a cold cache's folder appears)
+    out = {str(CHECKOUT / rel): v for rel, v in tree(CHECKOUT, skip=SKIP).items()
            if rel.split(os.sep)[0] not in caches}
     # the working directory pytest started in, its top level (inside the checkout: already in its snapshot; a
     # shared folder such as /tmp changes under other programs, so the fuzz tests run inside their sandboxes)

@@ -295,6 +295,10 @@ def test_fifos_and_a_symlink_out_of_the_folder_are_never_read(box):
     assert first not in line and "root:" not in line
     os.mkfifo(box / "case.toml")
     refused(wb("validate", box / "case.toml", cwd=box, timeout=60), "case.toml", "not a regular file", "FIFO")
+    # a device or a file without .toml was called "no such case file" too (both exist)
+    refused(wb("run", "/dev/zero", "--ci", "--out", out, cwd=box, timeout=60), "/dev/zero", "not a regular file")
+    (box / "notes.txt").write_text("[case]\n")
+    refused(wb("run", box / "notes.txt", "--ci", "--out", out, cwd=box, timeout=60), "notes.txt", "is not a .toml file")
     assert not out.exists()
 
 
@@ -312,6 +316,18 @@ def test_export_refuses_a_level_too_fine_with_runs_size_estimate_and_writes_noth
     proc = wb("export", CASE, "--format", "inp", "--out", box / "out", cwd=box)
     assert proc.returncode == 0, proc.stderr
     assert tree(box / "home") == home == {}, tree(box / "home")  # gmsh's FLTK wrote ~/.fltk/fltk.org/fltk.prefs
+
+
+def test_pictures_write_nothing_in_home(box):
+    """matplotlib created an empty ``~/.config/matplotlib`` (its config folder) for every picture: ``run`` with its
+    pictures and ``score`` (its pressure.png) leave the home folder as it was (the caches stay where
+    ``XDG_CACHE_HOME`` says)."""
+    cache = {"XDG_CACHE_HOME": os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")}
+    run = wb("run", CASE, "--ci", "--out", box / "out", cwd=box, env=cache)
+    assert run.returncode == 0 and (box / "out" / CASE / "pressure.png").is_file(), run.stderr[-2000:]
+    score = wb("score", CASE, *sorted(box.glob("level_*.csv")), "--out", box / "out", cwd=box, env=cache)
+    assert score.returncode == 0, score.stderr[-2000:]
+    assert tree(box / "home") == {}, tree(box / "home")
 
 
 def test_python_m_analytic_errors_start_with_error(box):
