@@ -39,9 +39,9 @@ import sys
 from pathlib import Path
 
 from workbench.atomic import write_text
-from workbench.pipeline.number_classes import classify, compare_portable, scale_kind, scale_of
+from workbench.pipeline.number_classes import MESH_SENSITIVE_SAME, classify, compare_portable, scale_kind, scale_of
 
-__all__ = ["key_numbers", "compare_numbers", "saved_file", "load_saved"]
+__all__ = ["AMPLIFIED", "key_numbers", "compare_numbers", "saved_file", "load_saved"]
 
 _RUN_FIELDS = ("P", "P_pressure", "d", "p_max", "patch_half_width", "ndofs", "newton_iterations",
                "mesh_fingerprint")
@@ -88,11 +88,19 @@ def key_numbers(root: Path) -> dict:
     return out
 
 
+AMPLIFIED = ("estimate", "mesh_sensitive")
+"""Classes whose numbers amplify round-off, compared at their same-mesh class tolerance (1e-2 of themselves) by
+``compare``: an error budget's GCI, truncation and observed order are differences and log-ratios of nearly equal
+grid values (issue 34 measured up to 1.1e-5 of themselves after a change that moved the grid values by round-off),
+the best superposition's rms is an optimiser's result (1.8e-4)."""
+
+
 def compare_numbers(new: dict, old: dict, *, rtol: float = 1e-10, allow_new: bool = False) -> list[str]:
     """One line per key number that is missing, new (unless ``allow_new``: e.g. a case added since the saved
     set), or moved by more than ``rtol`` of its scale (:func:`workbench.pipeline.number_classes.scale_of`: the
     number itself where it is bounded away from zero, the contact size for a patch centre, 1 for a fraction, never
-    a quantity that is zero in theory against itself)."""
+    a quantity that is zero in theory against itself); a number of the :data:`AMPLIFIED` classes by more than the
+    larger of ``rtol`` and 1e-2 of itself."""
     bad = []
     for k in sorted(set(old) | set(new)):
         if k not in old and allow_new:
@@ -105,7 +113,8 @@ def compare_numbers(new: dict, old: dict, *, rtol: float = 1e-10, allow_new: boo
             if math.isnan(a) and math.isnan(b):
                 continue
             scale = scale_of(k, old, new)
-            if not abs(b - a) <= rtol * scale:
+            tol = max(rtol, MESH_SENSITIVE_SAME) if classify(k)[0] in AMPLIFIED else rtol
+            if not abs(b - a) <= tol * scale:
                 bad.append(f"{k}: {a!r} -> {b!r} (moved {abs(b - a) / scale if scale > 0 else math.inf:.3g} of "
                            f"its scale {scale:.6g}, {scale_kind(k)})")
         elif a != b:
@@ -172,7 +181,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{len(added)} key numbers are new (not in {args.file.name}), e.g. {added[0]}")
     for line in bad:
         print(line)
-    print(f"{len(numbers)} key numbers, {len(bad)} differ by more than {args.rtol:g} relative")
+    print(f"{len(numbers)} key numbers, {len(bad)} moved by more than {args.rtol:g} of their scale "
+          f"({", ".join(AMPLIFIED)}: 1e-2 of themselves)")
     return 1 if bad else 0
 
 
