@@ -71,23 +71,26 @@ def snapshot(folder: Path) -> dict[str, str]:
     return out
 
 
+def damaged(p: Path, folder: Path) -> str | None:
+    """Why the file ``p`` of ``folder`` is damaged (empty, a JSON that does not parse, a csv without a header), or
+    None."""
+    rel = f"{folder.name}/{p.relative_to(folder)}"
+    if p.stat().st_size == 0:
+        return f"{rel} empty"
+    if p.suffix == ".json":
+        try:
+            json.loads(p.read_text())
+        except ValueError:
+            return f"{rel} does not parse"
+    elif p.suffix == ".csv" and "," not in p.read_text().splitlines()[0]:
+        return f"{rel} has no header"
+    return None
+
+
 def corrupted(folder: Path) -> list[str]:
     """Files of a result folder that are missing, empty or do not parse."""
     bad = [f"{folder.name}/{f} missing" for f in REQUIRED if not (folder / f).is_file()]
-    for p in folder.rglob("*"):
-        if not p.is_file():
-            continue
-        rel = f"{folder.name}/{p.relative_to(folder)}"
-        if p.stat().st_size == 0:
-            bad.append(f"{rel} empty")
-        elif p.suffix == ".json":
-            try:
-                json.loads(p.read_text())
-            except ValueError:
-                bad.append(f"{rel} does not parse")
-        elif p.suffix == ".csv" and "," not in p.read_text().splitlines()[0]:
-            bad.append(f"{rel} has no header")
-    return bad
+    return bad + [why for p in folder.rglob("*") if p.is_file() and (why := damaged(p, folder))]
 
 
 def leftovers(out: Path) -> list[str]:
@@ -271,15 +274,7 @@ def corrupted_external(folder: Path) -> list[str]:
     files = [p for p in folder.iterdir() if p.is_file() and p.name != ".workbench-owned"]
     if not files:
         bad.append(f"{folder.name}: no file")
-    for p in files:
-        if p.stat().st_size == 0:
-            bad.append(f"{folder.name}/{p.name} empty")
-        elif p.suffix == ".json":
-            try:
-                json.loads(p.read_text())
-            except ValueError:
-                bad.append(f"{folder.name}/{p.name} does not parse")
-    return bad
+    return bad + [why for p in files if (why := damaged(p, folder))]
 
 
 def scenario_external_signals(out: Path, n: int, seed: int = 35) -> dict:
