@@ -36,7 +36,7 @@ from workbench.pipeline.number_classes import (
 ROOT = Path(__file__).resolve().parents[1]
 SAVED = {p.name: load_saved(p) for p in sorted((ROOT / "tests" / "data").glob("key_numbers_*.json"))}
 TIGHT = ("physics", "error", "theory", "roundoff")   # same-mesh tolerance below 1e-6 of the scale
-WIDE = {"iterations": 2.0, "mesh_sensitive": 1e-2, "estimate": 1e-2}  # their same-mesh tolerances
+WIDE = {"iterations": 2.0, "mesh_sensitive": 3.4e-2, "estimate": 3.4e-2}  # their same-mesh tolerances
 
 # Quantities that are zero in theory (for the case in brackets), each with the scale it is measured on instead.
 ZERO_IN_THEORY = {
@@ -153,7 +153,7 @@ def test_check_numbers_uses_the_same_scales():
 
 def test_check_numbers_holds_amplified_round_off_at_its_class():
     """A budget's GCI or truncation amplifies round-off of the grid values (issue 34: up to 1.1e-5 of itself):
-    ``make check-numbers`` compares them at 1e-2 of themselves, every other number at 1e-10 of its scale."""
+    ``make check-numbers`` compares them at 3.4e-2 of themselves, every other number at 1e-10 of its scale."""
     numbers = SAVED["key_numbers_run.json"]
     key = next(k for k in numbers if k.endswith("/truncation") and numbers[k])
     assert compare_numbers({**numbers, key: numbers[key] * (1 + 1.1e-5)}, numbers) == []

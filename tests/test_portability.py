@@ -26,7 +26,7 @@ def test_hertz_cylinder_under_another_mumps_ordering(tmp_path, capsys):
 
 def _case(root: Path, *, passed: bool, p_max: float) -> Path:
     (root / "c").mkdir(parents=True)
-    m = {"case": "c", "P": 1.0, "pass": passed, "errors": {"load_balance": 1e-13},
+    m = {"case": "c", "P": 1.0, "pass": passed, "errors": {"load_balance": 1e-13, "p_max": 1e-4},  # a judged peak
          "runs": [{"label": "base", "p_max": p_max, "ndofs": 100}]}
     (root / "c" / "metrics.json").write_text(json.dumps(m))
     return root
@@ -46,3 +46,16 @@ def test_a_changed_verdict_or_a_number_beyond_its_class_fails(tmp_path):
     assert set(PERTURBATIONS) >= {"mesh", "mumps_ordering", "numpy_baseline"}
     crashed = compare_runs("z", ref, [CaseRun("c", 2)], ref, [CaseRun("c", 2)])  # same exit, but no run at all
     assert not crashed.ok and "failed (exit 2" in crashed.verdict_changes[0]
+
+
+def test_a_peak_no_theory_judges_holds_its_own_foreign_spread():
+    """A case without ``errors/p_max`` (a wedge gap's log-singular apex, the node-to-segment patch test) does not
+    judge its peak: another valid mesh moved halfplanes_wedge_rigid_limit's by 7.47e-3 (make emulate, issue 34)."""
+    from workbench.pipeline.number_classes import FOREIGN, compare_portable
+
+    old, new = {"w/runs/small/p_max": 370720.3}, {"w/runs/small/p_max": 367951.6}
+    (mv,) = compare_portable(new, old)
+    assert mv.ok and mv.tolerance == FOREIGN["unjudged_peak"] and mv.note == "mesh differs"
+    (mv,) = compare_portable({**new, "w/errors/p_max": 1e-3}, {**old, "w/errors/p_max": 1e-3},
+                             keys=["w/runs/small/p_max"])
+    assert not mv.ok and mv.tolerance == FOREIGN["peak"]  # a judged peak keeps the tight kind

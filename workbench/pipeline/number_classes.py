@@ -55,11 +55,11 @@ class                   what                                            same mes
                         and its theory (evaluated at the FEM's load)
 ``error``               errors against theory, as fractions of the       abs <= 1e-7         abs, per kind below
                         reference quantity (rms, p_max, half-width ...)
-``mesh_sensitive``      numbers a different mesh moves by percents or    rel <= 1e-2         within a factor 10
+``mesh_sensitive``      numbers a different mesh moves by percents or    rel <= 3.4e-2       within a factor 10
                         more: ``fit_rms``, ``patch_size``,
                         ``rms_convective``, the best superposition's
                         rms (an optimiser's result)
-``estimate``            the error budget's uncertainty estimates:        rel <= 1e-2         reported, not
+``estimate``            the error budget's uncertainty estimates:        rel <= 3.4e-2       reported, not
                         ``observed_order``, ``gci``, ``truncation``                          failed (see below)
 ======================  ==============================================  ==================  ====================
 
@@ -78,6 +78,7 @@ kind                keys                                                       m
 ``load``            P, P_pressure, patch loads (relative)                      1.41e-5      4.2e-5
 ``step_load``       P of each intermediate load step (concave scenes)          2.28e-4      6.8e-4
 ``peak``            p_max of a run or patch                                    4.27e-4      1.3e-3
+``unjudged_peak``   p_max of a case that judges no peak (a wedge's apex ...)   7.47e-3      2.2e-2
 ``step_peak``       p_max of each intermediate load step                       4.56e-3      1.4e-2
 ``width``           half-widths, b/b0 of the FEM                               9.26e-4      2.8e-3
 ``position``        patch centres (moves of the contact size)                  3.51e-4      1.1e-3
@@ -104,7 +105,8 @@ Where the numbers come from (``docs/regression.md`` has the measurements):
   (issue 22); here ``fit_rms`` 17 %, ``patch_size`` 4.5 %, ``rms_convective`` by a factor 3.1. No test can pin
   them on a foreign mesh; they are kept, compared within a factor 10 (which still catches a broken fit), and
   their case tolerances still decide the verdicts. On the same mesh the best superposition's rms (an
-  optimiser's result) moved 1.6e-3 relative between two runs, hence 1e-2.
+  optimiser's result) moved 1.6e-3 relative between two runs, and 1.12e-2 under numpy's baseline SIMD (make
+  emulate, issue 34: close_to_conformal step 5), hence 3 x 1.12e-2 = 3.4e-2.
 * unknown keys get ``physics`` of kind ``unknown``, compared at the tightest foreign tolerance (``load``):
   never loosely by accident. ``tests/test_number_classes.py`` asserts that every saved key matches a rule.
 """
@@ -128,7 +130,7 @@ ITERATIONS_ABS, ITERATIONS_REL = 2, 0.25
 ITERATIONS_REL_FOREIGN = 1.0
 THEORY_REL = 1e-9
 SAME_MESH_REL = 1e-7              # physics (relative) and error (absolute) on the same mesh
-MESH_SENSITIVE_SAME = 1e-2
+MESH_SENSITIVE_SAME = 3.4e-2     # 3 x the optimiser's 1.12e-2 under numpy's baseline SIMD (same mesh)
 SAFETY = 3.0
 MEASURED_SAME_MESH = 5.1e-13      # largest relative move of a physics number on the same mesh (see below)
 # largest move per kind between the reference CI meshes and the meshes at 0.999x and 1.001x the contact element
@@ -137,7 +139,12 @@ MEASURED_SAME_MESH = 5.1e-13      # largest relative move of a physics number on
 # scenes (the first touches over ~5 facets); mesh_sensitive is a factor (rms_convective 0.0149 -> 0.00475)
 # position: re-measured in units of the contact size (issue 34; make emulate --perturb h_contact on this code):
 # 3.51e-4 for halfplanes_beta_pos's convective centre (-7.6e-5 -> +2.6e-4 mm of a 0.97 mm half-width)
-FOREIGN_MEASURED = {"load": 1.41e-5, "step_load": 2.28e-4, "peak": 4.27e-4, "step_peak": 4.56e-3,
+# unjudged_peak: the p_max of a case that does not judge its peak (the log-singular apex of a wedge gap, the
+# node-to-segment patch test's non-uniform pressure, a concave case's last step), which another valid mesh moves
+# by more: make emulate's mesh perturbation (1e-14) moved halfplanes_wedge_rigid_limit's small-run peak 7.47e-3,
+# halfplanes_wedge_beta_neg's 5.46e-3, the node-to-segment patch test's 3.94e-3 (issue 34)
+FOREIGN_MEASURED = {"load": 1.41e-5, "step_load": 2.28e-4, "peak": 4.27e-4, "unjudged_peak": 7.47e-3,
+                    "step_peak": 4.56e-3,
                     "width": 9.26e-4, "position": 3.51e-4, "displacement": 2.14e-5, "error": 1.87e-3,
                     "step_error": 1.04e-3, "ndofs": 0.0547, "mesh_sensitive_factor": 3.13}
 FOREIGN = {kind: SAFETY * v for kind, v in FOREIGN_MEASURED.items()}
@@ -331,11 +338,15 @@ def same_mesh_cases(new: dict, old: dict) -> set[str]:
     return out
 
 
-def _move(key: str, a, b, same: bool, *, scale: float, stiffness_ratio: float = 1.0) -> Move:
+def _move(key: str, a, b, same: bool, *, scale: float, stiffness_ratio: float = 1.0,
+          judged_peak: bool = True) -> Move:
     """The move of ``key`` from ``a`` to ``b``: ``|b - a| / scale`` against the class tolerance (a factor for
     ``mesh_sensitive`` and ``estimate`` on a foreign mesh, a count for ``iterations``, a ceiling on the value for
-    ``roundoff``)."""
+    ``roundoff``). ``judged_peak``: the case judges its p_max against a theory (``errors/p_max``); a peak it does
+    not judge is of kind ``unjudged_peak`` on a foreign mesh."""
     cls, kind = classify(key)
+    if kind == "peak" and not judged_peak:
+        kind = "unjudged_peak"
     tol = _tolerance(cls, kind, same) * (stiffness_ratio if cls == "roundoff" else 1.0)
     note = "" if same or cls not in ("physics", "error", "mesh", "mesh_sensitive", "estimate") else "mesh differs"
     if cls == "estimate" and not same:  # reported (the factor it moved by), not failed: see the module docstring
@@ -386,7 +397,8 @@ def compare_portable(new: dict, old: dict, *, allow_new: bool = True, keys=None)
         # close_to_conformal's coarsest budget level only, and its extrapolated p_max moved 1.3e-4)
         case, field = key.split("/", 1) if "/" in key else (key, key)
         out.append(_move(key, old[key], new[key], case in same and not field.startswith("error_budget/"),
-                         scale=scale_of(key, old, new), stiffness_ratio=_stiffness_ratio(new, case)))
+                         scale=scale_of(key, old, new), stiffness_ratio=_stiffness_ratio(new, case),
+                         judged_peak=f"{case}/errors/p_max" in old or f"{case}/errors/p_max" in new))
     return out
 
 
