@@ -271,7 +271,8 @@ def corrupted_external(folder: Path) -> list[str]:
         return []
     need = ("score.json", "report.md", "report.html", "pressure.png") if folder.name.startswith("score_") else ()
     bad = [f"{folder.name}/{f} missing" for f in need if not (folder / f).is_file()]
-    files = [p for p in folder.iterdir() if p.is_file() and p.name != ".workbench-owned"]
+    # an export has one folder per level (issue 36): every file below the folder
+    files = [p for p in folder.rglob("*") if p.is_file() and p.name != ".workbench-owned"]
     if not files:
         bad.append(f"{folder.name}: no file")
     return bad + [why for p in files if (why := damaged(p, folder))]
