@@ -86,7 +86,8 @@ def spec(bench: Benchmark, *, stats: dict, files: dict | None = None) -> dict:
                   "h_contact_mm": bench.h_contact},
         "units": dict(UNITS), "conventions": CONVENTIONS,
         "mesh": {"file": bench.mesh.name, "format": "gmsh MSH 4.1 (ASCII), named physical groups",
-                 "nodes": stats.get("nodes"), "cells": stats.get("cells"), "groups": _groups(bench, stats)},
+                 "nodes": stats.get("nodes"), "cells": stats.get("cells"), "groups": _groups(bench, stats),
+                 "built_from": stats.get("scene_mesh")},
         "bodies": [{"name": b.name, "cells": b.cells, "rigid": b.rigid,
                     "material": None if b.material is None else {"E_MPa": b.material.E, "nu": b.material.nu,
                                                                  "model": b.material.model}}

@@ -27,12 +27,13 @@ from cases.schema import Case, Run, label_folder
 from workbench.external.benchmark import Benchmark
 from workbench.external.mesh_model import MeshModel, write_msh
 
-__all__ = ["Exported", "BUILDERS", "register_builder", "build", "finish", "band_model", "mesh_stats",
-           "DISCRETISATION_FIELDS"]
+__all__ = ["Exported", "BUILDERS", "register_builder", "build", "finish", "band_model", "mesh_stats", "scene_mesh",
+           "write_model", "DISCRETISATION_FIELDS", "SAME_MESH"]
 
 # [geometry] fields that are the workbench's discretisation choices, not the problem: runs differing only there
 # (patch_test's mortar and node-to-segment runs) are one benchmark
 DISCRETISATION_FIELDS = ("pairing", "convection")
+SAME_MESH = "the mesh `workbench run` solves at this level (the same fingerprint)"
 
 
 class Exported(NamedTuple):
@@ -127,6 +128,14 @@ def mesh_stats(model: MeshModel) -> dict:
     return {"nodes": int(len(model.nodes)), "cells": int(sum(len(c) for c in model.cells.values())),
             "groups": {**{k: {"dim": 2, "cells": int(len(v))} for k, v in model.cells.items()},
                        **{k: {"dim": 1, "facets": int(len(v))} for k, v in model.facets.items()}}}
+
+
+def scene_mesh(files, *, what: str) -> dict:
+    """What the benchmark's mesh was built from: the scene mesh's cache file and fingerprint
+    (:mod:`meshes.fingerprint`: ``coords_sha256`` names the node coordinates on a 1e-9 grid) and in words."""
+    fp = files.stats.get("fingerprint", {})
+    return {"file": files.msh.name, "what": what, "coords_sha256": fp.get("coords_sha256"),
+            "n_nodes": fp.get("n_nodes"), "n_cells": fp.get("n_cells")}
 
 
 def write_model(model: MeshModel, folder: Path, stem: str) -> Path:

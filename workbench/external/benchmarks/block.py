@@ -24,7 +24,8 @@ from cases.schema import Case, Run
 from meshes.rigid_band import circle_band, parabola_band, wedge_band
 from workbench.external.benchmark import RESULT_COLUMNS, Benchmark, Body, ContactPair, Drive, Material, Support
 from workbench.external.benchmarks import surfaces
-from workbench.external.benchmarks.base import Exported, band_model, finish, mesh_stats, write_model
+from workbench.external.benchmarks.base import SAME_MESH as SAME
+from workbench.external.benchmarks.base import Exported, band_model, finish, mesh_stats, scene_mesh, write_model
 from workbench.external.benchmarks.runs import run_records
 from workbench.external.benchmarks.theory import (
     AT_MEASURED_LOAD,
@@ -151,6 +152,6 @@ def part(case: Case, runs: tuple[Run, ...], *, level: float, mesh_cache: Path, f
                                              if "convective" in case.analytic.predictions else []),
                 "columns": dict(RESULT_COLUMNS)},
         tolerances=dict(case.tolerances))
-    return Exported(bench, model, folder, {**mesh_stats(model), "block_mesh": files.msh.name,
-                                           "band_surface_nodes": int(len(band.params))})
+    return Exported(bench, model, folder, {**mesh_stats(model), "band_surface_nodes": int(len(band.params)),
+                                           "scene_mesh": scene_mesh(files, what=SAME + ", with the indenter's band")})
 

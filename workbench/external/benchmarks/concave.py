@@ -27,7 +27,8 @@ from cases.schema import Case, Run
 from meshes.rigid_band import curve_band
 from workbench.external.benchmark import RESULT_COLUMNS, Benchmark, Body, ContactPair, Drive, Material, Support
 from workbench.external.benchmarks import surfaces
-from workbench.external.benchmarks.base import Exported, band_model, finish, mesh_stats, write_model
+from workbench.external.benchmarks.base import SAME_MESH as SAME
+from workbench.external.benchmarks.base import Exported, band_model, finish, mesh_stats, scene_mesh, write_model
 from workbench.external.benchmarks.block import BAND_REFINE
 from workbench.external.benchmarks.runs import run_records
 from workbench.external.mesh_model import read_msh
@@ -151,5 +152,6 @@ def part(case: Case, runs: tuple[Run, ...], *, level: float, mesh_cache: Path, f
                              "Hertz superposition RMS/p0", "load symmetry (symmetric design)"],
                 "columns": dict(RESULT_COLUMNS)},
         tolerances=dict(case.tolerances))
-    return Exported(bench, model, folder, {**mesh_stats(model), "body_mesh": cm.files.msh.name,
-                                           "band_surface_nodes": int(len(band.params))})
+    return Exported(bench, model, folder, {**mesh_stats(model), "band_surface_nodes": int(len(band.params)),
+                                           "scene_mesh": scene_mesh(cm.files, what=SAME + ", with the particle's "
+                                                                    "band")})

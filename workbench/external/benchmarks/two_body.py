@@ -20,7 +20,8 @@ from analytic.materials import composite_modulus
 from cases.schema import Case, Run
 from workbench.external.benchmark import RESULT_COLUMNS, Benchmark, Body, ContactPair, Drive, Material, Support
 from workbench.external.benchmarks import surfaces
-from workbench.external.benchmarks.base import Exported, finish, mesh_stats, write_model
+from workbench.external.benchmarks.base import SAME_MESH as SAME
+from workbench.external.benchmarks.base import Exported, finish, mesh_stats, scene_mesh, write_model
 from workbench.external.benchmarks.runs import run_records
 from workbench.external.benchmarks.theory import AT_MEASURED_LOAD, circle_values, hertz_values
 from workbench.external.mesh_model import read_msh
@@ -114,4 +115,4 @@ def part(case: Case, runs: tuple[Run, ...], *, level: float, mesh_cache: Path, f
         bodies=bodies, pairs=(pair,), supports=supports, drive=drive,
         runs=run_records(runs, slope=slope, two_bodies=True, patch_test=g.indenter == "stacked"),
         geometry=geometry, reference=reference, report=report, tolerances=dict(case.tolerances))
-    return Exported(bench, model, folder, {**mesh_stats(model), "scene_mesh": sm.files.msh.name})
+    return Exported(bench, model, folder, {**mesh_stats(model), "scene_mesh": scene_mesh(sm.files, what=SAME)})
