@@ -282,3 +282,21 @@ def test_command_line_exports_a_concave_case_without_dolfinx(tmp_path):
     steps = spec["reference"]["predictions"]["steps"]
     assert [s["d"] for s in steps] == spec["drive"]["report"] == [0.46, 0.47, 0.48, 0.5, 0.7, 1.0]
     assert all(math.isfinite(p["R"]) for s in steps for p in s["pairs"])
+
+
+def test_the_elastic_bodies_are_the_workbench_run_meshes(exported):
+    """Every benchmark but the halfplanes' (shaped on purpose) is built on the mesh ``workbench run --ci`` solves:
+    its fingerprint (node coordinates on a 1e-9 grid) is the one tests/data/key_numbers_ci.json records; the rigid band
+    adds its own nodes and cells only."""
+    numbers = json.loads((ROOT / "tests" / "data" / "key_numbers_ci.json").read_text())["numbers"]
+    for name, parts in exported[1].items():
+        for spec, model, _ in parts:
+            built = spec["mesh"]["built_from"]
+            if spec["scene"] == "halfplanes":
+                assert "shaped" in built["what"]
+                continue
+            label = next(r["label"] for r in spec["runs"])
+            key = f"{name}/runs/{label}/mesh_fingerprint/"
+            assert built["coords_sha256"] == numbers[key + "coords_sha256"], name
+            band = len(model.cells.get("indenter", ()))
+            assert spec["mesh"]["cells"] - band == numbers[key + "n_cells"], name
