@@ -19,6 +19,8 @@ Subcommands:
                          theory with the workbench's measures (``<out>/score_<case>/``)
     export CASE          the case as a benchmark: --format msh|json|inp (``<out>/export_<case>/``)
     external ccx CASE    export, run CalculiX on each level, score (``<out>/external_ccx_<case>/``)
+    external kratos CASE export, run Kratos (its own venv, ``make external``) on each level, score
+                         (``<out>/external_kratos_<case>/``)
 
 ``<out>`` is ``--out`` (default: ``results/`` of this checkout, or ``$WORKBENCH_RESULTS``); nothing depends on
 the working directory. A study's own options follow its name (``workbench convergence --help``).
@@ -55,7 +57,7 @@ STUDIES = {
 EXTERNAL = {
     "score": "workbench.external.score",
     "export": "workbench.external.export",
-    "external": "workbench.external.ccx",
+    "external": "workbench.external.codes",
 }
 OWN_OPTIONS = {**STUDIES, **EXTERNAL}
 
