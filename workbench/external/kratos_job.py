@@ -84,9 +84,10 @@ class _Driven:
         self.sim.Initialize()
         self.mp = self.model[params["solver_settings"]["model_part_name"].GetString()]
         self.drive = self.mp.GetSubModelPart(job["drive_part"])
+        driven = {n.Id for n in self.drive.Nodes}
         ids = {n.Id: n for s in self.mp.GetSubModelPartNames() if s.startswith("Support_")
-               for n in self.mp.GetSubModelPart(s).Nodes}
-        self.supports = list(ids.values())  # every supported node once
+               for n in self.mp.GetSubModelPart(s).Nodes if n.Id not in driven}
+        self.supports = list(ids.values())  # every supported node once, none of the drive's
         self.direction = [float(c) for c in job["direction"]]
         self.components = [int(c) for c in job["components"]]
         self.load_factor = float(job["load_factor"])
