@@ -8,6 +8,9 @@ SHELL := /bin/bash
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.stamp-$(shell cat requirements.txt 2>/dev/null | cksum | cut -d' ' -f1)
+# Kratos Multiphysics lives in a venv of its own (its libraries must not meet dolfinx's MPI and PETSc)
+KVENV  := .venv-kratos
+KSTAMP := $(KVENV)/.stamp-$(shell cat requirements-kratos.txt 2>/dev/null | cksum | cut -d' ' -f1)
 NP     ?= 1
 # cases that `make run` solves at once (each case is one process with one thread): the 2 cores of the machine
 JOBS   ?= 2
@@ -27,6 +30,16 @@ WB     := $(VENV)/bin/workbench
 export OMP_NUM_THREADS := 1
 export OPENBLAS_NUM_THREADS := 1
 
+# The Kratos venv's Python: 3.12 or 3.13 (the versions Kratos 10.4.4 has wheels for), found the same way.
+define find_kratos_python
+for c in "$$KRATOS_PYTHON" python3.13 python3.12 \
+         $$(ls -d $$(pyenv root 2>/dev/null || echo $$HOME/.pyenv)/versions/3.1[23]*/bin/python3 2>/dev/null | sort -rV); do \
+  [ -n "$$c" ] || continue; \
+  if "$$c" -c 'import sys; sys.exit(0 if sys.version_info[:2] in ((3, 12), (3, 13)) else 1)' >/dev/null 2>&1; then \
+    echo "$$c"; exit 0; fi; \
+done; exit 1
+endef
+
 # Find a Python >= 3.12 that really runs: $PYTHON, then python3.13/python3.12 on PATH
 # (pyenv shims exist but may fail), then pyenv's installed versions.
 define find_python
@@ -39,7 +52,7 @@ done; exit 1
 endef
 
 .PHONY: help setup test run ci lint clean collect-alone mutations convergence stability validity bench report list example check-numbers fuzz faults $(CASES)
-.PHONY: viz-check external save-baseline save-numbers emulate
+.PHONY: viz-check external kratos-venv kratos-check save-baseline save-numbers emulate
 
 # Exit codes: the workbench exits 1 on a tolerance FAIL (results written) and 2 on bad input (nothing written).
 # GNU make itself always exits 2 when a recipe fails, so the recipe names the workbench's own code on the last
@@ -62,7 +75,9 @@ help:
 	@echo "make emulate      rerun the CI cases as another machine would (mesh, MUMPS ordering, numpy SIMD); LEVEL=run for make run"
 	@echo "make example     examples/hertz_contact.py"
 	@echo "make viz-check    installs Debian's paraview + xvfb if missing, runs the VTK and view.py checks in pvpython"
-	@echo "make external     installs Debian's calculix-ccx if missing, runs CalculiX on hertz_cylinder at 3 levels and scores it"
+	@echo "make external     installs Debian's calculix-ccx and the Kratos venv (.venv-kratos) if missing, runs CalculiX and Kratos"
+	@echo "                  on hertz_cylinder at 3 levels and scores them"
+	@echo "make kratos-check the Kratos job on the patch test and its writer's tests (creates .venv-kratos)"
 	@echo "make fuzz         property-based fuzzing of case files and the command line (many examples)"
 	@echo "make faults       concurrent runs, SIGINT/SIGTERM during writes, a full disk -> results/faults/report.md"
 	@echo "make mutations    each mutation of tools/mutations.py must make the tests fail (names the catching test)"
@@ -178,14 +193,32 @@ viz-check: setup
 	@$(MAKE) --no-print-directory run
 	WORKBENCH_VIZ_RESULTS=$(CURDIR)/results $(PY) -m pytest -q -rs tests/test_paraview.py tests/test_pages.py
 
+# The Kratos venv, once per requirements-kratos.txt (a stamp, as the project venv's); one line and exit 2 if it
+# cannot be made. Never .venv: workbench/external/kratos.py runs its job in this one.
+kratos-venv: $(KSTAMP)
+
+$(KSTAMP): requirements-kratos.txt
+	@py=$$($(find_kratos_python)) || { echo "error: the Kratos venv needs Python 3.12 or 3.13 (Kratos 10.4.4 wheels); none found (set KRATOS_PYTHON=/path/to/python3.12)" >&2; exit 2; }; \
+	 echo "creating $(KVENV) with $$py"; rm -rf $(KVENV); \
+	 { "$$py" -m venv $(KVENV) && $(KVENV)/bin/python -m pip install --quiet -r requirements-kratos.txt \
+	   && OMP_NUM_THREADS=1 $(KVENV)/bin/python -c "import KratosMultiphysics.ContactStructuralMechanicsApplication, KratosMultiphysics.LinearSolversApplication" >/dev/null; } \
+	 || { echo "error: could not create $(KVENV) from requirements-kratos.txt (pip or the Kratos import failed)" >&2; rm -rf $(KVENV); exit 2; }; \
+	 touch $@
+
+# The Kratos job on the patch test (uniformity measured) and the writer's tests; not part of make test's run time
+kratos-check: setup kratos-venv
+	$(PY) -m pytest -q -rs tests/test_external_mdpa.py tests/test_external_kratos.py
+
 # issue 26: CalculiX end to end (export -> ccx -> score) -> results/external_ccx_hertz_cylinder/score/report.md
-external: setup
+# issue 36: Kratos too (its own venv) -> results/external_kratos_hertz_cylinder/
+external: setup kratos-venv
 	@if ! command -v ccx >/dev/null; then \
 	   echo "installing Debian's calculix-ccx (apt-get)"; \
 	   $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq calculix-ccx \
 	   || { echo "error: could not install calculix-ccx with apt-get" >&2; exit 2; }; fi
 	$(WB) external ccx hertz_cylinder --levels 3 --out results; $(call explain_exit,external)
-	$(PY) -m pytest -q -rs tests/test_external_ccx.py
+	$(WB) external kratos hertz_cylinder --levels 3 --out results; $(call explain_exit,external kratos)
+	$(PY) -m pytest -q -rs tests/test_external_ccx.py tests/test_external_kratos.py
 
 clean:
 	rm -rf results .pytest_cache .ruff_cache

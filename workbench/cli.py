@@ -20,6 +20,8 @@ Subcommands:
     export CASE          every case as a benchmark another code runs: mesh, JSON spec, decks (--format
                          msh|json|inp|mdpa|all, --level H... | --levels N; ``<out>/export_<case>/h<level>/``)
     external ccx CASE    export, run CalculiX on each level, score (``<out>/external_ccx_<case>/``)
+    external kratos CASE export, run Kratos (its own venv, ``make external``) on each level, score
+                         (``<out>/external_kratos_<case>/``)
 
 ``<out>`` is ``--out`` (default: ``results/`` of this checkout, or ``$WORKBENCH_RESULTS``); nothing depends on
 the working directory. A study's own options follow its name (``workbench convergence --help``).
@@ -56,7 +58,7 @@ STUDIES = {
 EXTERNAL = {
     "score": "workbench.external.score",
     "export": "workbench.external.export",
-    "external": "workbench.external.ccx",
+    "external": "workbench.external.codes",
 }
 OWN_OPTIONS = {**STUDIES, **EXTERNAL}
 
