@@ -52,6 +52,7 @@ import numpy as np
 
 from workbench.external.benchmark import Benchmark, Body, Run
 from workbench.external.mesh_model import MeshModel
+from workbench.external.writers import DeckWriter, register_writer
 
 __all__ = ["KratosModel", "KratosDeck", "kratos_model", "kratos_runs", "kratos_deck", "write_kratos", "drive_steps",
            "NotModelled", "LAW", "ELEMENTS", "JOB_VERSION", "MAX_STEP_FRACTION"]
@@ -323,12 +324,12 @@ def _mdpa(bench: Benchmark, mesh: MeshModel, model: KratosModel, num: _Numbering
         nodes = sorted({n for _, i, j in _facets_of(s.group, mesh, num) for n in (i, j)})
         out += part(f"Support_{_name(s.group)}", nodes)
     drive = bench.drive
-    if drive.body is not None:
+    if drive.group is not None:  # a facet group (of the elastic body ``drive.body``, when it names one)
+        drive_nodes = sorted({n for _, i, j in _facets_of(drive.group, mesh, num, body=drive.body) for n in (i, j)})
+    elif drive.body is not None:
         if not bench.body(drive.body).rigid:
             raise ValueError(f"drive body {drive.body!r} is elastic; allowed: a rigid body (or a driven group)")
         drive_nodes = sorted(num.node_ids[drive.body].values())
-    elif drive.group is not None:
-        drive_nodes = sorted({n for _, i, j in _facets_of(drive.group, mesh, num) for n in (i, j)})
     else:
         raise ValueError("the drive names neither a rigid body nor a driven group")
     for body in bench.bodies:
@@ -415,3 +416,21 @@ def write_kratos(bench: Benchmark, mesh: MeshModel, folder: Path, *, max_step: f
     (folder / "kratos_runs.json").write_text(json.dumps(summary, indent=1))
     written.append(folder / "kratos_runs.json")
     return written
+
+
+def _write_exported(exported, *, approach: float | None = None) -> list[Path]:
+    """The ``mdpa`` deck writer of ``workbench export`` (:mod:`workbench.external.writers`): Kratos's files of an
+    exported benchmark, into its folder, on its linear mesh."""
+    return write_kratos(exported.benchmark, exported.model, exported.folder, approach=approach)
+
+
+def _cannot(case) -> str | None:
+    """Why Kratos models no run of ``case`` (None: it models at least one: small or finite kinematics)."""
+    kinds = {run.solver.kinematics for run in case.runs()}
+    if kinds & {"small", "finite"}:
+        return None
+    return f"its runs' kinematics are {', '.join(sorted(kinds))}; Kratos models small and finite: {_NOT_CONVECTIVE}"
+
+
+register_writer(DeckWriter("mdpa", "Kratos Multiphysics: .mdpa, ProjectParameters_<run>.json, "
+                           "StructuralMaterials.json (linear mesh, ALM frictionless mortar)", _write_exported, _cannot))
