@@ -177,3 +177,32 @@ def test_halfplanes_round_trip(own_runs, tmp_path):
     small, conv = _level(score, "small"), _level(score, "convective")
     for q, key in (("half_width", "b_over_b0_fem"), ("half_width_moment", "b_over_b0_moment_fem")):
         _close(conv["quantities"][q] / small["quantities"][q], judged.analytic[key], key)
+
+
+def test_own_three_levels_are_their_own_model(own_runs, tmp_path):
+    """hertz_cylinder's own run on the model bands' three levels, scored with the levels as --h: every study
+    extrapolates to the saved halfplane/small band's value (the bands are measured by the same scorer), and the
+    verdict names that model and no model of another traction."""
+    from mpi4py import MPI
+
+    from workbench.external.models import load_model_bands, model_levels
+    from workbench.pipeline.run_case import run_one
+
+    case = load_case("hertz_cylinder")
+    bands = load_model_bands(case.name, case=case)
+    assert bands is not None, "regenerate: python -m workbench.external.models hertz_cylinder"
+    files = []
+    for lv in model_levels(case):
+        (run,) = case.runs(h_contact=lv)
+        o = run_one(run, name="own3", mesh_cache=tmp_path / "mesh", comm=MPI.COMM_SELF, progress=lambda _m: None)
+        f = tmp_path / f"h{lv:g}.csv"
+        f.write_text(groups_csv(outcome_groups(o, label="small", body="body")))
+        files.append(str(f))
+    out = tmp_path / "out"
+    assert score_main(["hertz_cylinder", *files, "--h", *map(str, model_levels(case)), "--out", str(out)]) == 0
+    score = json.loads((out / "score_hertz_cylinder" / "score.json").read_text())
+    own = next(m for m in bands["models"] if m["name"] == "halfplane/small")
+    for key, st in own["study"].items():
+        _close(score["studies"][key]["extrapolated"], st["extrapolated"], key, rtol=1e-12)
+    inside = [r["model"] for r in score["models"]["models"] if r["contains"]]
+    assert "halfplane/small" in inside and not any(m.startswith("obstacle") for m in inside), inside

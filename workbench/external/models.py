@@ -91,7 +91,7 @@ def model_scope(case) -> tuple[list[ModelSpec], list[NotApplicable]]:
                       what=f"two elastic bodies, small strain, {p.replace('_', '-')} pairing of the non-matching "
                            "meshes")
                 for p in ("mortar", "node_to_segment")]
-        return pair, [two, NotApplicable("halfplane/convective, finite", "the two-body scene supports small "
+        return pair, [two, NotApplicable("halfplane/convective", "the two-body scene supports small "
                                          "kinematics only (its schema)"), no_finite_half]
     if scene == "halfplanes":
         models = [_spec("halfplane", "small", what="two elastic half-planes, small strain: Hertz / the classical wedge "

@@ -97,6 +97,8 @@ def _json_ready(score: dict) -> dict:
     """``score`` without the private keys (``_...``) the plot reads."""
     out = dict(score)
     out["levels"] = [{k: v for k, v in lv.items() if not k.startswith("_")} for lv in score["levels"]]
+    if isinstance(out.get("fem_level"), dict):
+        out["fem_level"] = {k: v for k, v in out["fem_level"].items() if not k.startswith("_")}
     return out
 
 

@@ -22,6 +22,7 @@ plausibility rules (:func:`base.plausibility`) and only then match the workbench
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 
@@ -29,7 +30,7 @@ from workbench.external.results import ExternalResult, mirror_half
 from workbench.external.scorers.base import SceneScorer, ScoreError, plausibility
 from workbench.external.scorers.runs import assign, schedule
 
-__all__ = ["SCORERS", "register_scorer", "scorer_for", "scoreable", "score_case", "ScoreError"]
+__all__ = ["SCORERS", "register_scorer", "scorer_for", "scoreable", "score_case", "result_layout", "ScoreError"]
 
 SCORERS: dict[str, SceneScorer] = {}
 
@@ -56,6 +57,25 @@ def scoreable(case) -> SceneScorer:
     scorer = scorer_for(case)
     scorer.check(case)
     return scorer
+
+
+def result_layout(case) -> dict:
+    """What a result of ``case`` may hold (JSON-ready; for the benchmark's JSON spec and a person writing a result by
+    hand): the csv columns, the benchmark runs (label, kinematics, the case's labels it stands for, whether an
+    external code adds it), each run's reported steps (index, control, P in N/mm or d in mm), the bodies whose
+    contact pressure is scored (name, role: the slave's is judged, the master's measured for information; other
+    names), whether a half model (x >= 0) is mirrored, and what the scene's scorer measures."""
+    from workbench.external.benchmark import RESULT_COLUMNS
+
+    scorer = scoreable(case)
+    runs = scorer.runs(case)
+    return {"columns": dict(RESULT_COLUMNS),
+            "runs": [{"label": r.label, "kinematics": r.kinematics, "aliases": list(r.aliases), "added": r.added,
+                      "steps": [st._asdict() for st in schedule(r.run, target_load=scorer.target_load(r.run))]}
+                     for r in runs],
+            "bodies": [b._asdict() for b in scorer.bodies(case)],
+            "half_model_mirrored": scorer.symmetric(case),
+            "measures": " ".join((sys.modules[type(scorer).__module__].__doc__ or "").split())}
 
 
 def _sizes(records: list[dict], given: bool) -> None:
