@@ -39,7 +39,7 @@ done; exit 1
 endef
 
 .PHONY: help setup test run ci lint clean collect-alone mutations convergence stability validity bench report list example check-numbers fuzz faults $(CASES)
-.PHONY: viz-check external save-baseline save-numbers emulate
+.PHONY: viz-check external save-baseline save-numbers emulate model-bands
 
 # Exit codes: the workbench exits 1 on a tolerance FAIL (results written) and 2 on bad input (nothing written).
 # GNU make itself always exits 2 when a recipe fails, so the recipe names the workbench's own code on the last
@@ -63,6 +63,7 @@ help:
 	@echo "make example     examples/hertz_contact.py"
 	@echo "make viz-check    installs Debian's paraview + xvfb if missing, runs the VTK and view.py checks in pvpython"
 	@echo "make external     installs Debian's calculix-ccx if missing, runs CalculiX on hertz_cylinder at 3 levels and scores it"
+	@echo "make model-bands  the workbench's model hierarchy on every case's scene, saved for score's verdict (CASES_BANDS=...)"
 	@echo "make fuzz         property-based fuzzing of case files and the command line (many examples)"
 	@echo "make faults       concurrent runs, SIGINT/SIGTERM during writes, a full disk -> results/faults/report.md"
 	@echo "make mutations    each mutation of tools/mutations.py must make the tests fail (names the catching test)"
@@ -186,6 +187,11 @@ external: setup
 	   || { echo "error: could not install calculix-ccx with apt-get" >&2; exit 2; }; fi
 	$(WB) external ccx hertz_cylinder --levels 3 --out results; $(call explain_exit,external)
 	$(PY) -m pytest -q -rs tests/test_external_ccx.py
+
+# issue 36: the workbench's model hierarchy on every case's own scene, saved for the scorer's verdict
+# (workbench/external/model_bands/<case>.json; CASES_BANDS="a b" for some; minutes per case)
+model-bands: setup
+	@for c in $(or $(CASES_BANDS),$(CASES)); do echo "model bands: $$c"; $(PY) -m workbench.external.models $$c || exit $$?; done
 
 clean:
 	rm -rf results .pytest_cache .ruff_cache

@@ -44,6 +44,7 @@ import numpy as np
 
 from workbench.external.results import ExternalResult, ResultError, read_csv_groups
 from workbench.external.scorers.base import ScoreError, fmt_order, plausibility
+from workbench.external.scorers.verdict import NAMES
 
 __all__ = ["level_measures", "score_levels", "write_score", "main", "ScoreError", "scoreable", "plausibility",
            "read_results", "theory_curves", "fmt_order"]
@@ -122,7 +123,7 @@ def _level_tables(score: dict) -> list[str]:
                        for lv in levels)]
         d = f", d = {levels[0]['d']:g} mm" if "d" in levels[0] else ""
         lines += [f"### run {run}, step {step}{d}, body {body} ({levels[0].get('role', '')})", "",
-                  "| file | h (mm) | P (N/mm) | " + " | ".join(qs) + " | "
+                  "| file | h (mm) | P (N/mm) | " + " | ".join(NAMES.get(q, q) for q in qs) + " | "
                   + " | ".join(f"{e} err" for e in errs) + " |",
                   "|---" * (3 + len(qs) + len(errs)) + "|"]
         for lv in levels:

@@ -20,8 +20,9 @@ Studies (three finest levels holding every step): the concave budget's rows
 (:func:`workbench.scenes.concave_budget.step_rows`): per step ``P`` and ``p_max``, per patch ``patch_P[k]``,
 ``width_fem[k]`` (theory eq. (4)), ``width_moment[k]`` (theory eq. (5) at the extrapolated load), at a pair's first
 step ``first_contact_width[k]``, and ``load_symmetry`` (patch_P[1] / patch_P[0], theory 1) where the step's two patches
-hold mirror-image LCP pairs. The verdict reads the last step's load P (the case's main quantity: no closed-form
-theory; the workbench's model bands say which model holds it) and names each theory row in or outside its band.
+hold mirror-image LCP pairs. The verdict reads first the row the case's own ``[bands]`` judge (close_to_conformal:
+the secondary pair's first-contact width against eq. (5); concave_symmetric: the last step's load symmetry), and names
+every other theory row in or outside its band; the workbench's model bands say which model holds each.
 Units: mm, N/mm, MPa.
 """
 
@@ -151,8 +152,19 @@ class ConcaveScorer:
         return out
 
     def main_key(self, case, studies: dict) -> str | None:
-        keys = [k for k in studies if k.endswith(" P") and studies[k].get("extrapolated") is not None]
-        return keys[-1] if keys else None
+        """The row the case's own ``[bands]`` judge first (close_to_conformal: the secondary pair's first-contact
+        width against eq. (5); concave_symmetric: the last step's load symmetry), else the last step's moment width of
+        its first patch, else its load."""
+        named = [*case.bands.get("contain_theory", ()), *case.bands.get("exclude_theory", ())]
+        for name in named:
+            keys = [k for k in studies if k.endswith(f" {name}") and studies[k].get("extrapolated") is not None]
+            if keys:
+                return keys[-1]
+        for suffix in (" width_moment[0]", " P"):
+            keys = [k for k in studies if k.endswith(suffix) and studies[k].get("extrapolated") is not None]
+            if keys:
+                return keys[-1]
+        return None
 
 
 def _as_study(row: dict, key: str, *, label: str, h: list[float]) -> dict:
