@@ -52,7 +52,7 @@ done; exit 1
 endef
 
 .PHONY: help setup test run ci lint clean collect-alone mutations convergence stability validity bench report list example check-numbers fuzz faults $(CASES)
-.PHONY: viz-check external kratos-venv kratos-check save-baseline save-numbers emulate
+.PHONY: viz-check external kratos-venv kratos-check save-baseline save-numbers emulate model-bands
 
 # Exit codes: the workbench exits 1 on a tolerance FAIL (results written) and 2 on bad input (nothing written).
 # GNU make itself always exits 2 when a recipe fails, so the recipe names the workbench's own code on the last
@@ -78,6 +78,7 @@ help:
 	@echo "make external     installs Debian's calculix-ccx and the Kratos venv (.venv-kratos) if missing, runs CalculiX and Kratos"
 	@echo "                  on hertz_cylinder at 3 levels and scores them"
 	@echo "make kratos-check the Kratos job on the patch test and its writer's tests (creates .venv-kratos)"
+	@echo "make model-bands  the workbench's model hierarchy on every case's scene, saved for score's verdict (CASES_BANDS=...)"
 	@echo "make fuzz         property-based fuzzing of case files and the command line (many examples)"
 	@echo "make faults       concurrent runs, SIGINT/SIGTERM during writes, a full disk -> results/faults/report.md"
 	@echo "make mutations    each mutation of tools/mutations.py must make the tests fail (names the catching test)"
@@ -219,6 +220,11 @@ external: setup kratos-venv
 	$(WB) external ccx hertz_cylinder --levels 3 --out results; $(call explain_exit,external)
 	$(WB) external kratos hertz_cylinder --levels 3 --out results; $(call explain_exit,external kratos)
 	$(PY) -m pytest -q -rs tests/test_external_ccx.py tests/test_external_kratos.py
+
+# issue 36: the workbench's model hierarchy on every case's own scene, saved for the scorer's verdict
+# (workbench/external/model_bands/<case>.json; CASES_BANDS="a b" for some; minutes per case)
+model-bands: setup
+	@for c in $(or $(CASES_BANDS),$(CASES)); do echo "model bands: $$c"; $(PY) -m workbench.external.models $$c || exit $$?; done
 
 clean:
 	rm -rf results .pytest_cache .ruff_cache

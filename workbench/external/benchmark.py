@@ -36,10 +36,15 @@ UNITS = {"length": "mm", "force": "N", "pressure": "MPa", "load": "N/mm (per uni
 
 RESULT_COLUMNS = {
     "x_mm": "position along the slave contact surface, reference configuration (mm)",
-    "p_MPa": "contact pressure, compression positive (MPa)",
+    "y_mm": "the second reference coordinate of the sample (mm): needed on a curved surface (the concave scenes, "
+            "measured along the curve's arc length), optional elsewhere",
+    "p_MPa": "contact pressure, compression positive, per unit reference length (MPa)",
     "P_N_per_mm": "optional: the full-body load carried at this step (N/mm)",
     "h_mm": "optional: the element size on the contact surface (mm)",
-    "run": "optional: the run label (e.g. small, convective); one file may hold several runs",
+    "weight_mm": "optional: the sample's quadrature weight (mm; default: trapezoid weights)",
+    "q_MPa": "optional: the pressure argument, p = [q]_+ (MPa; its zero crossings are the edges; default q = p)",
+    "run": "optional: the run label (e.g. small, convective, finite: workbench.external.scorers.result_layout); one "
+           "file may hold several runs",
     "step": "optional: the index of the reported load (0, 1, ...) of Drive.report",
     "body": "optional: the body whose surface the row samples (two elastic bodies)",
 }
