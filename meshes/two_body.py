@@ -14,7 +14,9 @@ Builders:
   :class:`fem.two_body.geometry.ProfileSurface`); size ``h_contact`` on the lower block's top where
   ``|x| <= a (1 + margin)`` and ``size_ratio h_contact`` on the upper block's bottom over a window split
   unsymmetrically (:data:`ARC_SPLIT`), each growing away into its own block. With ``wedge_slope`` m the upper body
-  is shaped instead: an elastic wedge whose faces ``y = m |x|`` are meshed (its apex a mesh corner at the origin).
+  is shaped instead: an elastic wedge whose faces ``y = m |x|`` are meshed (its apex a mesh corner at the origin);
+  with ``parabola_radius`` R a parabolic body whose lower face ``y = x^2 / (2 R)`` is meshed (each segment of it a
+  quadratic Bezier curve, which is that parabola exactly, so its mesh nodes lie on it to round-off).
 * :func:`build_cylinder_on_block`: an elastic half disk of radius R (the lower half of the circle centred at
   ``(0, R)``, flat top at ``y = R``) on a block ``[-W/2, W/2] x [-H, 0]``; size ``h_contact`` on both contact
   surfaces where ``|x| <= a (1 + margin)``, growing away (as :mod:`meshes.block`), with another size on the disk
@@ -214,8 +216,8 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
 def build_profile_blocks(*, width: float, height: float, contact_half_width: float, h_contact: float,
                          size_ratio: float = 0.77, h_far: float | None = None, growth: float = 1.3,
                          margin: float = 0.5, apex_factor: float | None = None, wedge_slope: float | None = None,
-                         out_dir=DEFAULT_CACHE_DIR, name: str = "profile_blocks", write_xdmf: bool = False,
-                         stats_dir=None, comm=None) -> MeshFiles:
+                         parabola_radius: float | None = None, out_dir=DEFAULT_CACHE_DIR, name: str = "profile_blocks",
+                         write_xdmf: bool = False, stats_dir=None, comm=None) -> MeshFiles:
     """Two graded blocks W x H, one above the other, flat at y = 0 (module docstring): two half-planes.
 
     Args:
@@ -230,12 +232,18 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
             elastic wedge whose lower faces are ``y = m |x|`` (apex at the origin, a corner of the mesh) up to
             ``|x| = W/2``, with vertical sides up to ``y = m W/2 + H`` (issue 25: the real geometry the
             half-plane theory idealises). Needs ``apex_factor``.
+        parabola_radius: None, or R > 0 of a parabola-shaped upper body: its lower face is ``y = x^2 / (2 R)`` up to
+            ``|x| = W/2``, vertical sides up to ``y = W^2 / (8 R) + H`` (the real geometry the parabolic gap of the
+            half-plane theory idealises; ``workbench export`` of the halfplanes cases). Not with ``wedge_slope``.
     """
     _positive(width=width, height=height, contact_half_width=contact_half_width, h_contact=h_contact)
     if apex_factor is not None and not 0.0 < apex_factor <= 1.0:
         raise ValueError(f"apex_factor must be in (0, 1], got {apex_factor}")
     if wedge_slope is not None and not (0.0 < wedge_slope <= 10.0 and apex_factor is not None):
         raise ValueError(f"wedge_slope must be in (0, 10] with an apex_factor, got {wedge_slope}")
+    if parabola_radius is not None and not (wedge_slope is None and 0.0 < parabola_radius < math.inf):
+        raise ValueError(f"parabola_radius must be a finite length > 0 (mm), without wedge_slope, got "
+                         f"{parabola_radius}")
     h_far = _far_size(ratio_name="size_ratio", ratio=size_ratio, width=width, h_contact=h_contact, h_far=h_far,
                       growth=growth)
     a = float(contact_half_width)
@@ -253,32 +261,52 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
     m = 0.0 if wedge_slope is None else float(wedge_slope)
     if wedge_slope is not None:  # only then: the flat blocks keep their cache keys
         params["wedge_slope"] = m
+    R = None if parabola_radius is None else gi.length(parabola_radius)
+    if R is not None:  # only then, as wedge_slope
+        params["parabola_radius"] = R
+
+    def face(x: float) -> float:
+        """The upper body's lower face y(x): flat, the wedge m |x| or the parabola x^2 / (2 R)."""
+        return x * x / (2.0 * R) if R is not None else m * abs(x)
+
+    # the upper window's length, to sample its distance field (the flat and wedge blocks keep their value)
+    window_length = sum(ARC_SPLIT) * b * math.hypot(1.0, m)
+    if R is not None:  # the parabola's arc is longer by its slope, at most b (ARC_SPLIT[1]) / R at the window's end
+        window_length = gi.size(window_length * math.hypot(1.0, ARC_SPLIT[1] * b / R))
 
     def make(gmsh):
         geo = gmsh.model.geo
 
-        def block(y_far, split, slope=0.0):
-            """A block between its near edge ``y = slope |x|`` and y_far (above the near edge's ends when
-            slope > 0), the near edge split at split[0] < split[1] (and at x = 0 for a wedge's apex); (surface,
-            contact lines, refined lines, far edge, sides, apex point or None)."""
+        def block(y_far, split, shaped=False):
+            """A block between its near edge (``y = 0``, or the upper body's ``face(x)`` when ``shaped``) and y_far
+            (above the near edge's ends), the near edge split at split[0] < split[1] (and at x = 0 for a wedge's
+            apex); (surface, contact lines, refined lines, far edge, sides, apex point or None). A parabolic edge is
+            one quadratic Bezier curve per segment: the control point where the end tangents meet makes it the
+            parabola itself."""
             cuts = [split[0], 0.0, split[1]] if apex_factor is not None else list(split)
-            y_end = slope * W / 2
-            p = ([geo.addPoint(-W / 2, y_end, 0.0)] + [geo.addPoint(x, slope * abs(x), 0.0) for x in cuts]
-                 + [geo.addPoint(W / 2, y_end, 0.0), geo.addPoint(W / 2, y_end + y_far, 0.0),
-                    geo.addPoint(-W / 2, y_end + y_far, 0.0)])
+            xs = [-W / 2, *cuts, W / 2]
+            ys = [face(x) if shaped else 0.0 for x in xs]
+            p = ([geo.addPoint(x, y, 0.0) for x, y in zip(xs, ys, strict=True)]
+                 + [geo.addPoint(W / 2, ys[-1] + y_far, 0.0), geo.addPoint(-W / 2, ys[0] + y_far, 0.0)])
             n = len(cuts) + 2
-            near = [geo.addLine(p[i], p[i + 1]) for i in range(n - 1)]
+            if shaped and R is not None:
+                mid = [geo.addPoint(0.5 * (xs[i] + xs[i + 1]), xs[i] * xs[i + 1] / (2.0 * R), 0.0)
+                       for i in range(n - 1)]
+                near = [geo.addBezier([p[i], mid[i], p[i + 1]]) for i in range(n - 1)]
+            else:
+                near = [geo.addLine(p[i], p[i + 1]) for i in range(n - 1)]
             right, far, left = geo.addLine(p[n - 1], p[n]), geo.addLine(p[n], p[n + 1]), geo.addLine(p[n + 1], p[0])
             surf = geo.addPlaneSurface([geo.addCurveLoop([*near, right, far, left])])
             return surf, near, near[1:-1], far, [left, right], (p[2] if apex_factor is not None else None)
 
         low, top, top_window, bottom, low_sides, low_apex = block(-H, (-b, b))
-        up, under, under_window, lid, up_sides, up_apex = block(H, (-ARC_SPLIT[0] * b, ARC_SPLIT[1] * b), m)
+        up, under, under_window, lid, up_sides, up_apex = block(H, (-ARC_SPLIT[0] * b, ARC_SPLIT[1] * b),
+                                                                wedge_slope is not None or R is not None)
         geo.synchronize()
         fields = [growth_field(gmsh, h0=h_c, h_max=h_far, growth=growth, curves=top_window, curve_length=2 * b,
                                sampling_size=gi.size(h_c / 4.0)),
                   growth_field(gmsh, h0=h_u, h_max=h_far, growth=growth, curves=under_window,
-                               curve_length=sum(ARC_SPLIT) * b * math.hypot(1.0, m), sampling_size=gi.size(h_u / 4.0))]
+                               curve_length=window_length, sampling_size=gi.size(h_u / 4.0))]
         if apex_factor is not None:  # a field of its own per block, at its apex point (min with the window's)
             for k, (h0, pt) in enumerate(((h_c, low_apex), (h_u, up_apex))):
                 apex = growth_field(gmsh, h0=gi.size(apex_factor * h0), h_max=h_far, growth=growth, points=[pt])

@@ -268,17 +268,19 @@ def corrupted_external(folder: Path) -> list[str]:
         return []
     need = ("score.json", "report.md", "report.html", "pressure.png") if folder.name.startswith("score_") else ()
     bad = [f"{folder.name}/{f} missing" for f in need if not (folder / f).is_file()]
-    files = [p for p in folder.iterdir() if p.is_file() and p.name != ".workbench-owned"]
+    # an export has one folder per level (issue 36): every file below the folder
+    files = [p for p in folder.rglob("*") if p.is_file() and p.name != ".workbench-owned"]
     if not files:
         bad.append(f"{folder.name}: no file")
     for p in files:
+        name = p.relative_to(folder)
         if p.stat().st_size == 0:
-            bad.append(f"{folder.name}/{p.name} empty")
+            bad.append(f"{folder.name}/{name} empty")
         elif p.suffix == ".json":
             try:
                 json.loads(p.read_text())
             except ValueError:
-                bad.append(f"{folder.name}/{p.name} does not parse")
+                bad.append(f"{folder.name}/{name} does not parse")
     return bad
 
 

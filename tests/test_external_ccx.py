@@ -41,15 +41,16 @@ def exported(tmp_path_factory):
     proc = subprocess.run([sys.executable, "-c", code], env=ENV, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert proc.stdout.strip().splitlines()[-1] == "[0, 0, 0] []"
-    return out / "export_hertz_cylinder"
+    return out / "export_hertz_cylinder" / "h0.1"  # one folder per level (issue 36)
 
 
 def test_export_writes_mesh_json_and_deck(exported):
-    names = sorted(p.name for p in exported.iterdir() if p.name != ".workbench-owned")  # the ownership marker
+    names = sorted(p.name for p in exported.iterdir())
     assert names == ["hertz_cylinder_h0.1.inp", "hertz_cylinder_h0.1.json", "hertz_cylinder_h0.1.msh"]
-    desc = json.loads((exported / "hertz_cylinder_h0.1.json").read_text())
-    assert desc["units"]["length"] == "mm" and desc["material"]["E"] == 210000.0 and desc["material"]["nu"] == 0.3
-    assert desc["reference"]["half_width"] == pytest.approx(0.5, rel=1e-12)
+    desc = json.loads((exported / "hertz_cylinder_h0.1.json").read_text())  # the spec (workbench/external/spec.py)
+    block = desc["bodies"][0]["material"]
+    assert desc["units"]["length"] == "mm" and block["E_MPa"] == 210000.0 and block["nu"] == 0.3
+    assert desc["reference"]["predictions"]["hertz"]["half_width"] == pytest.approx(0.5, rel=1e-12)
     deck = (exported / "hertz_cylinder_h0.1.inp").read_text()
     for card in ("*ELEMENT, TYPE=CPE6", "*SOLID SECTION, ELSET=BLOCK", "*CONTACT PAIR, INTERACTION=SI, TYPE=SURFACE "
                  "TO SURFACE", "*NODE FILE", "*CONTACT FILE", "*CONTACT PRINT", "SYMM, 1, 1, 0."):

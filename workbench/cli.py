@@ -17,7 +17,8 @@ Subcommands:
     validity             study: where the half-plane theories hold, model by model (``<out>/validity/``)
     score CASE RESULT... an external code's pressures (csv|frd, one file per mesh level) against the case's
                          theory with the workbench's measures (``<out>/score_<case>/``)
-    export CASE          the case as a benchmark: --format msh|json|inp (``<out>/export_<case>/``)
+    export CASE          every case as a benchmark another code runs: mesh, JSON spec, decks (--format
+                         msh|json|inp|mdpa|all, --level H... | --levels N; ``<out>/export_<case>/h<level>/``)
     external ccx CASE    export, run CalculiX on each level, score (``<out>/external_ccx_<case>/``)
 
 ``<out>`` is ``--out`` (default: ``results/`` of this checkout, or ``$WORKBENCH_RESULTS``); nothing depends on

@@ -91,7 +91,9 @@ class Support:
 class Drive:
     """How the load is applied: the rigid body (``body``) or a facet group of an elastic body (``group``) moves by
     ``d * direction``. ``control``: ``"force"`` (``report`` holds loads P, N/mm, full body) or ``"displacement"``
-    (``report`` holds d, mm). ``report``: the loads or displacements at which results are reported, in order."""
+    (``report`` holds d, mm). ``report``: the loads or displacements at which results are reported, in order.
+    ``components``: the displacement components prescribed on ``group`` (0: x, 1: y; the others free, e.g. the
+    patch test's top moves down and may slide: ``(1,)``); a rigid body's nodes have all components prescribed."""
 
     control: str
     report: tuple[float, ...]
@@ -99,6 +101,7 @@ class Drive:
     body: str | None = None
     group: str | None = None
     half_model: bool = False
+    components: tuple[int, ...] = (0, 1)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -89,9 +89,11 @@ def read_msh(path: str | Path) -> MeshModel:
     """The nodes, the named 2D groups' triangles and the named 1D groups' lines of a gmsh ``.msh`` file."""
     import gmsh
 
+    from meshes._session import initialize
+
     initialised = gmsh.isInitialized()
     if not initialised:
-        gmsh.initialize(interruptible=False)
+        initialize()  # nothing written in the home folder (meshes._session)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.open(str(path))
@@ -127,10 +129,12 @@ def write_msh(model: MeshModel, path: str | Path) -> Path:
     """``model`` as a gmsh 4.1 ``.msh`` (one discrete entity per group, its physical group of the same name)."""
     import gmsh
 
+    from meshes._session import initialize
+
     path = Path(path)
     initialised = gmsh.isInitialized()
     if not initialised:
-        gmsh.initialize(interruptible=False)
+        initialize()  # nothing written in the home folder (meshes._session)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add(path.stem)

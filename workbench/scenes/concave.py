@@ -202,8 +202,10 @@ def concave_a_est(run: Run, *, lcps=None) -> float:
     return a_est
 
 
-def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None) -> ConcaveMesh:
-    """The (cached) mesh of a concave run, refined where the LCP predicts contact over the whole path."""
+def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None,
+                 write_xdmf: bool = True) -> ConcaveMesh:
+    """The (cached) mesh of a concave run, refined where the LCP predicts contact over the whole path.
+    ``write_xdmf=False`` writes the gmsh ``.msh`` only (no dolfinx: ``workbench export``)."""
     from analytic.designs import design
     from meshes.concave import build_concave_mesh
 
@@ -213,7 +215,7 @@ def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path
     a_est = concave_a_est(run, lcps=lcps)
     h_c = disc.h_contact * a_est
     files = build_concave_mesh(design=des, h_contact=h_c, growth=disc.growth, out_dir=mesh_cache, name=name,
-                               comm=comm, stats_dir=stats_dir)
+                               comm=comm, stats_dir=stats_dir, write_xdmf=write_xdmf)
     return ConcaveMesh(files, des, lcps, a_est, h_c)
 
 

@@ -1,0 +1,148 @@
+"""The export formats: format name -> writer (a registry the deck writers register into).
+
+Every exported benchmark has its mesh (``msh``: gmsh 4.1, written when the benchmark is built) and its JSON spec
+(``json``, :mod:`workbench.external.spec`); a deck format adds the input files of one code:
+
+* ``inp``: CalculiX/Abaqus (``workbench.external.inp`` registers it);
+* ``mdpa``: Kratos Multiphysics, ``.mdpa`` + ``ProjectParameters.json`` + ``StructuralMaterials.json``
+  (``workbench.external.mdpa`` registers it).
+
+A deck writer is a :class:`DeckWriter`: ``write(exported, *, approach=None) -> list[Path]`` writes its files into
+``exported.folder`` (named after the mesh's stem) and returns them; ``cannot(case) -> str | None`` says, before
+anything is built, why it cannot model a case (None: it can). :func:`writer_for` imports the format's module (which
+calls :func:`register_writer` on import) and returns its writer, or raises :class:`FormatError` (one line) when the
+format has none yet. Until CalculiX's general writer registers, ``inp`` is the issue-26 deck of a block scene under
+a circle (:func:`_legacy_inp`, here), which it replaces.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from pathlib import Path
+from typing import NamedTuple
+
+__all__ = ["DeckWriter", "FormatError", "FORMATS", "DECK_MODULES", "WRITERS", "register_writer", "writer_for",
+           "deck_formats"]
+
+FORMATS = ("msh", "json", "inp", "mdpa")  # every format `workbench export --format` names (and "all")
+DECK_MODULES = {"inp": "workbench.external.inp", "mdpa": "workbench.external.mdpa"}
+
+
+class FormatError(ValueError):
+    """A format without a writer, or a writer that cannot model the case (one line)."""
+
+
+class DeckWriter(NamedTuple):
+    """The writer of one deck format.
+
+    Attributes:
+        fmt: the format's name (``--format``).
+        what: one line: the code and its files.
+        write: ``write(exported, *, approach=None) -> list[Path]``: the files written into ``exported.folder``
+            (``approach``: the prescribed approach d (mm) of a displacement-driven deck, None for the writer's own).
+        cannot: ``cannot(case) -> str | None``: why the writer cannot model the case (:class:`cases.schema.Case`),
+            None when it can.
+    """
+
+    fmt: str
+    what: str
+    write: Callable[..., list[Path]]
+    cannot: Callable[..., str | None] = lambda case: None  # noqa: ARG005
+
+
+WRITERS: dict[str, DeckWriter] = {}
+
+
+def register_writer(writer: DeckWriter) -> DeckWriter:
+    """Register (or replace) the writer of ``writer.fmt``."""
+    if writer.fmt not in DECK_MODULES:
+        raise ValueError(f"deck format {writer.fmt!r}; allowed: {', '.join(DECK_MODULES)} (add it to DECK_MODULES)")
+    WRITERS[writer.fmt] = writer
+    return writer
+
+
+def writer_for(fmt: str) -> DeckWriter:
+    """The writer of a deck format, after importing its module; FormatError if there is none."""
+    if fmt not in DECK_MODULES:
+        raise FormatError(f"--format {fmt!r}; allowed: {', '.join(FORMATS)}, all")
+    module = DECK_MODULES[fmt]
+    try:
+        importlib.import_module(module)
+    except ModuleNotFoundError as exc:
+        if exc.name != module:
+            raise
+    if fmt not in WRITERS:
+        raise FormatError(f"--format {fmt}: its writer ({module}) is not installed in this checkout yet; "
+                          f"allowed now: msh, json{''.join(', ' + f for f in WRITERS)}")
+    return WRITERS[fmt]
+
+
+def deck_formats(fmt: str, case) -> tuple[list[DeckWriter], list[str]]:
+    """The deck writers ``--format fmt`` asks for on ``case`` and, for ``all``, the lines naming the formats left out
+    (no writer yet, or it cannot model the case). A named format that cannot be written is a FormatError."""
+    if fmt in ("msh", "json"):
+        return [], []
+    if fmt != "all":
+        w = writer_for(fmt)
+        why = w.cannot(case)
+        if why:
+            raise FormatError(f"--format {fmt} cannot model case {case.name}: {why}")
+        return [w], []
+    out, skipped = [], []
+    for name in DECK_MODULES:
+        try:
+            w = writer_for(name)
+        except FormatError as exc:
+            skipped.append(f"{name}: not written ({exc})")
+            continue
+        why = w.cannot(case)
+        if why:
+            skipped.append(f"{name}: not written ({why})")
+        else:
+            out.append(w)
+    return out, skipped
+
+
+# --- inp until CalculiX's general writer registers: the issue-26 deck (a block under a circle) -------------------
+
+def _legacy_cannot(case) -> str | None:
+    g = case.runs()[0].geometry
+    if g.scene == "block" and getattr(g, "indenter", None) == "circle":
+        return None
+    return (f"scene {g.scene!r} indenter {getattr(g, 'indenter', None)!r}; the .inp writer of this checkout models "
+            "block scenes with a circle indenter only (allowed: hertz_cylinder, hertz_augmented_lagrangian)")
+
+
+def _legacy_inp(exported, *, approach: float | None = None) -> list[Path]:
+    """The issue-26 CalculiX deck (:func:`workbench.external.inp.inp_deck`: its own CPE8 band, displacement driven
+    by the approach estimate or ``approach``) of the block part of a block/circle benchmark."""
+    import numpy as np
+
+    from analytic.materials import plane_strain_modulus
+    from workbench.external.inp import BlockMeshData, approach_estimate, inp_deck
+    from workbench.external.mesh_model import MeshModel
+
+    bench, model = exported.benchmark, exported.model
+    block = bench.body("block")
+    keep = [g for g in ("contact", "clamped", "symmetry", "sides") if g in model.facets]
+    cells = model.cells[block.cells]
+    used = np.unique(cells)
+    new = np.full(len(model.nodes), -1, dtype=int)
+    new[used] = np.arange(len(used))
+    sub = MeshModel(model.nodes[used], {"body": new[cells]}, {g: new[model.facets[g]] for g in keep}).quadratic()
+    mesh = BlockMeshData(sub.nodes, sub.cells["body"], sub.facets)
+    hz = bench.reference["predictions"]["hertz"]
+    E, nu = block.material.E, block.material.nu
+    a, R = hz["half_width"], hz["R"]
+    d = approach if approach is not None else approach_estimate(
+        P=hz["P"], E_star=plane_strain_modulus(E, nu), nu=nu, a=a, depth=bench.geometry["block"]["height"])
+    text = inp_deck(mesh, E=E, nu=nu, R=R, a=a, d=d, h_contact=bench.h_contact, half_model=bench.drive.half_model,
+                    title=f"{bench.case} h_c/a = {bench.level:g} (workbench export)")
+    path = exported.folder / f"{bench.mesh.stem}.inp"
+    path.write_text(text)
+    return [path]
+
+
+WRITERS["inp"] = DeckWriter("inp", "CalculiX/Abaqus .inp (issue 26: block scenes under a circle)", _legacy_inp,
+                            _legacy_cannot)
