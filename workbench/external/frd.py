@@ -31,7 +31,11 @@ each kept name (the step's last written increment: the decks of :mod:`workbench.
 every step only); :attr:`FrdData.blocks` is the last step's (the last CONTACT and DISP of the file, as before).
 :func:`chain_pressure` reads the contact pressure of one step at the nodes of a surface given in order along
 it, any shape: CPRESS times the stretch ``ds/dS`` of the surface (current over reference length, both along the
-chain of nodes).
+chain of nodes). CalculiX expands a plane model into one layer of 3D elements whose nodes it numbers after the
+model's largest node ``nk``, three per node (z = -t/2, 0, t/2): node n's are ``nk + 3 (n - 1) + 1 .. 3``
+(CalculiX 2.20; a mid-edge node of a 6-node triangle has two of them). Segment-to-segment contact reports CPRESS
+on the model's own nodes; node-to-surface contact on the expanded ones: a node without its own CPRESS takes the
+largest of its expanded nodes' (they carry one value: measured on the patch test).
 """
 
 from __future__ import annotations
@@ -250,6 +254,14 @@ def chain_pressure(data: FrdData, *, step: int, chain: np.ndarray, where: str) -
     if "CPRESS" not in comps:
         raise ResultError(f"{where}: the CONTACT block of step {step} has no CPRESS component")
     cp = dict(zip(ids.tolist(), vals[:, comps.index("CPRESS")].tolist(), strict=True))
+    nk = int(data.nodes.max())
+    expanded: dict[int, float] = {}
+    for n, v in cp.items():  # node-to-surface contact reports CPRESS on the expanded 3D nodes (module docstring)
+        if n > nk:
+            m = (n - nk - 1) // 3 + 1
+            expanded[m] = max(expanded.get(m, 0.0), v)
+    for m, v in expanded.items():
+        cp.setdefault(m, v)
     index = {int(n): i for i, n in enumerate(data.nodes.tolist())}
     missing = [int(n) for n in chain if int(n) not in index]
     if missing:
