@@ -133,22 +133,29 @@ def shown_path(path: Path, limit: int = 120) -> str:
     return text if len(text) <= limit else text[:40] + "..." + text[-(limit - 43):]
 
 
-def merge_coincident(x: np.ndarray, p: np.ndarray, *others: np.ndarray | None, scale: float):
+def merge_coincident(x: np.ndarray, p: np.ndarray, *others: np.ndarray | None, scale: float,
+                     y: np.ndarray | None = None):
     """Samples at one position merged into one, the largest pressure kept (see the module docstring).
 
     Args:
         x, p: positions (mm) and pressures (MPa), any order.
         others: arrays carried along with each sample (weights, arguments, displacements) or None.
         scale: the surface's extent (mm); positions closer than 1e-12 of it are one position.
+        y: the second reference coordinate of a curved surface (mm), or None (a flat surface: x alone). Given, two
+            samples are one position when both x and y are that close; ``y`` is then the last of ``others``.
 
     Returns:
-        ``(x, p, *others, merged)``: sorted by x, and the number of samples dropped.
+        ``(x, p, *others, merged)``: sorted by x (then y), and the number of samples dropped.
     """
-    order = np.lexsort((-p, x))
+    if y is not None:
+        others = (*others, y)
+    order = np.lexsort((-p, x)) if y is None else np.lexsort((-p, y, x))
     x, p = x[order], p[order]
     others = [o[order] if o is not None else None for o in others]
     first = np.ones(x.size, dtype=bool)
     first[1:] = np.diff(x) > 1e-12 * scale
+    if y is not None:
+        first[1:] |= np.abs(np.diff(others[-1])) > 1e-12 * scale
     merged = int(x.size - np.count_nonzero(first))
     return (x[first], p[first], *[o[first] if o is not None else None for o in others], merged)
 

@@ -19,30 +19,43 @@ def _scores(results: Path) -> list[tuple[str, Path, dict]]:
     return out
 
 
+def _main(s: dict) -> tuple[str, dict]:
+    """The main study of a score (``main`` of issue 36; a Hertz score of issue 26 read its ``p_max``)."""
+    key = s.get("main")
+    if key and (s.get("studies") or {}).get(key):
+        return key, s["studies"][key]
+    return "p_max", (s.get("grid_study") or {}).get("p_max") or {}
+
+
 def scored_markdown(results: Path) -> list[str]:
     """Markdown lines: one row per scored external result set (empty when none)."""
     rows = _scores(Path(results))
     if not rows:
         return []
     lines = ["## Scored external codes", "",
-             "| scored | case | levels | finest p_max err | finest RMS/p0 | extrapolated p_max/p0 | verdict |",
-             "|---|---|---|---|---|---|---|"]
+             "| scored | case | levels | main quantity | extrapolated | from theory | band | verdict |",
+             "|---|---|---|---|---|---|---|---|"]
     for folder, _f, s in rows:
         levels = s.get("levels") or []
-        fine = min(levels, key=lambda lv: lv.get("h") or 0.0) if levels else {}
-        err = fine.get("errors", {})
-        st = (s.get("grid_study") or {}).get("p_max") or {}
-        ext = f"{st['extrapolated']:.5f}" if "extrapolated" in st else "-"
-        pm = f"{err['p_max']:+.3%}" if isinstance(err.get("p_max"), float) else "-"
-        rms = f"{err['rms']:.3%}" if isinstance(err.get("rms"), float) else "-"
-        if not st:
+        key, st = _main(s)
+        ext = st.get("extrapolated")
+        ext_text = f"{ext:.5f}" if isinstance(ext, float) else "-"
+        th = st.get("theory")
+        dev = f"{ext / th - 1.0:+.3%}" if isinstance(ext, float) and isinstance(th, float) and th else "-"
+        band = st.get("band")
+        fine = st.get("fine")
+        band_text = f"+-{band / abs(fine):.3%}" if isinstance(band, float) and isinstance(fine, float) and fine else "-"
+        if s.get("plausibility"):
+            verdict = "no verdict: " + s["plausibility"][0]
+        elif not st:
             verdict = "fewer than three levels"
-        elif not st.get("outside_band"):
-            verdict = "within the discretisation band"
         else:
             inside = [m["model"] for m in (s.get("models") or {}).get("models", []) if m.get("contains")]
-            verdict = f"remainder {st.get('remainder', 0.0):+.3%} outside the band" + (
-                f"; within the band of the workbench's {', '.join(inside)}" if inside else "")
-        lines.append(f"| [{folder}]({folder}/report.md) | {s.get('case')} | {len(levels)} | {pm} | {rms} | {ext} | "
-                     f"{verdict} |")
+            verdict = ("within the discretisation band of the theory" if st.get("outside_band") is False
+                       else f"remainder {st.get('remainder', 0.0):+.3%} outside the band" if st.get("outside_band")
+                       else "no closed-form theory")
+            verdict += f"; within the band of the workbench's {', '.join(inside)}" if inside else (
+                "; no model of the workbench holds it" if s.get("models") else "")
+        lines.append(f"| [{folder}]({folder}/report.md) | {s.get('case')} | {len(levels)} | {key} | {ext_text} | "
+                     f"{dev} | {band_text} | {verdict} |")
     return [*lines, ""]

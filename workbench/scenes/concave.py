@@ -29,15 +29,17 @@ from analytic.fit import fit_elliptical
 from analytic.superposition import ContactPair as HertzPair
 from analytic.superposition import superpose
 from cases.schema import Case, Run
+from measures.contact import find_patches
 from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneBudget, SceneMesh, Series
 from workbench.scenes.budget_theory import moment_half_width
 from workbench.scenes.concave_schema import CONCAVE_SCHEMA
 
-__all__ = ["ConcaveMesh", "ConcaveScene", "concave_mesh", "concave_case_comparison"]
+__all__ = ["ConcaveMesh", "ConcaveScene", "concave_mesh", "concave_case_comparison", "step_measures", "lcp_at"]
 _SAMPLES_LCP = 300
 
 
-def _lcp_at(des, d: float):
+def lcp_at(des, d: float):
+    """The LCP contact pairs of a design's particle at displacement d (mm) (pure geometry)."""
     from analytic.designs import particle_at
     from analytic.lcp import find_contact_pairs
 
@@ -73,9 +75,16 @@ def _best_superposition(s, p, pairs, *, E_star, p_ref):
 
 def _step_metrics(snap, *, curve, lcp, E_star, label):
     """Per-step comparison of one FEM snapshot with Hertz theory (all at the measured patch loads)."""
-    from fem.postprocess import find_patches
+    return step_measures(snap.samples, d=snap.d, P=snap.P, P_pressure=snap.P_pressure, iterations=snap.iterations,
+                         curve=curve, lcp=lcp, E_star=E_star, label=label)
 
-    smp = snap.samples
+
+def step_measures(smp, *, d: float, P: float, P_pressure: float, iterations, curve, lcp, E_star: float, label: str):
+    """One step's measures (the ``steps`` entry of ``metrics.json``) and its pressure :class:`Series`, from surface
+    samples at the material positions ``smp.X`` (any order; the arc length is measured along the undeformed concave
+    curve): patches, elliptical fits, eq. (4)/(5) widths, the Hertz superposition at the measured patch loads. Pure
+    numpy (the FEM's snapshots and an external code's samples alike: :mod:`workbench.external.scorers.concave`).
+    ``d`` (mm), ``P`` and ``P_pressure`` (N/mm): the step's displacement, load and pressure resultant."""
     s = _arc_length_of(curve, smp.X)
     order = np.argsort(s, kind="stable")
     smp = smp._replace(**{f: getattr(smp, f)[order] for f in smp._fields if getattr(smp, f) is not None})
@@ -125,12 +134,12 @@ def _step_metrics(snap, *, curve, lcp, E_star, label):
     fit_main = max((e for e in out_patches if e["fit"]), key=lambda e: e["P"], default=None)
     metrics = {
         "label": label,
-        "d": snap.d,
+        "d": d,
         "delta_lcp": max((pr.delta for pr in pairs), default=0.0),
-        "P": snap.P,
-        "P_pressure": snap.P_pressure,
+        "P": P,
+        "P_pressure": P_pressure,
         "p_max": p_max,
-        "iterations": snap.iterations,
+        "iterations": iterations,
         "patches": out_patches,
         "n_patches": len(out_patches),
         "fit": fit_main["fit"] if fit_main else None,
@@ -153,7 +162,7 @@ def _step_metrics(snap, *, curve, lcp, E_star, label):
         xlim = (lo - pad, hi + pad)
     else:
         xlim = (float(s.min()), float(s.max()))
-    series = Series(f"{label}: d = {snap.d:.3g} mm, P = {snap.P:.4g} N/mm", s, p, smp.sigma_nn, predictions,
+    series = Series(f"{label}: d = {d:.3g} mm, P = {P:.4g} N/mm", s, p, smp.sigma_nn, predictions,
                     "s (mm, arc length of the undeformed concave surface)", xlim)
     return metrics, series
 
@@ -190,7 +199,7 @@ def concave_a_est(run: Run, *, lcps=None) -> float:
     des = design(run.geometry.design)
     a_est = math.inf
     for i, d in enumerate(ld.d):
-        lcp = lcps[i] if lcps is not None else _lcp_at(des, d)
+        lcp = lcps[i] if lcps is not None else lcp_at(des, d)
         for pr in lcp.pairs:
             if _plausible_overlap(pr):
                 a_est = min(a_est, math.sqrt(pr.relative_radius * pr.delta))
@@ -211,7 +220,7 @@ def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path
 
     ld, disc = run.loading, run.discretisation
     des = design(run.geometry.design)
-    lcps = [_lcp_at(des, d) for d in ld.d]
+    lcps = [lcp_at(des, d) for d in ld.d]
     a_est = concave_a_est(run, lcps=lcps)
     h_c = disc.h_contact * a_est
     files = build_concave_mesh(design=des, h_contact=h_c, growth=disc.growth, out_dir=mesh_cache, name=name,
@@ -260,7 +269,7 @@ class ConcaveScene:
             raise CaseError(f"{where}: variant {run.label!r}: loading.d = {_short(list(run.loading.d))} goes beyond "
                             f"half the body's depth; allowed: 0 < d <= {d_max:g} mm (Table 1 of the paper: "
                             f"{min(des.table1_d)} ... {max(des.table1_d)} mm)")
-        if not any(_plausible_overlap(pr) for pr in _lcp_at(des, run.loading.d[-1]).pairs):
+        if not any(_plausible_overlap(pr) for pr in lcp_at(des, run.loading.d[-1]).pairs):
             raise CaseError(
                 f"{where}: variant {run.label!r}: loading.d = {list(run.loading.d)!r} never brings the "
                 "particle into contact with the concave body; allowed: a largest displacement beyond first contact "

@@ -47,7 +47,7 @@ from workbench.error_budget import ROUNDOFF_FLOOR, grid_study, iterative_error, 
 from workbench.scenes.base import SceneBudget
 
 __all__ = ["ROUNDOFF_BAND", "SYMMETRY_RTOL", "concave_error_budget", "json_number",
-           "refined_run", "symmetry_row"]
+           "refined_run", "step_rows", "symmetry_row"]
 
 ROUNDOFF_BAND = ROUNDOFF_FLOOR   # relative floor of a band (issue 22: 1e-9, was 1e-12)
 SYMMETRY_RTOL = 1e-9    # two LCP pairs are mirror images when delta and R agree to this (relative)
@@ -100,6 +100,13 @@ def concave_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
                             tight=None if o_t is None else o_t.metrics.get("steps", []),
                             tight_note="" if o_t is not None else how)
     return SceneBudget(budget, title=_TITLE, runs=runs)
+
+
+def step_rows(levels, steps, *, E_star: float, pre: str = "") -> dict:
+    """The rows of one run from its step measures on three levels (``levels``: h fine first; ``steps[level][step]``:
+    the ``steps`` entries of :func:`workbench.scenes.concave.step_measures`), without a tight re-solve: the same rows
+    for the workbench's budget and for an external code's results (:mod:`workbench.external.scorers.concave`)."""
+    return _run_rows(levels, steps, E_star=E_star, pre=pre)
 
 
 def _run_rows(levels, steps, *, E_star: float, pre: str, tight: list | None = None, tight_note: str = "") -> dict:
