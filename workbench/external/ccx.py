@@ -16,14 +16,18 @@ the levels ``workbench export --levels N`` writes). Per level, into ``<out>/exte
    the slave surface at every reported step (:func:`workbench.external.ccx_solve.solve_run`); the approach found
    on one level starts the next (one ccx run per finer level where it lands within 0.5 %);
 3. ``result.csv``: every run, step and slave body in the result schema (``x_mm, p_MPa, P_N_per_mm, h_mm, run, step,
-   body``; :data:`workbench.external.benchmark.RESULT_COLUMNS`).
+   body``, and ``y_mm`` on a curved slave surface; :data:`workbench.external.benchmark.RESULT_COLUMNS`); a convective
+   run, which CalculiX solves at finite strain, is reported as ``finite`` (the score's added finite run, held against
+   the convective theory); the patch test's node-to-surface run (CalculiX's other contact discretisation of the same
+   problem) goes to ``result_node_to_surface.csv``.
 
 Then every geometry's levels are scored as ``workbench score`` scores them (:mod:`workbench.external.score`) into
-``<geometry>/score/`` (or ``score/``), and ``ccx.json`` sums it up: per geometry and level the mesh, every ccx
-process's wall time (``process_wall_s``: all of them, calibration included; ``scored_wall_s``: the run whose result
-is scored), each run's loads against the targets, what CalculiX modelled and how, and what it could not (and why).
-A run that ccx could not finish (no convergence, the time limit) is named there with ccx's first ``*ERROR`` line; the
-others are written and scored, and the command exits 1. Exit 0: every modelled run finished. Units mm, N/mm, MPa, s.
+``<geometry>/score/`` (or ``score/``; a variant's into ``score_<variant>/``), and ``ccx.json`` sums it up: per
+geometry and level the mesh, every ccx process's wall time (``process_wall_s``: all of them, calibration included;
+``scored_wall_s``: the run whose result is scored), each run's loads against the targets, what CalculiX modelled and
+how, and what it could not (and why). A run that ccx could not finish (no convergence, the time limit) is named there
+with ccx's first ``*ERROR`` line; the others are written and scored, and the command exits 1. Exit 0: every modelled
+run finished. Units mm, N/mm, MPa, s.
 """
 
 from __future__ import annotations
@@ -67,36 +71,43 @@ def _score(case_name: str, files: list[Path], folder: Path) -> str:
 
 
 def _level(exp, *, exe: str, guesses: dict, key: str, log) -> dict:
-    """Every run CalculiX models of one exported benchmark level: solved, written as ``result.csv``; the summary."""
+    """Every run CalculiX models of one exported benchmark level: solved, written as ``result.csv`` (and
+    ``result_<variant>.csv`` for another contact discretisation); the summary."""
     from workbench.external.ccx_solve import result_rows, solve_run, write_result_csv
     from workbench.external.inp import ccx_runs, quadratic_model
 
     bench = exp.benchmark
     model = quadratic_model(bench, exp.model)
     modelled, skipped = ccx_runs(bench)
-    done, runs, failed = [], [], {}
+    done: dict[str, list] = {}
+    runs, failed = [], {}
     for m in modelled:
         try:
-            r = solve_run(bench, model, modelled=m, folder=exp.folder, exe=exe, d_guess=guesses.get((key, m.run.label)),
-                          log=log)
+            r = solve_run(bench, model, modelled=m, folder=exp.folder, exe=exe,
+                          d_guess=guesses.get((key, m.run.label)), log=log)
         except (CcxError, subprocess.TimeoutExpired) as exc:
             failed[m.run.label] = " ".join(str(exc).split())[:400]
             log(f"    {m.run.label}: FAILED: {failed[m.run.label]}")
             continue
         guesses[(key, m.run.label)] = [st.d for st in r.steps]
-        done.append(r)
-        runs.append({"run": r.run, "contact": m.contact, "model": r.model, "scored_wall_s": r.wall_time_s,
-                     "ccx_runs": len(r.calibration), "calibration": list(r.calibration),
+        done.setdefault(m.variant, []).append(r)
+        runs.append({"run": m.run.label, "reported_as": r.run, "variant": m.variant, "contact": m.contact,
+                     "model": r.model, "scored_wall_s": r.wall_time_s, "ccx_runs": len(r.calibration),
+                     "calibration": list(r.calibration),
                      "steps": [{"step": st.step, "d": st.d, "P": st.P, "target": bench.drive.report[st.step]}
                                for st in r.steps]})
-    if done:
-        write_result_csv(exp.folder / "result.csv", result_rows(done, h=bench.h_contact))
+    results = {}
+    for variant, rs in done.items():
+        name = f"result_{variant}.csv" if variant else "result.csv"
+        write_result_csv(exp.folder / name, result_rows(rs, h=bench.h_contact))
+        results[variant] = name
     wall = sum(c["wall_time_s"] for r in runs for c in r["calibration"])
     return {"level": bench.level, "h_contact": bench.h_contact, "control": bench.drive.control,
             "mesh": {k: exp.stats[k] for k in ("nodes", "cells") if k in exp.stats},
             "quadratic_nodes": int(len(model.nodes)), "process_wall_s": wall, "runs": runs, "failed": failed,
-            "modelled": {m.run.label: {"kinematics": m.run.kinematics, "contact": m.contact, "model": m.model}
-                         for m in modelled}, "not_modelled": skipped, "result": "result.csv" if done else None}
+            "modelled": {m.run.label: {"kinematics": m.run.kinematics, "contact": m.contact, "model": m.model,
+                                       "reported_as": m.label, "variant": m.variant} for m in modelled},
+            "not_modelled": skipped, "results": results}
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -156,19 +167,22 @@ def main(argv: list[str] | None = None) -> int:
                     entry["levels"].append(rec)
                     entry["not_modelled"] = rec["not_modelled"]
                     failed += len(rec["failed"])
-                    if rec["result"]:
-                        results.setdefault(key, []).append(exp.folder / rec["result"])
-            for key, files in results.items():
-                target = stage / key / "score" if key else stage / "score"
+                    for variant, name in rec["results"].items():
+                        results.setdefault((key, variant), []).append(exp.folder / name)
+            for (key, variant), files in results.items():
+                name = f"score_{variant}" if variant else "score"
+                target = stage / key / name if key else stage / name
                 target.parent.mkdir(parents=True, exist_ok=True)
-                summary["geometries"][key or case.name]["score"] = _score(case.name, files, target)
+                entry = summary["geometries"][key or case.name]
+                entry["score" if not variant else f"score_{variant}"] = _score(case.name, files, target)
             (stage / "ccx.json").write_text(json.dumps(summary, indent=1, default=str))
     except (CaseError, ValueError) as exc:  # OutputError among them: the folder changed meanwhile
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     print(f"external ccx {case.name}: {len(levels)} level(s) -> {folder}")
     for key, entry in summary["geometries"].items():
-        print(f"{key}: {entry['score']}")
+        for name in [k for k in entry if k.startswith("score")]:
+            print(f"{key}{'' if name == 'score' else ' (' + name[6:] + ')'}: {entry[name]}")
     if failed:
         print(f"{failed} run(s) failed: see {folder / 'ccx.json'}")
     return 1 if failed else 0

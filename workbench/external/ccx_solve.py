@@ -4,8 +4,8 @@
 there and reads, for every reported step (the end of its hold step), the load the drive carries (the ``.dat``'s
 ``total force`` of the set ``DRIVE``: ``P = F . direction``, the drive's reaction along its direction, doubled
 for a half model; N/mm) and the contact pressure along every pair's slave surface (the ``.frd``,
-:func:`workbench.external.frd.chain_pressure`: CPRESS per reference length at the surface's nodes in order,
-positions :func:`workbench.external.surface_chain.surface_position`).
+:func:`workbench.external.frd.chain_pressure`: CPRESS per reference length at the surface's nodes in order along
+it, :func:`workbench.external.surface_chain.surface_chain`; positions: the nodes' reference coordinates).
 
 * Displacement control (:attr:`Drive.control` ``"displacement"``): one ccx run, one ``*STEP`` per reported
   displacement (:attr:`Drive.report`, mm).
@@ -46,18 +46,18 @@ class CcxError(RuntimeError):
 
 class StepResult(NamedTuple):
     """One reported step of one run: its index in :attr:`Drive.report`, the approach d (mm), the load P (N/mm,
-    full body), and per slave surface (``body``) the positions x (mm, reference) and pressures p (MPa, per
-    reference length) at the surface's nodes."""
+    full body), and per slave surface (``body``) the reference positions X (n, 2) (mm) and pressures p (MPa, per
+    reference length) at the surface's nodes in order along it."""
 
     step: int
     d: float
     P: float
-    surfaces: tuple  # ((body, x, p), ...)
+    surfaces: tuple  # ((body, X, p), ...)
 
 
 class RunResult(NamedTuple):
-    """One run of a level: its label, what CalculiX solved (``model``, in words), the steps, every ccx run's
-    ``{"d": [mm per step], "P": [N/mm per step], "wall_time_s": s}`` and the wall time of the scored ccx run."""
+    """One run of a level: the label its result reports, what CalculiX solved (``model``, in words), the steps, every
+    ccx run's ``{"d": [mm per step], "P": [N/mm per step], "wall_time_s": s}`` and the wall time of the scored one."""
 
     run: str
     model: str
@@ -164,7 +164,7 @@ def solve_run(benchmark, model, *, modelled, folder: Path, exe: str, d_guess: li
     chains = []
     for pair in benchmark.pairs:
         chain = surface_chain(model, pair.slave)
-        chains.append((pair.slave_body, chain, positions(benchmark, model, chain)))
+        chains.append((pair.slave_body, chain, model.nodes[chain]))
     steps = []
     for k, (dk, Pk) in enumerate(zip(d, history[-1]["P"], strict=True)):
         surfaces = []
@@ -172,24 +172,7 @@ def solve_run(benchmark, model, *, modelled, folder: Path, exe: str, d_guess: li
             p, _stretch = chain_pressure(data, step=2 * k + 2, chain=chain + 1, where=str(frd))
             surfaces.append((body, x, p))
         steps.append(StepResult(k, dk, Pk, tuple(surfaces)))
-    return RunResult(run.label, modelled.model, tuple(steps), tuple(history), history[-1]["wall_time_s"])
-
-
-def positions(benchmark, model, chain: np.ndarray) -> np.ndarray:
-    """The reported position (mm, reference) of each node of a slave chain: the benchmark's arc-length table where
-    it gives one (``report["arc_length"]``: s at the corner nodes' X; a mid-edge node halfway between its corners'
-    s), else :func:`workbench.external.surface_chain.surface_position` (X on a horizontal surface)."""
-    from workbench.external.surface_chain import surface_position
-
-    pts = model.nodes[chain]
-    table = (benchmark.report or {}).get("arc_length")
-    if not table:
-        return surface_position(pts)
-    X, S = np.asarray(table["X_mm"], dtype=float), np.asarray(table["s_mm"], dtype=float)
-    order = np.argsort(X)
-    s = np.interp(pts[:, 0], X[order], S[order])
-    s[1:-1:2] = 0.5 * (s[0:-2:2] + s[2::2])  # mid-edge nodes (the chain is corner, middle, corner, ...)
-    return s
+    return RunResult(modelled.label, modelled.model, tuple(steps), tuple(history), history[-1]["wall_time_s"])
 
 
 def _corrected(history: list[dict], targets: list[float]) -> list[float]:
@@ -211,21 +194,29 @@ def _corrected(history: list[dict], targets: list[float]) -> list[float]:
 
 
 def result_rows(runs: list[RunResult], *, h: float) -> list[dict]:
-    """The rows of a level's result csv (module docstring): every run, step and slave surface."""
+    """The rows of a level's result csv (module docstring): every run, step and slave surface; ``y_mm`` (the
+    second reference coordinate) on every row when a slave surface is curved (the concave scenes' scorer projects
+    (x, y) onto the concave curve), else none."""
+    from workbench.external.surface_chain import is_horizontal
+
+    curved = any(not is_horizontal(X) for r in runs for st in r.steps for _b, X, _p in st.surfaces)
     rows = []
     for r in runs:
         for st in r.steps:
-            for body, x, p in st.surfaces:
-                rows += [{"x_mm": float(xi), "p_MPa": max(float(pi), 0.0), "P_N_per_mm": st.P, "h_mm": h,
-                          "run": r.run, "step": st.step, "body": body} for xi, pi in zip(x, p, strict=True)]
+            for body, X, p in st.surfaces:
+                for (xi, yi), pi in zip(X, p, strict=True):
+                    row = {"x_mm": float(xi), "p_MPa": max(float(pi), 0.0), "P_N_per_mm": st.P, "h_mm": h,
+                           "run": r.run, "step": st.step, "body": body}
+                    rows.append(row | ({"y_mm": float(yi)} if curved else {}))
     return rows
 
 
 def write_result_csv(path: Path, rows: list[dict]) -> Path:
-    """``rows`` as a csv with the columns of :data:`RESULT_COLUMNS` (17 significant digits)."""
+    """``rows`` as a csv with the columns of :data:`RESULT_COLUMNS` (and ``y_mm`` if the rows have it; floats as
+    the shortest text that reads back to the same double)."""
     from workbench.external.benchmark import RESULT_COLUMNS
 
-    cols = list(RESULT_COLUMNS)
+    cols = list(RESULT_COLUMNS) + (["y_mm"] if rows and "y_mm" in rows[0] else [])
     lines = [",".join(cols)]
     for row in rows:
         lines.append(",".join(repr(row[c]) if isinstance(row[c], float) else str(row[c]) for c in cols))

@@ -198,12 +198,17 @@ def _lines(ids, per: int = 16) -> list[str]:
 
 
 class Modelled(NamedTuple):
-    """A run CalculiX models: the benchmark's :class:`Run`, the contact type of its deck (:data:`CONTACT_TYPES`)
-    and what CalculiX solves, in words."""
+    """A run CalculiX models: the benchmark's :class:`Run`, the contact type of its deck (:data:`CONTACT_TYPES`),
+    what CalculiX solves (in words), the label its result reports (``finite`` for the finite-strain stand-in of a
+    convective run: the score's added finite run, :mod:`workbench.external.scorers.runs`) and its variant (``""``:
+    the result every score reads; ``"node_to_surface"``: CalculiX's other contact discretisation of the same
+    problem, a result and a score of its own)."""
 
     run: object
     contact: str
     model: str
+    label: str
+    variant: str = ""
 
 
 _CONVECTIVE = ("finite strain (NLGEOM, total Lagrangian; {law}), frictionless penalty contact searched and "
@@ -225,9 +230,10 @@ def ccx_runs(benchmark) -> tuple[tuple[Modelled, ...], dict]:
     """The runs of ``benchmark`` CalculiX models (:class:`Modelled`) and the others with the reason (label -> words).
 
     Every run is modelled: ``small`` as small strain with segment-to-segment penalty contact (a patch test's run
-    labelled ``node-to-segment`` with CalculiX's node-to-surface contact, its counterpart), ``convective`` and
-    ``finite`` under ``NLGEOM`` (:data:`_CONVECTIVE` says what that means against the convective theory). A run of
-    another kinematics is named as not modelled."""
+    labelled ``node-to-segment`` with CalculiX's node-to-surface contact, its counterpart: a variant of its own),
+    ``convective`` and ``finite`` under ``NLGEOM`` (:data:`_CONVECTIVE` says what that means against the convective
+    theory; a convective run's result is labelled ``finite``, what it is). A run of another kinematics is named as
+    not modelled."""
     modelled, skipped = [], {}
     strain = benchmark.reference.get("strain") or "see the run's meaning"
     for run in benchmark.runs:
@@ -247,7 +253,8 @@ def ccx_runs(benchmark) -> tuple[tuple[Modelled, ...], dict]:
         else:
             skipped[run.label] = f"kinematics {run.kinematics!r}: CalculiX has no such model"
             continue
-        modelled.append(Modelled(run, contact, words))
+        label = "finite" if run.kinematics == "convective" else run.label
+        modelled.append(Modelled(run, contact, words, label, "" if contact == "surface_to_surface" else contact))
     return tuple(modelled), skipped
 
 

@@ -1,19 +1,18 @@
-"""A contact surface's nodes in order along it, and the position of each along the surface (numpy only).
+"""A contact surface's nodes in order along it (numpy only).
 
 A surface is a 1D facet group of a :class:`workbench.external.mesh_model.MeshModel`: 2-node or 3-node lines
 (corner, corner[, middle]). :func:`surface_chain` walks the facets from one end to the other and returns the node
 indices in order (corner, middle, corner, middle, ..., corner): one open chain, starting at the end with the
-smaller x (then smaller y). :func:`surface_position` gives the reference position of each chain node that a
-result reports (:data:`workbench.external.benchmark.RESULT_COLUMNS` ``x_mm``): the abscissa X1 on a straight
-horizontal surface (every block top and two-body interface of the cases), else the arc length along the chain
-from its first node. Units mm.
+smaller x (then smaller y). :func:`is_horizontal` tells a straight horizontal surface (every block top and
+two-body interface of the cases: a result reports X only) from a curved one (the concave scenes: X and Y). Units
+mm.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["surface_chain", "surface_position", "is_horizontal"]
+__all__ = ["surface_chain", "is_horizontal"]
 
 
 def surface_chain(model, group: str) -> np.ndarray:
@@ -58,11 +57,3 @@ def is_horizontal(points: np.ndarray) -> bool:
     """Whether the points (n, 2) lie on one horizontal line (to 1e-9 of their extent)."""
     extent = float(np.ptp(points[:, 0])) or 1.0
     return bool(np.ptp(points[:, 1]) <= 1e-9 * extent)
-
-
-def surface_position(points: np.ndarray) -> np.ndarray:
-    """The position (mm) of each point of a chain (n, 2), reference configuration: X1 on a horizontal surface,
-    else the arc length along the chain from its first point."""
-    if is_horizontal(points):
-        return points[:, 0].copy()
-    return np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))])
