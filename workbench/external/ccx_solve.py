@@ -114,13 +114,13 @@ def composite_modulus(benchmark, pair) -> float:
     return 1.0 / inv
 
 
-def _step_loads(dat: Path, *, drive, n_steps: int) -> list[float]:
-    """The load (N/mm, full body) of each reported step: ``F . direction`` of the drive set's reaction, doubled for a
-    half model, at the end of its hold step (deck step 2 k + 2 ends at total time 2 k + 2)."""
+def _step_loads(dat: Path, *, drive, steps: list[int]) -> list[float]:
+    """The load (N/mm, full body) at the end of each of the deck ``steps``: ``F . direction`` of the drive set's
+    reaction, doubled for a half model."""
     forces = dat_forces(dat)
     half = 2.0 if drive.half_model else 1.0
     loads = []
-    for k in range(2, 2 * n_steps + 1, 2):  # the hold steps (inp_deck): deck step 2 k + 2 reports d[k]
+    for k in steps:  # the deck steps that report (inp.report_steps): deck step k ends at total time k
         at = [f for t, f in forces if k - 1.0 + 1e-9 < t <= k + 1e-9]
         if not at:
             raise CcxError(f"{dat}: no total force of the drive at the end of step {k}")
@@ -133,7 +133,7 @@ def solve_run(benchmark, model, *, modelled, folder: Path, exe: str, d_guess: li
     """Run ``modelled`` (:class:`workbench.external.inp.Modelled`: a run of ``benchmark`` and its contact type) on
     the 6-node ``model`` in ``folder`` (module docstring); CcxError on failure."""
     from workbench.external.frd import chain_pressure, read_frd
-    from workbench.external.inp import first_approach, inp_deck
+    from workbench.external.inp import first_approach, inp_deck, report_steps
     from workbench.external.surface_chain import surface_chain
 
     run = modelled.run
@@ -148,7 +148,7 @@ def solve_run(benchmark, model, *, modelled, folder: Path, exe: str, d_guess: li
         inp.write_text(inp_deck(benchmark, model, run=run, d=d, contact=modelled.contact,
                                 title=f"{benchmark.case} level {benchmark.level:g} run {run.label} (workbench)"))
         wall = run_ccx(inp, exe=exe)
-        loads = _step_loads(inp.with_suffix(".dat"), drive=drive, n_steps=len(d))
+        loads = _step_loads(inp.with_suffix(".dat"), drive=drive, steps=report_steps(run, len(d)))
         history.append({"d": list(d), "P": loads, "wall_time_s": wall})
         if not force:
             log(f"    {run.label}: P = {', '.join(f'{v:.6g}' for v in loads)} N/mm, ccx {wall:.1f} s")
@@ -169,7 +169,7 @@ def solve_run(benchmark, model, *, modelled, folder: Path, exe: str, d_guess: li
     for k, (dk, Pk) in enumerate(zip(d, history[-1]["P"], strict=True)):
         surfaces = []
         for body, chain, x in chains:
-            p, _stretch = chain_pressure(data, step=2 * k + 2, chain=chain + 1, where=str(frd))
+            p, _stretch = chain_pressure(data, step=report_steps(run, len(d))[k], chain=chain + 1, where=str(frd))
             surfaces.append((body, x, p))
         steps.append(StepResult(k, dk, Pk, tuple(surfaces)))
     return RunResult(modelled.label, modelled.model, tuple(steps), tuple(history), history[-1]["wall_time_s"])

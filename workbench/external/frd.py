@@ -243,13 +243,15 @@ def read_frd_result(path: str | Path, *, load: float | None = None, h: float | N
                        configuration=configuration, merged=merged)
 
 
-def chain_pressure(data: FrdData, *, step: int, chain: np.ndarray, where: str) -> tuple[np.ndarray, np.ndarray]:
+def chain_pressure(data: FrdData, *, step: int, chain: np.ndarray, where: str,
+                   per: str = "current") -> tuple[np.ndarray, np.ndarray]:
     """The contact pressure per reference length at the nodes ``chain`` (frd node numbers in order along a
-    surface) at the end of ``step``: ``(p, stretch)`` with ``p = CPRESS ds/dS`` (MPa; 0 where the node has no
-    CPRESS), ``ds/dS`` the stretch of the surface at each node: the current over the reference length along the
-    chain, by central differences of the cumulative lengths (one-sided at the ends; :func:`numpy.gradient`).
-    CalculiX's CPRESS is a force per current length; ``p`` integrates over the reference arc length to the same
-    force."""
+    surface) at the end of ``step``: ``(p, stretch)``, ``ds/dS`` the stretch of the surface at each node: the
+    current over the reference length along the chain, by central differences of the cumulative lengths (one-sided
+    at the ends; :func:`numpy.gradient`). ``per``: what CPRESS is a force per (CalculiX: per area of the geometry
+    its contact elements were built from, the start of the last increment): ``"current"`` length, then
+    ``p = CPRESS ds/dS`` (which integrates over the reference arc length to the same force), or ``"reference"``
+    length, then ``p = CPRESS``. 0 where a node has no CPRESS."""
     comps, ids, vals = step_block(data, step, "CONTACT", where=where)
     if "CPRESS" not in comps:
         raise ResultError(f"{where}: the CONTACT block of step {step} has no CPRESS component")
@@ -276,7 +278,9 @@ def chain_pressure(data: FrdData, *, step: int, chain: np.ndarray, where: str) -
     if S.size < 2 or not np.all(np.diff(S) > 0):
         raise ResultError(f"{where}: the contact surface's nodes repeat a position; allowed: a chain of distinct nodes")
     stretch = np.gradient(s, S)
-    p = np.array([cp.get(int(n), 0.0) for n in chain]) * stretch
+    if per not in ("current", "reference"):
+        raise ValueError(f"per = {per!r}; allowed: current, reference")
+    p = np.array([cp.get(int(n), 0.0) for n in chain]) * (stretch if per == "current" else 1.0)
     if not np.all(np.isfinite(p)):
         raise ResultError(f"{where}: the contact pressure of step {step} is not finite")
     return p, stretch
