@@ -52,7 +52,7 @@ done; exit 1
 endef
 
 .PHONY: help setup test run ci lint clean collect-alone mutations convergence stability validity bench report list example check-numbers fuzz faults $(CASES)
-.PHONY: viz-check external kratos-venv kratos-check save-baseline save-numbers emulate model-bands
+.PHONY: viz-check external external-ccx kratos-venv kratos-check save-baseline save-numbers emulate model-bands
 
 # Exit codes: the workbench exits 1 on a tolerance FAIL (results written) and 2 on bad input (nothing written).
 # GNU make itself always exits 2 when a recipe fails, so the recipe names the workbench's own code on the last
@@ -79,6 +79,7 @@ help:
 	@echo "                  on hertz_cylinder at 3 levels and scores them"
 	@echo "make kratos-check the Kratos job on the patch test and its writer's tests (creates .venv-kratos)"
 	@echo "make model-bands  the workbench's model hierarchy on every case's scene, saved for score's verdict (CASES_BANDS=...)"
+	@echo "make external-ccx the CalculiX tests (slow ones too) and external ccx on five cases, 3 levels each (CCX_CASES=...)"
 	@echo "make fuzz         property-based fuzzing of case files and the command line (many examples)"
 	@echo "make faults       concurrent runs, SIGINT/SIGTERM during writes, a full disk -> results/faults/report.md"
 	@echo "make mutations    each mutation of tools/mutations.py must make the tests fail (names the catching test)"
@@ -225,6 +226,18 @@ external: setup kratos-venv
 # (workbench/external/model_bands/<case>.json; CASES_BANDS="a b" for some; minutes per case)
 model-bands: setup
 	@for c in $(or $(CASES_BANDS),$(CASES)); do echo "model bands: $$c"; $(PY) -m workbench.external.models $$c || exit $$?; done
+
+# issue 36: CalculiX on every case it models. The ccx tests, the slow ones too (the independent wedge on three levels),
+# then `workbench external ccx` on the cases of the acceptance, three levels each -> results/external_ccx_<case>/
+CCX_CASES ?= hertz_cylinder wedge patch_test elastic_cylinder_dissimilar close_to_conformal
+external-ccx: setup
+	@if ! command -v ccx >/dev/null; then \
+	   echo "installing Debian's calculix-ccx (apt-get)"; \
+	   $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq calculix-ccx \
+	   || { echo "error: could not install calculix-ccx with apt-get" >&2; exit 2; }; fi
+	WORKBENCH_CCX_SLOW=1 $(PY) -m pytest -q -rs tests/test_external_ccx.py tests/test_external_independent.py \
+	  tests/test_ccx_independent_wedge.py tests/test_ccx_independent_patch.py
+	@rc=0; for c in $(CCX_CASES); do $(WB) external ccx $$c --levels 3 --out results || rc=$$?; done; exit $$rc
 
 clean:
 	rm -rf results .pytest_cache .ruff_cache

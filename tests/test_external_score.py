@@ -177,8 +177,8 @@ def test_external_ccx_levels_out_of_range_one_line_exit_2(tmp_path, levels):
     proc = subprocess.run([sys.executable, "-m", "workbench", "external", "ccx", "hertz_cylinder", "--levels", levels,
                            "--out", str(tmp_path / "out")], capture_output=True, text=True, env=ENV, timeout=120)
     assert proc.returncode == 2, proc.stderr
-    assert proc.stderr.strip().splitlines() == [f"error: --levels {levels}; allowed: 1 to 4 (the case's levels from "
-                                                "ci_level 0.1 down)"]
+    assert proc.stderr.strip().splitlines() == [f"error: --levels {levels}; allowed: 1 to 6 (the case's levels from "
+                                                "ci_level 0.1 down, halving beyond its list)"]
     assert not (tmp_path / "out").exists()
 
 

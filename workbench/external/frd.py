@@ -23,7 +23,19 @@ more values than its block declares (a ``-5`` component line with IEXIST = 1, su
 by cgx and has no value in the records), a node with other than 3 coordinates, a non-finite coordinate or value,
 a node given twice, a block without records, more than 4e6 nodes. The file is opened as
 :func:`workbench.external.result_files.open_result` says and read line by line (only the node block and the last
-CONTACT and DISP blocks are kept).
+CONTACT, DISP and FORC blocks of each step are kept).
+
+Steps: CalculiX heads every result block with a ``    1PSTEP`` line whose last integer is the step number
+(``*STEP`` of the deck, from 1). :attr:`FrdData.steps` holds, per step in the order of the file, the last block of
+each kept name (the step's last written increment: the decks of :mod:`workbench.external.inp` write the end of
+every step only); :attr:`FrdData.blocks` is the last step's (the last CONTACT and DISP of the file, as before).
+:func:`chain_pressure` reads the contact pressure of one step at the nodes of a surface given in order along
+it, any shape: CPRESS times the stretch ``ds/dS`` of the surface (current over reference length, both along the
+chain of nodes). CalculiX expands a plane model into one layer of 3D elements whose nodes it numbers after the
+model's largest node ``nk``, three per node (z = -t/2, 0, t/2): node n's are ``nk + 3 (n - 1) + 1 .. 3``
+(CalculiX 2.20; a mid-edge node of a 6-node triangle has two of them). Segment-to-segment contact reports CPRESS
+on the model's own nodes; node-to-surface contact on the expanded ones: a node without its own CPRESS takes the
+largest of its expanded nodes' (they carry one value: measured on the patch test).
 """
 
 from __future__ import annotations
@@ -37,18 +49,19 @@ import numpy as np
 from workbench.external.result_files import MAX_POINTS, merge_coincident, open_result, parsing
 from workbench.external.results import ExternalResult, ResultError, make_result
 
-__all__ = ["FrdData", "read_frd", "read_frd_result", "surface_pressure"]
+__all__ = ["FrdData", "read_frd", "read_frd_result", "surface_pressure", "chain_pressure", "step_block"]
 
-KEPT = ("CONTACT", "DISP")  # the result blocks read (the last of each); the others are skipped
+KEPT = ("CONTACT", "DISP", "FORC")  # the result blocks read (the last of each per step); the others are skipped
 
 
 class FrdData(NamedTuple):
     """Node numbers (n,), coordinates (n, 3) and the last block of each kept result name: name -> (components,
-    node numbers (m,), values (m, k))."""
+    node numbers (m,), values (m, k)); ``steps``: step number -> such a dict, per step (module docstring)."""
 
     nodes: np.ndarray
     coords: np.ndarray
     blocks: dict
+    steps: dict
 
 
 def _values(line: str, start: int, width: int, count: int, *, where: str) -> list[float]:
@@ -87,7 +100,8 @@ def read_frd(path: str | Path) -> FrdData:
             malformed record (see the module docstring).
     """
     where = str(path)
-    nodes, coords, blocks = None, None, {}
+    nodes, coords, steps = None, None, {}
+    step = 1
     last = ""
     lineno = 0
     with open_result(path, where=where) as fh, parsing(where):
@@ -110,7 +124,11 @@ def read_frd(path: str | Path) -> FrdData:
         line = nxt()
         while line is not None:
             key = line[:6].strip()
-            if key == "2C":
+            if line[:10].strip() == "1PSTEP":
+                fields = line[10:].split()
+                if fields:
+                    step = int(fields[-1])
+            elif key == "2C":
                 ids, xyz = [], []
                 line = nxt()
                 while line is not None and not line.startswith(" -3"):
@@ -163,13 +181,20 @@ def read_frd(path: str | Path) -> FrdData:
                         row = int(np.flatnonzero(~np.all(np.isfinite(arr), axis=1))[0])
                         raise ResultError(f"{where}: the {name} block has a NaN or infinite value at node {ids[row]}; "
                                           "allowed: finite values")
-                    blocks[name] = (names, np.array(ids, dtype=np.int64), arr)
+                    steps.setdefault(step, {})[name] = (names, np.array(ids, dtype=np.int64), arr)
             line = nxt()
     if last.strip() != "9999":
         raise ResultError(f"{where}: truncated .frd (the last line is not 9999); allowed: a complete CalculiX result")
     if nodes is None:
         raise ResultError(f"{where}: no node block (2C); allowed: a CalculiX .frd with node coordinates")
-    return FrdData(nodes, coords, blocks)
+    return FrdData(nodes, coords, steps[list(steps)[-1]] if steps else {}, steps)
+
+
+def step_block(data: FrdData, step: int, name: str, *, where: str) -> tuple[list, np.ndarray, np.ndarray]:
+    """The (components, node numbers, values) of result ``name`` at the end of ``step``; ResultError if absent."""
+    if step not in data.steps or name not in data.steps[step]:
+        raise ResultError(f"{where}: no {name} block in step {step}; the file has steps {sorted(data.steps)}")
+    return data.steps[step][name]
 
 
 def surface_pressure(data: FrdData, *, where: str, top_y: float = 0.0,
@@ -216,3 +241,46 @@ def read_frd_result(path: str | Path, *, load: float | None = None, h: float | N
         raise ResultError(f"{path}: {x.size} node(s) on the contact surface; allowed: at least 2")
     return make_result(str(path), x, np.clip(p, 0.0, None), load=load, h=h,
                        configuration=configuration, merged=merged)
+
+
+def chain_pressure(data: FrdData, *, step: int, chain: np.ndarray, where: str,
+                   per: str = "current") -> tuple[np.ndarray, np.ndarray]:
+    """The contact pressure per reference length at the nodes ``chain`` (frd node numbers in order along a
+    surface) at the end of ``step``: ``(p, stretch)``, ``ds/dS`` the stretch of the surface at each node: the
+    current over the reference length along the chain, by central differences of the cumulative lengths (one-sided
+    at the ends; :func:`numpy.gradient`). ``per``: what CPRESS is a force per (CalculiX: per area of the geometry
+    its contact elements were built from, the start of the last increment): ``"current"`` length, then
+    ``p = CPRESS ds/dS`` (which integrates over the reference arc length to the same force), or ``"reference"``
+    length, then ``p = CPRESS``. 0 where a node has no CPRESS."""
+    comps, ids, vals = step_block(data, step, "CONTACT", where=where)
+    if "CPRESS" not in comps:
+        raise ResultError(f"{where}: the CONTACT block of step {step} has no CPRESS component")
+    cp = dict(zip(ids.tolist(), vals[:, comps.index("CPRESS")].tolist(), strict=True))
+    nk = int(data.nodes.max())
+    expanded: dict[int, float] = {}
+    for n, v in cp.items():  # node-to-surface contact reports CPRESS on the expanded 3D nodes (module docstring)
+        if n > nk:
+            m = (n - nk - 1) // 3 + 1
+            expanded[m] = max(expanded.get(m, 0.0), v)
+    for m, v in expanded.items():
+        cp.setdefault(m, v)
+    index = {int(n): i for i, n in enumerate(data.nodes.tolist())}
+    missing = [int(n) for n in chain if int(n) not in index]
+    if missing:
+        raise ResultError(f"{where}: node {missing[0]} of the contact surface is not in the node block")
+    rows = np.array([index[int(n)] for n in chain])
+    X = data.coords[rows, :2]
+    dcomps, dids, dvals = step_block(data, step, "DISP", where=where)
+    u = dict(zip(dids.tolist(), dvals[:, :2].tolist(), strict=True))
+    x = X + np.array([u.get(int(n), (0.0, 0.0)) for n in chain])
+    S = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(X, axis=0).T))])
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(x, axis=0).T))])
+    if S.size < 2 or not np.all(np.diff(S) > 0):
+        raise ResultError(f"{where}: the contact surface's nodes repeat a position; allowed: a chain of distinct nodes")
+    stretch = np.gradient(s, S)
+    if per not in ("current", "reference"):
+        raise ValueError(f"per = {per!r}; allowed: current, reference")
+    p = np.array([cp.get(int(n), 0.0) for n in chain]) * (stretch if per == "current" else 1.0)
+    if not np.all(np.isfinite(p)):
+        raise ResultError(f"{where}: the contact pressure of step {step} is not finite")
+    return p, stretch
