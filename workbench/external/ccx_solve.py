@@ -212,11 +212,11 @@ def result_rows(runs: list[RunResult], *, h: float) -> list[dict]:
 
 
 def write_result_csv(path: Path, rows: list[dict]) -> Path:
-    """``rows`` as a csv with the columns of :data:`RESULT_COLUMNS` (and ``y_mm`` if the rows have it; floats as
-    the shortest text that reads back to the same double)."""
+    """``rows`` as a csv with those columns of :data:`RESULT_COLUMNS` the rows have (in its order; floats as the
+    shortest text that reads back to the same double)."""
     from workbench.external.benchmark import RESULT_COLUMNS
 
-    cols = list(RESULT_COLUMNS) + (["y_mm"] if rows and "y_mm" in rows[0] else [])
+    cols = [c for c in RESULT_COLUMNS if rows and c in rows[0]]
     lines = [",".join(cols)]
     for row in rows:
         lines.append(",".join(repr(row[c]) if isinstance(row[c], float) else str(row[c]) for c in cols))
