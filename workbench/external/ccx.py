@@ -46,28 +46,10 @@ CODE = "CalculiX 2.20 (ccx; CPE6, frictionless penalty contact, SPOOLES, one thr
 
 
 def ccx_levels(case, n: int) -> list[float]:
-    """The case's first ``n`` mesh levels from its ``ci_level`` down; CcxError (one line) outside 1 .. 6."""
-    from workbench.external.export import MAX_LEVELS, level_sequence
+    """The case's first ``n`` mesh levels from its ``ci_level`` down."""
+    from workbench.external.code_runs import code_levels
 
-    if not 1 <= n <= MAX_LEVELS:
-        d = case.runs()[0].discretisation
-        raise CcxError(f"--levels {n}; allowed: 1 to {MAX_LEVELS} (the case's levels from ci_level "
-                       f"{d.ci_level or d.h_contact:g} down, halving beyond its list)")
-    return list(level_sequence(case)[:n])
-
-
-def _score(case_name: str, files: list[Path], folder: Path) -> str:
-    """Score one geometry's levels into ``folder``; the headline, or why it was not scored."""
-    from workbench.external.results import ResultError
-    from workbench.external.score import ScoreError, read_results, score_levels, write_score
-
-    try:
-        results = read_results([str(f) for f in files], fmt="csv")
-        score = score_levels(case_name, results)
-        write_score(score, results, folder)
-    except (ScoreError, ResultError, ValueError) as exc:
-        return f"not scored: {' '.join(str(exc).split())[:300]}"
-    return score.get("headline") or score.get("verdict", "")
+    return code_levels(case, n, error=CcxError)
 
 
 def _level(exp, *, exe: str, guesses: dict, key: str, log) -> dict:
@@ -146,6 +128,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     import workbench.external.benchmarks  # noqa: F401  (the scenes' benchmark builders register)
     from workbench.external.benchmarks import build
+    from workbench.external.code_runs import score_geometry
 
     interrupt.stage(f"running CalculiX on {case.name} (writing {folder.name})")
     summary: dict = {"case": case.name, "code": CODE, "threads": 1, "geometries": {}}
@@ -174,7 +157,7 @@ def main(argv: list[str] | None = None) -> int:
                 target = stage / key / name if key else stage / name
                 target.parent.mkdir(parents=True, exist_ok=True)
                 entry = summary["geometries"][key or case.name]
-                entry["score" if not variant else f"score_{variant}"] = _score(case.name, files, target)
+                entry["score" if not variant else f"score_{variant}"] = score_geometry(case.name, files, target)
             (stage / "ccx.json").write_text(json.dumps(summary, indent=1, default=str))
     except (CaseError, ValueError) as exc:  # OutputError among them: the folder changed meanwhile
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)

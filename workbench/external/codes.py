@@ -2,7 +2,9 @@
 
 Each code is a module with ``main(argv) -> int`` that parses its own options (``argv`` starts with the code's
 name): ``ccx`` (CalculiX, :mod:`workbench.external.ccx`), ``kratos`` (Kratos Multiphysics,
-:mod:`workbench.external.kratos`). A new code is one module and one line here.
+:mod:`workbench.external.kratos`), ``workbench`` (the workbench's own solver, run and scored as an external code
+is: :mod:`workbench.external.own_code`). ``compare`` runs them side by side (:mod:`workbench.external.compare`).
+A new code is one module and one line here.
 """
 
 from __future__ import annotations
@@ -15,6 +17,8 @@ __all__ = ["CODES", "main"]
 CODES = {
     "ccx": "workbench.external.ccx",
     "kratos": "workbench.external.kratos",
+    "workbench": "workbench.external.own_code",
+    "compare": "workbench.external.compare",
 }
 
 

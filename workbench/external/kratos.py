@@ -4,7 +4,8 @@ Kratos Multiphysics 10.4.4 (its mortar augmented-Lagrangian frictionless contact
 ``.venv-kratos/`` of this checkout (``make external`` creates it from ``requirements-kratos.txt``): its libraries
 never meet dolfinx's MPI and PETSc. Without it: one line, exit 2, nothing written ("run make external").
 
-Per level (the case's ``levels`` from its ``ci_level`` down, ``N`` of them, default 3), into
+Per level (the case's first ``N`` levels from its ``ci_level`` down, default 3, as ``workbench export --levels N``
+writes them: :func:`workbench.external.code_runs.code_levels`), into
 ``<out>/external_kratos_<case>/h<H>/`` (staged: :func:`workbench.atomic.atomic_dir`, the same guard as every
 command that writes):
 
@@ -84,16 +85,6 @@ def run_job(folder: Path, *, python: Path, time_limit: float) -> dict:
     return record
 
 
-def _levels(case, n: int) -> list[float]:
-    disc = case.runs()[0].discretisation
-    start = disc.ci_level or disc.h_contact
-    available = [lv for lv in sorted(disc.levels or (start,), reverse=True) if lv <= start]
-    if not 1 <= n <= len(available):
-        raise KratosError(f"--levels {n}; allowed: 1 to {len(available)} (the case's levels from ci_level "
-                          f"{start:g} down)", code=2)
-    return available[:n]
-
-
 def _level_summary(exp, record: dict, modelled, skipped: dict) -> dict:
     runs = []
     for r in record["runs"]:
@@ -108,20 +99,6 @@ def _level_summary(exp, record: dict, modelled, skipped: dict) -> dict:
             "mesh": {k: exp.stats[k] for k in ("nodes", "cells") if k in exp.stats}, "runs": runs,
             "modelled": {m.run: {"kinematics": m.kinematics, "element": m.element, "meaning": m.meaning}
                          for m in modelled}, "not_modelled": skipped}
-
-
-def _score(case_name: str, results: list[Path], folder: Path) -> str:
-    """Score one geometry's levels into ``folder`` (``score/``); the verdict's first line, or why not."""
-    from workbench.external.results import ResultError, read_csv_result
-    from workbench.external.score import ScoreError, score_levels, write_score
-
-    try:
-        levels = [read_csv_result(p) for p in results]
-        score = score_levels(case_name, levels)
-        write_score(score, levels, folder)
-    except (ScoreError, ResultError, ValueError) as exc:
-        return f"not scored: {' '.join(str(exc).split())[:300]}"
-    return score.get("headline") or score.get("verdict", "")
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -145,6 +122,7 @@ def main(argv: list[str] | None = None) -> int:
     from cases import CaseError, load_case
     from workbench import interrupt
     from workbench.atomic import atomic_dir
+    from workbench.external.code_runs import code_levels, score_geometry
     from workbench.owned import check_dir, ensure_dir
     from workbench.paths import OutputError, checked_paths
 
@@ -154,7 +132,7 @@ def main(argv: list[str] | None = None) -> int:
             raise KratosError(f"--time-limit {args.time_limit!r}; allowed: a number of seconds > 0", code=2)
         paths = checked_paths(args.out)  # the output folder's guard, whichever way it was given
         case = load_case(args.case)
-        levels = _levels(case, args.levels)
+        levels = code_levels(case, args.levels, error=KratosError)
         folder = paths.command("external_kratos_", case.name)
         check_dir(folder, kinds=("external",))
         check_dir(paths.mesh_cache, kinds=("mesh_cache",))
@@ -194,7 +172,7 @@ def main(argv: list[str] | None = None) -> int:
             for key, files in results.items():
                 target = stage / key / "score" if key else stage / "score"
                 target.parent.mkdir(parents=True, exist_ok=True)
-                summary["geometries"][key or case.name]["score"] = _score(case.name, files, target)
+                summary["geometries"][key or case.name]["score"] = score_geometry(case.name, files, target)
             (stage / "kratos.json").write_text(json.dumps(summary, indent=1, default=str))
     except KratosError as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)

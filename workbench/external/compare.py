@@ -1,0 +1,282 @@
+"""``workbench external compare [CASES] [--codes C,..] [--levels N] [--out DIR] [--time-limit S]``: three codes on
+the same benchmarks, scored alike, in one report.
+
+For every case (default :data:`DEFAULT_CASES`) and code (default ``workbench,ccx,kratos``), the code's own command
+runs first (``workbench external <code> CASE --levels N --out DIR``: the same exported levels, the code's results in
+the result schema, scored by the scorer of the case's scene into ``<out>/external_<code>_<case>/``). Then this command
+reads what they wrote (``<code>.json`` and every geometry's ``score/score.json``) and writes
+``<out>/external_compare/`` (staged, the same guard as every command that writes):
+
+* ``compare.json``: per case, geometry and code (:class:`CodeRow`): the main quantity (the study the scene's verdict
+  reads first: :meth:`SceneScorer.main_key`), its value per level, the extrapolated value and its GCI band, the
+  difference to the theory, the models of the workbench's hierarchy whose band holds it (or none, and why), the
+  process wall time per level and the time to reach 1 % and 0.1 % (:func:`time_to_reach`);
+* ``report.md`` / ``report.html`` (:mod:`workbench.reports.compare_report`), the verdict first;
+* ``error_time_<case>.png``: the main quantity's error against the process wall time, one line per code.
+
+The error of a level is ``|v - R| / |R|`` with R the theory the scorer holds the main quantity against (a quantity
+whose theory is 0, the patch test's uniformity, is already relative: ``|v|``); without a theory, R is the
+workbench's extrapolated value (said in the report). A process wall time is what a user waits for one level: the
+interpreter, the code's imports, (the workbench:) the FFCx compilation of any form not yet in the JIT cache, meshing
+or reading the mesh, the solve, and (CalculiX, force control) every calibration run of the load. Codes run one after
+another on one core each (one thread).
+
+A code not installed: one line, exit 2, nothing written (``make external`` installs CalculiX and the Kratos venv).
+A code that cannot model a case is a row that says why. Exit 0; 1 when a code's run failed (its row says which).
+Units mm, N/mm, MPa, s.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+from typing import NamedTuple
+
+__all__ = ["DEFAULT_CASES", "CODES", "CodeRow", "time_to_reach", "level_errors", "collect", "main"]
+
+DEFAULT_CASES = ("hertz_cylinder", "wedge", "patch_test", "elastic_cylinder_dissimilar", "close_to_conformal")
+CODES = {"workbench": "the workbench", "ccx": "CalculiX 2.20", "kratos": "Kratos 10.4.4"}
+TARGETS = (1e-2, 1e-3)  # the errors whose time is reported (1 %, 0.1 %)
+
+
+class Reach(NamedTuple):
+    """The time to reach an error: ``seconds`` (None: not reached on these levels) and how it was found
+    (``level`` i: a level's own time; ``interpolated``: log-log between two levels; ``not reached``)."""
+
+    target: float
+    seconds: float | None
+    how: str
+
+
+class CodeRow(NamedTuple):
+    """One code on one geometry of a case (module docstring). Units: the quantity's own (mostly a ratio), s."""
+
+    case: str
+    geometry: str
+    code: str
+    status: str  # "scored", "not scored: ...", "cannot model: ...", "failed: ..."
+    quantity: str | None = None
+    label: str | None = None
+    h: tuple[float, ...] = ()  # coarse first
+    values: tuple[float, ...] = ()
+    wall_s: tuple[float, ...] = ()
+    extrapolated: float | None = None
+    band: float | None = None
+    status_study: str | None = None
+    theory: float | None = None
+    theory_name: str | None = None
+    reference: str | None = None
+    errors: tuple[float, ...] = ()
+    deviation: float | None = None
+    models: tuple[str, ...] = ()
+    models_why: str = ""
+    reach: tuple[Reach, ...] = ()
+    headline: str = ""
+
+
+def level_errors(values, *, reference: float) -> tuple[float, ...]:
+    """Each level's error ``|v - R| / |R|`` (``|v|`` when R = 0: the quantity is already relative)."""
+    if reference == 0.0:
+        return tuple(abs(v) for v in values)
+    return tuple(abs(v - reference) / abs(reference) for v in values)
+
+
+def time_to_reach(wall_s, errors, target: float) -> Reach:
+    """The process wall time at which the error reaches ``target``, from levels coarse first: the first level at or
+    below it (its own time; between it and the previous level, where the error fell, log-log interpolated), else
+    not reached."""
+    for i, (t, e) in enumerate(zip(wall_s, errors, strict=True)):
+        if not (math.isfinite(e) and e <= target):
+            continue
+        if i == 0:
+            return Reach(target, t, "level 0")
+        t0, e0 = wall_s[i - 1], errors[i - 1]
+        if e0 > e > 0.0 and t > t0 > 0.0:
+            s = (math.log(target) - math.log(e0)) / (math.log(e) - math.log(e0))
+            return Reach(target, math.exp(math.log(t0) + s * (math.log(t) - math.log(t0))), "interpolated")
+        return Reach(target, t, f"level {i}")
+    return Reach(target, None, "not reached")
+
+
+def _models(score: dict) -> tuple[tuple[str, ...], str]:
+    """The models whose band holds the main value, else why none are named."""
+    match = score.get("models")
+    if score.get("plausibility"):
+        return (), "no verdict: " + score["plausibility"][0]
+    if match is None:
+        return (), "no model bands saved for this case (make model-bands)"
+    inside = tuple(r["model"] for r in match["models"] if r["contains"])
+    if inside:
+        return inside, ""
+    near = min(match["models"], key=lambda r: abs(r["distance"]))
+    return (), (f"none: outside every model's band; nearest {near['model']} at {near['distance']:+.3g} "
+                f"(uncertainty +-{match['uncertainty']:.2g})")
+
+
+def _row(case: str, geometry: str, code: str, summary_levels: list, score: dict, *, reference=None) -> CodeRow:
+    main = score.get("main")
+    st = (score.get("studies") or {}).get(main) if main else None
+    if not st:
+        return CodeRow(case, geometry, code, "not scored: " + (score.get("headline") or "no main study"))
+    order = sorted(range(len(st["h"])), key=lambda i: -st["h"][i])  # coarse first
+    h = tuple(st["h"][i] for i in order)
+    values = tuple(st["ratios"][i] for i in order)
+    wall = tuple(lv["process_wall_s"] for lv in summary_levels)
+    theory = st.get("theory")
+    if theory is not None and math.isfinite(theory):
+        ref, ref_name = theory, st.get("theory_name") or "the theory"
+    elif reference is not None:
+        ref, ref_name = reference, "the workbench's extrapolated value (no theory)"
+    else:
+        ref, ref_name = st["extrapolated"], "its own extrapolated value (no theory)"
+    errors = level_errors(values, reference=ref)
+    reach = tuple(time_to_reach(wall, errors, t) for t in TARGETS) if len(wall) == len(errors) else ()
+    models, why = _models(score)
+    return CodeRow(case, geometry, code, "scored", main, st.get("label"), h, values, wall, st.get("extrapolated"),
+                   st.get("band"), st.get("status"), theory, st.get("theory_name"), ref_name, errors,
+                   st.get("deviation"), models, why, reach, score.get("headline", ""))
+
+
+def _cannot(code: str, case) -> str | None:
+    """Why ``code`` cannot model ``case`` at all (None: it models at least one of its runs)."""
+    if code == "workbench":
+        return None
+    from workbench.external.writers import writer_for
+
+    return writer_for("inp" if code == "ccx" else "mdpa").cannot(case)
+
+
+def collect(out: Path, case, code: str, *, ran: int | None, reference: float | None = None) -> list[CodeRow]:
+    """The rows of one code on one case from what its command wrote under ``out``."""
+    folder = out / f"external_{code}_{case.name}"
+    summary_file = folder / f"{code}.json"
+    if not summary_file.is_file():
+        why = f"failed: exit {ran}" if ran else "failed: no summary written"
+        return [CodeRow(case.name, case.name, code, why)]
+    summary = json.loads(summary_file.read_text())
+    rows = []
+    for key, entry in summary["geometries"].items():
+        sub = folder if key == case.name else folder / key
+        score_file = sub / "score" / "score.json"
+        if not score_file.is_file():
+            rows.append(CodeRow(case.name, key, code, str(entry.get("score") or "not scored")))
+            continue
+        rows.append(_row(case.name, key, code, entry["levels"], json.loads(score_file.read_text()),
+                         reference=reference))
+    return rows
+
+
+def _check_codes(codes: list[str]) -> None:
+    from workbench.external.ccx import ccx_executable
+    from workbench.external.kratos import kratos_python
+
+    for c in codes:
+        if c == "ccx":
+            ccx_executable()
+        elif c == "kratos":
+            kratos_python()
+
+
+class CompareError(RuntimeError):
+    """Bad input: one line, exit 2."""
+
+
+def _parser() -> argparse.ArgumentParser:
+    from workbench.cli import _Parser
+
+    p = _Parser(prog="workbench external compare", description=__doc__,
+                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("code", choices=("compare",))
+    p.add_argument("cases", metavar="CASE", nargs="*", help=f"default: {' '.join(DEFAULT_CASES)}")
+    p.add_argument("--codes", default=",".join(CODES), help=f"comma-separated, of: {','.join(CODES)}")
+    p.add_argument("--levels", type=int, default=3, help="number of mesh levels from each case's ci_level down")
+    p.add_argument("--out", default=None, help="output folder (default: results/ of this checkout)")
+    p.add_argument("--time-limit", type=float, default=1800.0, help="seconds per level and code")
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``workbench external compare`` (exit 0 all ran, 1 a code's run failed, 2 bad input or a code missing)."""
+    import workbench.scenes  # noqa: F401
+    from cases import CaseError, load_case
+    from workbench import interrupt
+    from workbench.atomic import atomic_dir, write_json
+    from workbench.external.ccx import CcxError
+    from workbench.external.code_runs import code_levels
+    from workbench.external.codes import CODES as COMMANDS
+    from workbench.external.kratos import KratosError
+    from workbench.owned import check_dir
+    from workbench.paths import OutputError, checked_paths
+
+    args = _parser().parse_args(argv)
+    try:
+        codes = [c.strip() for c in args.codes.split(",") if c.strip()]
+        bad = [c for c in codes if c not in CODES]
+        if bad or not codes or len(set(codes)) != len(codes):
+            raise CompareError(f"--codes {args.codes[:60]!r}; allowed: distinct names of {', '.join(CODES)}")
+        if not (math.isfinite(args.time_limit) and args.time_limit > 0):
+            raise CompareError(f"--time-limit {args.time_limit!r}; allowed: a number of seconds > 0")
+        paths = checked_paths(args.out)
+        cases = [load_case(n) for n in (args.cases or DEFAULT_CASES)]
+        for case in cases:
+            code_levels(case, args.levels, error=CompareError)
+        folder = paths.command("external_", "compare")
+        check_dir(folder, kinds=("external",))
+        for case in cases:
+            for c in codes:
+                check_dir(paths.command(f"external_{c}_", case.name), kinds=("external",))
+        _check_codes(codes)
+    except (CompareError, CaseError, OutputError, CcxError, KratosError) as exc:
+        print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    import importlib
+
+    from workbench.reports.compare_report import write_compare_report
+
+    interrupt.stage("comparing codes (writing external_compare)")
+    rows: list[CodeRow] = []
+    failed = 0
+    for case in cases:
+        reference = None
+        for c in codes:
+            why = _cannot(c, case)
+            if why:
+                rows.append(CodeRow(case.name, case.name, c, f"cannot model: {why}"))
+                continue
+            print(f"== {CODES[c]} on {case.name}", flush=True)
+            mod = importlib.import_module(COMMANDS[c])
+            rc = int(mod.main([c, case.name, "--levels", str(args.levels), "--out", str(paths.root),
+                               "--time-limit", f"{args.time_limit!r}"] if c != "ccx" else
+                              [c, case.name, "--levels", str(args.levels), "--out", str(paths.root)]) or 0)
+            if rc == 2:
+                print(f"error: {CODES[c]} refused {case.name} (exit 2, above); nothing written", file=sys.stderr)
+                return 2
+            failed += rc != 0
+            got = collect(paths.root, case, c, ran=rc, reference=reference)
+            if c == "workbench" and got and got[0].extrapolated is not None and got[0].theory is None:
+                reference = got[0].extrapolated
+            rows.extend(got)
+    with atomic_dir(folder, kind="external") as stage:
+        data = {"codes": {c: CODES[c] for c in codes}, "levels": args.levels, "targets": list(TARGETS),
+                "rows": [_as_json(r) for r in rows]}
+        write_json(stage / "compare.json", data)
+        write_compare_report(data, stage)
+    print(f"external compare: {len(cases)} case(s), {len(codes)} code(s) -> {folder}")
+    for line in _verdict_lines(rows):
+        print(line)
+    return 1 if failed else 0
+
+
+def _as_json(r: CodeRow) -> dict:
+    d = r._asdict()
+    d["reach"] = [x._asdict() for x in r.reach]
+    return d
+
+
+def _verdict_lines(rows: list[CodeRow]) -> list[str]:
+    from workbench.reports.compare_report import verdict_lines
+
+    return verdict_lines([_as_json(r) for r in rows])

@@ -1,0 +1,142 @@
+"""``workbench external workbench CASE [--levels N] [--out DIR] [--time-limit S]``: the workbench's own solver run
+and scored exactly as an external code is.
+
+The third code of ``workbench external compare``. Per level (the case's first ``N`` from its ``ci_level`` down,
+default 3: :func:`workbench.external.code_runs.code_levels`, the levels ``workbench export --levels N`` writes), into
+``<out>/external_workbench_<case>/h<H>/`` (staged: :func:`workbench.atomic.atomic_dir`, the same guard as every
+command that writes), one process (:mod:`workbench.external.own_job`) solves every run of the case on the mesh
+``workbench run`` builds at that level, the mesh ``workbench export`` hands the other codes, and writes its
+``result.csv`` in the result schema. Then every geometry's levels are scored as ``workbench score`` scores any
+code's (:func:`workbench.external.code_runs.score_geometry`) into ``<geometry>/score/`` (or ``score/``; a variant's
+into ``score_<variant>/``).
+
+``workbench.json`` (the summary, the same layout as ``ccx.json`` and ``kratos.json``): per geometry and level the
+process wall time (``process_wall_s``: the interpreter, dolfinx's import, the FFCx compilation of forms not yet in
+the JIT cache, meshing, the solve; serial), per run the Newton iterations, the load and the solver's own wall time.
+A level whose job failed or ran out of time: one line naming it, exit 1, nothing written. Units mm, N/mm, s.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+__all__ = ["main", "OwnError", "run_job", "CODE"]
+
+CODE = "the workbench (dolfinx 0.11, Nitsche/penalty/mortar as the case sets, semismooth Newton, MUMPS, serial)"
+TIME_LIMIT_S = 1800.0
+
+
+class OwnError(RuntimeError):
+    """A bad option (exit 2) or a level whose job failed (exit 1): one line."""
+
+    def __init__(self, message: str, *, code: int = 1):
+        super().__init__(message)
+        self.code = code
+
+
+def run_job(case: str, level: float, folder: Path, *, mesh_cache: Path, time_limit: float) -> dict:
+    """One level's job (:mod:`workbench.external.own_job`) in its own process; its record with the process wall time
+    (``process_wall_s``). OwnError (one line) if it failed or ran out of time."""
+    env = dict(os.environ) | {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run([sys.executable, "-m", "workbench.external.own_job", case, repr(level), str(folder),
+                               str(mesh_cache)], capture_output=True, text=True, timeout=time_limit, env=env)
+    except subprocess.TimeoutExpired:
+        raise OwnError(f"the workbench on {case} h = {level:g} exceeded the time limit of {time_limit:g} s "
+                       "(--time-limit); nothing written") from None
+    wall = time.perf_counter() - t0
+    if proc.returncode != 0:
+        lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+        first = next((ln for ln in lines if ln.startswith("error:")), lines[-1] if lines else "")
+        raise OwnError(f"the workbench on {case} h = {level:g} failed (exit {proc.returncode}): "
+                       f"{first.removeprefix('error: ')[:300]}")
+    record = json.loads((folder / "own_job.json").read_text())
+    record["process_wall_s"] = wall
+    return record
+
+
+def _parser() -> argparse.ArgumentParser:
+    from workbench.cli import _Parser
+
+    p = _Parser(prog="workbench external workbench", description=__doc__,
+                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("code", choices=("workbench",))
+    p.add_argument("case", metavar="CASE")
+    p.add_argument("--levels", type=int, default=3, help="number of mesh levels from the case's ci_level down")
+    p.add_argument("--out", default=None, help="output folder (default: results/ of this checkout)")
+    p.add_argument("--time-limit", type=float, default=TIME_LIMIT_S, help="seconds per level")
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``workbench external workbench`` (exit 0 done, 1 a level failed, 2 bad input)."""
+    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
+    from cases import CaseError, load_case
+    from workbench import interrupt
+    from workbench.atomic import atomic_dir
+    from workbench.external.code_runs import code_levels, score_geometry
+    from workbench.owned import check_dir, ensure_dir
+    from workbench.paths import OutputError, checked_paths
+
+    args = _parser().parse_args(argv)
+    try:
+        if not (math.isfinite(args.time_limit) and args.time_limit > 0):
+            raise OwnError(f"--time-limit {args.time_limit!r}; allowed: a number of seconds > 0", code=2)
+        paths = checked_paths(args.out)  # the output folder's guard, whichever way it was given
+        case = load_case(args.case)
+        levels = code_levels(case, args.levels, error=lambda m: OwnError(m, code=2))
+        folder = paths.command("external_workbench_", case.name)
+        check_dir(folder, kinds=("external",))
+        check_dir(paths.mesh_cache, kinds=("mesh_cache",))
+    except (OwnError, CaseError, OutputError) as exc:
+        print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    interrupt.stage(f"running the workbench on {case.name} (writing {folder.name})")
+    summary: dict = {"case": case.name, "code": CODE, "threads": 1, "geometries": {}}
+    try:
+        with atomic_dir(folder, kind="external") as stage:
+            ensure_dir(paths.mesh_cache, kind="mesh_cache", kinds=("mesh_cache",))
+            results: dict[tuple[str, str], list[Path]] = {}
+            for lv in levels:
+                sub = stage / f"h{lv:g}"
+                sub.mkdir()
+                print(f"workbench {case.name} h = {lv:g}", flush=True)
+                rec = run_job(case.name, lv, sub, mesh_cache=paths.mesh_cache, time_limit=args.time_limit)
+                for key, geo in rec["geometries"].items():
+                    folder_key = "" if key == case.name else key
+                    entry = summary["geometries"].setdefault(key, {"levels": [], "score": None})
+                    entry["levels"].append({"level": lv, "h_contact": lv, "process_wall_s": rec["process_wall_s"],
+                                            "runs": geo["runs"]})
+                    for name in geo["results"]:
+                        variant = name.removeprefix("result").removesuffix(".csv").lstrip("_")
+                        results.setdefault((folder_key, variant), []).append(sub / folder_key / name)
+                    loads = ", ".join(f"{r['P']:.6g}" for r in geo["runs"])
+                    print(f"  {key}: {rec['process_wall_s']:.2f} s, "
+                          f"{sum(r['iterations'] for r in geo['runs'])} Newton iterations, P = {loads} N/mm",
+                          flush=True)
+            for (key, variant), files in results.items():
+                name = f"score_{variant}" if variant else "score"
+                target = stage / key / name if key else stage / name
+                target.parent.mkdir(parents=True, exist_ok=True)
+                summary["geometries"][key or case.name]["score" if not variant else name] = \
+                    score_geometry(case.name, files, target)
+            (stage / "workbench.json").write_text(json.dumps(summary, indent=1, default=str))
+    except OwnError as exc:
+        print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return exc.code
+    except (CaseError, ValueError) as exc:  # OutputError among them: the folder changed meanwhile
+        print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    print(f"external workbench {case.name}: {len(levels)} level(s) -> {folder}")
+    for key, entry in summary["geometries"].items():
+        for name in [k for k in entry if k.startswith("score")]:
+            print(f"{key}{'' if name == 'score' else ' (' + name[6:] + ')'}: {entry[name]}")
+    return 0

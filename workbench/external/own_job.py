@@ -1,0 +1,91 @@
+"""One level of ``workbench external workbench``: the workbench's own solver on a case, in a process of its own.
+
+``python -m workbench.external.own_job CASE LEVEL FOLDER [MESH_CACHE]`` solves every run of ``CASE`` at the mesh
+level ``LEVEL`` (the case's ``h_contact`` fraction; the mesh ``workbench run`` builds there, which is the mesh
+``workbench export`` hands to another code: same node coordinates, tested against the CI key numbers) and writes,
+per geometry (:func:`workbench.external.benchmarks.base.groups`: the wedge's two angles are two geometries, one
+sub-folder each, named as ``workbench export`` names them):
+
+* ``result.csv``: every run, step and the slave body in the result schema (:mod:`workbench.external.own_results`);
+  where two runs of one problem are one benchmark run (the patch test's mortar and node-to-segment pairings), the
+  first one's, and ``result_<label>.csv`` for each other (a variant, scored on its own);
+* ``own_job.json``: per run the Newton iterations, the load carried (N/mm), the solver's wall time and the run's
+  (meshing and post-processing included; s).
+
+It is a separate process so that its wall time is measured as CalculiX's and Kratos's are: the interpreter, the
+imports (dolfinx, PETSc), the FFCx compilation of any form not yet in the JIT cache, meshing and the solve. Serial
+(``MPI.COMM_SELF``). Exit 0, or 1 with one line on stderr (``error: ...``).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from pathlib import Path
+
+__all__ = ["solve_level", "main"]
+
+
+def solve_level(case_name: str, level: float, folder: Path, *, mesh_cache: Path) -> dict:
+    """Solve and write one level (module docstring); the job's record."""
+    import dolfinx_solver  # noqa: F401  (MPI and PETSc first)
+
+    from mpi4py import MPI
+
+    import workbench.scenes  # noqa: F401
+    from cases import load_case
+    from cases.schema import label_folder
+    from workbench.external.benchmarks.base import groups
+    from workbench.external.own_results import groups_csv, outcome_groups
+    from workbench.external.scorers import scorer_for
+    from workbench.pipeline.run_case import run_one
+
+    case = load_case(case_name)
+    scorer = scorer_for(case)
+    scored = scorer.runs(case)
+    slave = scorer.bodies(case)[0].name
+    parts = groups(case.runs(h_contact=level))
+    record: dict = {"case": case.name, "level": level, "geometries": {}}
+    for part in parts:
+        key = "" if len(parts) == 1 else label_folder(part[0].label)
+        sub = folder / key if key else folder
+        sub.mkdir(parents=True, exist_ok=True)
+        files: dict[str, list] = {}
+        runs = []
+        for run in part:
+            t0 = time.perf_counter()
+            outcome = run_one(run, name=case.name, mesh_cache=mesh_cache, comm=MPI.COMM_SELF,
+                              progress=lambda _m: None)
+            wall = time.perf_counter() - t0
+            srun = next(s for s in scored if run.label in (s.label, *s.aliases))
+            name = "result.csv" if not any(srun.label == k for k, _ in files.values()) else \
+                f"result_{label_folder(run.label)}.csv"
+            files.setdefault(name, (srun.label, []))[1].extend(outcome_groups(outcome, label=srun.label, body=slave))
+            res = outcome.result
+            runs.append({"run": run.label, "reported_as": srun.label, "file": name, "P": float(res.P),
+                         "iterations": int(sum(res.newton_iterations)), "solve_s": float(res.wall_time_s),
+                         "wall_s": wall})
+        for name, (_label, grps) in files.items():
+            (sub / name).write_text(groups_csv(grps))
+        record["geometries"][key or case.name] = {"runs": runs, "results": sorted(files)}
+    return record
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    t0 = time.perf_counter()
+    case, level, folder = argv[0], float(argv[1]), Path(argv[2])
+    mesh_cache = Path(argv[3]) if len(argv) > 3 else folder / "mesh_cache"
+    try:
+        record = solve_level(case, level, folder, mesh_cache=mesh_cache)
+    except Exception as exc:  # noqa: BLE001  (one line for the parent, which names the level)
+        print(f"error: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}", file=sys.stderr)
+        return 1
+    record["job_wall_s"] = time.perf_counter() - t0
+    (folder / "own_job.json").write_text(json.dumps(record, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
