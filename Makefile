@@ -75,8 +75,8 @@ help:
 	@echo "make emulate      rerun the CI cases as another machine would (mesh, MUMPS ordering, numpy SIMD); LEVEL=run for make run"
 	@echo "make example     examples/hertz_contact.py"
 	@echo "make viz-check    installs Debian's paraview + xvfb if missing, runs the VTK and view.py checks in pvpython"
-	@echo "make external     installs Debian's calculix-ccx and the Kratos venv (.venv-kratos) if missing, runs CalculiX and Kratos"
-	@echo "                  on hertz_cylinder at 3 levels and scores them"
+	@echo "make external     installs Debian's calculix-ccx and the Kratos venv (.venv-kratos) if missing, runs the workbench,"
+	@echo "                  CalculiX and Kratos side by side on five cases, 3 levels each -> results/external_compare/"
 	@echo "make kratos-check the Kratos job on the patch test and its writer's tests (creates .venv-kratos)"
 	@echo "make model-bands  the workbench's model hierarchy on every case's scene, saved for score's verdict (CASES_BANDS=...)"
 	@echo "make external-ccx the CalculiX tests (slow ones too) and external ccx on five cases, 3 levels each (CCX_CASES=...)"
@@ -211,16 +211,18 @@ $(KSTAMP): requirements-kratos.txt
 kratos-check: setup kratos-venv
 	$(PY) -m pytest -q -rs tests/test_external_mdpa.py tests/test_external_kratos.py
 
-# issue 26: CalculiX end to end (export -> ccx -> score) -> results/external_ccx_hertz_cylinder/score/report.md
-# issue 36: Kratos too (its own venv) -> results/external_kratos_hertz_cylinder/
+# issue 36: three codes side by side. Installs Debian's calculix-ccx and the Kratos venv (.venv-kratos) if missing,
+# runs `workbench external compare` (the workbench, CalculiX, Kratos on the same levels, scored alike) on
+# COMPARE_CASES, three levels each -> results/external_compare/report.md (+ results/external_<code>_<case>/),
+# then the external codes' tests
+COMPARE_CASES ?= hertz_cylinder wedge patch_test elastic_cylinder_dissimilar close_to_conformal
 external: setup kratos-venv
 	@if ! command -v ccx >/dev/null; then \
 	   echo "installing Debian's calculix-ccx (apt-get)"; \
 	   $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq calculix-ccx \
 	   || { echo "error: could not install calculix-ccx with apt-get" >&2; exit 2; }; fi
-	$(WB) external ccx hertz_cylinder --levels 3 --out results; $(call explain_exit,external)
-	$(WB) external kratos hertz_cylinder --levels 3 --out results; $(call explain_exit,external kratos)
-	$(PY) -m pytest -q -rs tests/test_external_ccx.py tests/test_external_kratos.py
+	$(WB) external compare $(COMPARE_CASES) --levels 3 --out results; $(call explain_exit,external compare)
+	$(PY) -m pytest -q -rs tests/test_external_ccx.py tests/test_external_kratos.py tests/test_external_compare.py
 
 # issue 36: the workbench's model hierarchy on every case's own scene, saved for the scorer's verdict
 # (workbench/external/model_bands/<case>.json; CASES_BANDS="a b" for some; minutes per case)

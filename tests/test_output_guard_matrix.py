@@ -1,7 +1,8 @@
 """One output-folder guard for every command that writes (issue 35): the same hostile folders for each command.
 
-Requirement: ``run``, ``mesh``, ``report``, ``ci``, the five studies, ``score``, ``export`` and ``external ccx``
-refuse each hostile folder below with exit 2 and one ``error:`` line naming it, whether the output folder comes
+Requirement: ``run``, ``mesh``, ``report``, ``ci``, the five studies, ``score``, ``export`` and ``external``
+(``ccx``, ``kratos``, ``workbench``, ``compare``) refuse each hostile folder below with exit 2 and one ``error:``
+line naming it, whether the output folder comes
 from ``--out`` or from ``WORKBENCH_RESULTS``, and nothing in the sandbox changes (paths and SHA-256 before and
 after). The folders: a file; a folder whose parents are missing; the home folder; a source folder of the checkout
 (a copy of its layout, the guard pointed at it); the command's own folder made by the user (no marker); and, for
@@ -25,8 +26,9 @@ from workbench.cli import main
 CASE = "hertz_cylinder"
 STUDIES = {"convergence": "convergence", "stability": "stability", "bench": "bench", "validity": "validity",
            "convective-table": "analytic"}
-MESH_WRITERS = {"run", "mesh", "convergence", "stability", "bench", "validity", "export", "external"}
-COMMANDS = ["run", "mesh", "report", "ci", *STUDIES, "score", "export", "external"]
+EXTERNAL = ("external", "external_kratos", "external_workbench", "external_compare")  # ccx, kratos, own, compare
+MESH_WRITERS = {"run", "mesh", "convergence", "stability", "bench", "validity", "export", *EXTERNAL}
+COMMANDS = ["run", "mesh", "report", "ci", *STUDIES, "score", "export", *EXTERNAL]
 ROWS = ["file", "missing_parents", "home", "source", "user_target", "mesh_link", "mesh_user"]
 WORDS = {"file": ["is not a folder"], "missing_parents": ["does not exist"], "home": ["home folder"],
          "source": ["source folder"], "user_target": ["not written by the workbench"], "mesh_link": ["symlink"],
@@ -47,7 +49,10 @@ def recorders(monkeypatch):
     import importlib
 
     import workbench.external.ccx as ccx
+    import workbench.external.compare as compare
     import workbench.external.export as export
+    import workbench.external.kratos as kratos
+    import workbench.external.own_code as own_code
     import workbench.external.score as score
     import workbench.pipeline.case_mesh as case_mesh
     import workbench.pipeline.ci as ci
@@ -62,6 +67,9 @@ def recorders(monkeypatch):
     monkeypatch.setattr(score, "read_results", _reached)
     monkeypatch.setattr(export, "export_case", _reached)
     monkeypatch.setattr(ccx, "ccx_executable", _reached)
+    monkeypatch.setattr(kratos, "kratos_python", _reached)
+    monkeypatch.setattr(own_code, "run_job", _reached)
+    monkeypatch.setattr(compare, "_check_codes", _reached)
     for module in MODULES.values():
         monkeypatch.setattr(importlib.import_module(module), "main", _reached)
 
@@ -72,7 +80,9 @@ def _target(command: str, root) -> tuple[str, bool]:
         return STUDIES[command], False
     return {"run": (CASE, False), "mesh": (CASE, False), "report": ("report.md", True), "ci": ("ci", False),
             "score": (f"score_{CASE}", False), "export": (f"export_{CASE}", False),
-            "external": (f"external_ccx_{CASE}", False)}[command]
+            "external": (f"external_ccx_{CASE}", False), "external_kratos": (f"external_kratos_{CASE}", False),
+            "external_workbench": (f"external_workbench_{CASE}", False),
+            "external_compare": ("external_compare", False)}[command]
 
 
 def _argv(command: str, sandbox, out: str | None, *, mesh_cache: str | None = None) -> list[str]:
@@ -82,7 +92,9 @@ def _argv(command: str, sandbox, out: str | None, *, mesh_cache: str | None = No
         extra += ["--mesh-cache", mesh_cache]
     head = {"run": ["run", CASE], "mesh": ["mesh", CASE], "report": ["report"], "ci": ["ci"],
             "score": ["score", CASE, str(sandbox / "level.csv")], "export": ["export", CASE, "--format", "json"],
-            "external": ["external", "ccx", CASE]}.get(command, [command])
+            "external": ["external", "ccx", CASE], "external_kratos": ["external", "kratos", CASE],
+            "external_workbench": ["external", "workbench", CASE],
+            "external_compare": ["external", "compare", CASE]}.get(command, [command])
     return head + extra
 
 

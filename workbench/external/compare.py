@@ -225,6 +225,7 @@ def main(argv: list[str] | None = None) -> int:
             code_levels(case, args.levels, error=CompareError)
         folder = paths.command("external_", "compare")
         check_dir(folder, kinds=("external",))
+        check_dir(paths.mesh_cache, kinds=("mesh_cache",))
         for case in cases:
             for c in codes:
                 check_dir(paths.command(f"external_{c}_", case.name), kinds=("external",))
