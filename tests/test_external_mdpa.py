@@ -178,3 +178,15 @@ def test_what_kratos_cannot_model(cylinder):
     assert "St Venant-Kirchhoff" in models[1].meaning and "neo_hookean" in models[1].meaning
     with pytest.raises(NotModelled, match="linear"):
         kratos_deck(bench, mesh.quadratic(), models[0])
+
+
+def test_runs_that_differ_only_in_the_pairing_are_one_kratos_run(cylinder):
+    """The patch test's mortar and node-to-segment runs are one problem meshed the same way: Kratos (one 2D contact
+    discretisation, its ALM mortar) runs it once and names the other with the reason (two copies in one result
+    would be one run twice, which the scorer refuses)."""
+    bench, _mesh = cylinder
+    runs = (Run(label="mortar", kinematics="small", meaning=""), Run(label="node-to-segment", kinematics="small",
+                                                                     meaning=""))
+    models, skipped = kratos_runs(dataclasses.replace(bench, runs=runs))
+    assert [m.run for m in models] == ["mortar"] and list(skipped) == ["node-to-segment"]
+    assert "'mortar'" in skipped["node-to-segment"] and "run once" in skipped["node-to-segment"]
