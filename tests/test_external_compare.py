@@ -30,6 +30,8 @@ def test_time_to_reach_by_hand():
     assert time_to_reach(wall, err, 0.1) == (0.1, 1.0, "level 0")
     assert time_to_reach(wall, err, 1e-3) == (1e-3, None, "not reached")
     # no error to interpolate from on the level above: the level's own time
+    # a finer level that took less time (CalculiX's first level carries the calibration runs): the shortest
+    assert time_to_reach((6.3, 2.9, 5.0), (0.004, 0.0006, 0.0001), 0.01) == (0.01, 2.9, "level 1")
     assert time_to_reach((1.0, 2.0), (float("nan"), 0.0), 1e-3) == (1e-3, 2.0, "level 1")
 
 

@@ -85,20 +85,22 @@ def level_errors(values, *, reference: float) -> tuple[float, ...]:
 
 
 def time_to_reach(wall_s, errors, target: float) -> Reach:
-    """The process wall time at which the error reaches ``target``, from levels coarse first: the first level at or
-    below it (its own time; between it and the previous level, where the error fell, log-log interpolated), else
-    not reached."""
+    """The process wall time at which the error reaches ``target``, from levels coarse first: the shortest of the
+    times of the levels at or below it (a level's own time) and, where the error fell onto the target from the level
+    above the first of them, the log-log interpolation between the two; else not reached. (A level's time need not
+    grow with refinement: CalculiX's first level carries the load calibration's extra runs.)"""
+    best = Reach(target, None, "not reached")
     for i, (t, e) in enumerate(zip(wall_s, errors, strict=True)):
         if not (math.isfinite(e) and e <= target):
             continue
-        if i == 0:
-            return Reach(target, t, "level 0")
-        t0, e0 = wall_s[i - 1], errors[i - 1]
-        if e0 > e > 0.0 and t > t0 > 0.0:
-            s = (math.log(target) - math.log(e0)) / (math.log(e) - math.log(e0))
-            return Reach(target, math.exp(math.log(t0) + s * (math.log(t) - math.log(t0))), "interpolated")
-        return Reach(target, t, f"level {i}")
-    return Reach(target, None, "not reached")
+        if best.seconds is None and i > 0:
+            t0, e0 = wall_s[i - 1], errors[i - 1]
+            if e0 > e > 0.0 and t > t0 > 0.0:
+                s = (math.log(target) - math.log(e0)) / (math.log(e) - math.log(e0))
+                best = Reach(target, math.exp(math.log(t0) + s * (math.log(t) - math.log(t0))), "interpolated")
+        if best.seconds is None or t < best.seconds:
+            best = Reach(target, t, f"level {i}")
+    return best
 
 
 def _models(score: dict) -> tuple[tuple[str, ...], str]:
