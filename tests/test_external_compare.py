@@ -96,3 +96,43 @@ def test_compare_the_workbench_on_three_levels(tmp_path, capsys):
         assert kr["status"] == "scored" and len(kr["values"]) == 3 and kr["errors"][-1] < 0.01
     else:
         pytest.skip("the Kratos venv .venv-kratos is missing (make external creates it): its row is not tested")
+
+
+def test_a_code_of_your_own_joins_with_add(tmp_path, capsys):
+    """``--add NAME=FOLDER``: the workbench's own three levels, laid out as ``workbench export`` lays them out
+    (``export_<case>/h<H>/result.csv`` and ``wall_s.txt``), score exactly as the workbench's row; a missing level
+    and a bad wall time are one line, exit 2, nothing written."""
+    out = tmp_path / "o"
+    assert main(["external", "workbench", "hertz_cylinder", "--levels", "3", "--out", str(out)]) == 0
+    own = json.loads((out / "external_workbench_hertz_cylinder" / "workbench.json").read_text())
+    mine = tmp_path / "mine"
+    for lv in own["geometries"]["hertz_cylinder"]["levels"]:
+        where = mine / "export_hertz_cylinder" / f"h{lv['level']:g}"
+        where.mkdir(parents=True)
+        src = out / "external_workbench_hertz_cylinder" / f"h{lv['level']:g}" / "result.csv"
+        (where / "result.csv").write_bytes(src.read_bytes())
+        (where / "wall_s.txt").write_text(f"{lv['process_wall_s']!r}\n")
+    capsys.readouterr()
+    assert main(["external", "compare", "hertz_cylinder", "--codes", "", "--add", f"mycode={mine}",
+                 "--out", str(out)]) == 0
+    data = json.loads((out / "external_compare" / "compare.json").read_text())
+    (row,) = data["rows"]
+    ref = json.loads((out / "external_workbench_hertz_cylinder" / "score" / "score.json").read_text())
+    assert row["code"] == "mycode" and row["status"] == "scored"
+    assert row["extrapolated"] == ref["studies"]["p_max"]["extrapolated"]
+    assert row["wall_s"] == [lv["process_wall_s"] for lv in own["geometries"]["hertz_cylinder"]["levels"]]
+    assert "mycode" in capsys.readouterr().out
+    # bad input: a wall time that is no number, a level missing, a name taken
+    (mine / "export_hertz_cylinder" / "h0.1" / "wall_s.txt").write_text("fast\n")
+    bad = tmp_path / "bad"
+    for argv, word in (([f"mycode={mine}"], "wall_s.txt holds 'fast'"), ([f"ccx={mine}"], "--add 'ccx="),
+                       ([f"mycode={tmp_path / 'none'}"], "is not a folder")):
+        assert main(["external", "compare", "hertz_cylinder", "--codes", "", "--add", *argv, "--out", str(bad)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and word in err[0], err
+        assert not bad.exists()
+    (mine / "export_hertz_cylinder" / "h0.1" / "wall_s.txt").unlink()
+    (mine / "export_hertz_cylinder" / "h0.05" / "result.csv").unlink()
+    assert main(["external", "compare", "hertz_cylinder", "--codes", "", "--add", f"mycode={mine}",
+                 "--out", str(bad)]) == 2
+    assert "h0.05/result.csv is missing" in capsys.readouterr().err and not bad.exists()

@@ -21,6 +21,13 @@ interpreter, the code's imports, (the workbench:) the FFCx compilation of any fo
 or reading the mesh, the solve, and (CalculiX, force control) every calibration run of the load. Codes run one after
 another on one core each (one thread).
 
+A code of your own joins with ``--add NAME=FOLDER``: FOLDER is what ``workbench export CASE --levels N --out FOLDER``
+wrote, with your code's ``result.csv`` (the result schema, :data:`workbench.external.benchmark.RESULT_COLUMNS`) put
+beside each level's deck, ``FOLDER/export_<case>/h<H>/[<geometry>/]result.csv``, and optionally its process wall
+time in seconds in ``wall_s.txt`` beside it (without it, no time to reach is given). Its levels are scored alike into
+``external_compare/<NAME>_<case>/`` and it is one more row. A missing or malformed file: one line, exit 2, nothing
+written, before any code runs.
+
 A code not installed: one line, exit 2, nothing written (``make external`` installs CalculiX and the Kratos venv).
 A code that cannot model a case is a row that says why. Exit 0; 1 when a code's run failed (its row says which).
 Units mm, N/mm, MPa, s.
@@ -35,7 +42,8 @@ import sys
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ["DEFAULT_CASES", "CODES", "CodeRow", "time_to_reach", "level_errors", "collect", "main"]
+__all__ = ["DEFAULT_CASES", "CODES", "CodeRow", "Added", "time_to_reach", "level_errors", "collect", "added_levels",
+           "main"]
 
 DEFAULT_CASES = ("hertz_cylinder", "wedge", "patch_test", "elastic_cylinder_dissimilar", "close_to_conformal")
 CODES = {"workbench": "the workbench", "ccx": "CalculiX 2.20", "kratos": "Kratos 10.4.4"}
@@ -171,6 +179,77 @@ def collect(out: Path, case, code: str, *, ran: int | None, reference: float | N
     return rows
 
 
+class Added(NamedTuple):
+    """A code of the user's (``--add NAME=FOLDER``): its name and the export folder holding its results."""
+
+    name: str
+    folder: Path
+
+
+class AddedLevels(NamedTuple):
+    """One geometry of a case in an added code's folder: the result file per level (coarse first) and the process
+    wall times (s; None where ``wall_s.txt`` is missing)."""
+
+    geometry: str
+    files: tuple[Path, ...]
+    wall_s: tuple[float | None, ...]
+
+
+def parse_added(specs: list[str]) -> list[Added]:
+    """The ``--add`` options; CompareError (one line) for a bad name or a folder that is not one."""
+    import re
+
+    out = []
+    for spec in specs:
+        name, sep, folder = spec.partition("=")
+        if not sep or not re.fullmatch(r"[a-z][a-z0-9_-]{0,19}", name) or name in CODES \
+                or any(a.name == name for a in out):
+            raise CompareError(f"--add {spec[:60]!r}; allowed: NAME=FOLDER, NAME of 1-20 lower-case letters, digits, "
+                               f"_ or - (starting with a letter), distinct and none of {', '.join(CODES)}")
+        path = Path(folder)
+        if not path.is_dir():
+            raise CompareError(f"--add {name}: {folder[:120]!r} is not a folder; allowed: the --out folder of "
+                               "workbench export CASE --levels N, with your result.csv beside each level's deck")
+        out.append(Added(name, path))
+    return out
+
+
+def added_levels(added: Added, case, levels: list[float]) -> list[AddedLevels]:
+    """Every geometry's result files and wall times of an added code (module docstring); CompareError (one line)
+    for a missing file or a wall time that is not a positive number."""
+    from cases.schema import label_folder
+    from workbench.external.benchmarks.base import groups
+
+    parts = groups(case.runs(h_contact=levels[0]))
+    keys = [""] if len(parts) == 1 else [label_folder(p[0].label) for p in parts]
+    out = []
+    for key in keys:
+        files, walls = [], []
+        for lv in levels:
+            where = added.folder / f"export_{case.name}" / f"h{lv:g}" / key
+            f = where / "result.csv"
+            if not f.is_file() or f.is_symlink():
+                raise CompareError(f"--add {added.name}: {f} is missing (or not a regular file); allowed: one "
+                                   f"result.csv per level and geometry, export_{case.name}/h<H>/[<geometry>/]"
+                                   "result.csv as workbench export lays the levels out")
+            files.append(f)
+            w = where / "wall_s.txt"
+            if w.is_file() and not w.is_symlink():
+                text = w.read_text(errors="replace")[:40].strip()
+                try:
+                    value = float(text)
+                except ValueError:
+                    value = math.nan
+                if not (math.isfinite(value) and 0.0 < value < 1e7):
+                    raise CompareError(f"--add {added.name}: {w} holds {text[:20]!r}; allowed: one number of "
+                                       "seconds, > 0")
+                walls.append(value)
+            else:
+                walls.append(None)
+        out.append(AddedLevels(key or case.name, tuple(files), tuple(walls)))
+    return out
+
+
 def _check_codes(codes: list[str]) -> None:
     from workbench.external.ccx import ccx_executable
     from workbench.external.kratos import kratos_python
@@ -197,6 +276,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--levels", type=int, default=3, help="number of mesh levels from each case's ci_level down")
     p.add_argument("--out", default=None, help="output folder (default: results/ of this checkout)")
     p.add_argument("--time-limit", type=float, default=1800.0, help="seconds per level and code")
+    p.add_argument("--add", action="append", default=[], metavar="NAME=FOLDER",
+                   help="a code of your own: the workbench export folder with its result.csv per level (repeatable)")
     return p
 
 
@@ -210,6 +291,7 @@ def main(argv: list[str] | None = None) -> int:
     from workbench.external.code_runs import code_levels
     from workbench.external.codes import CODES as COMMANDS
     from workbench.external.kratos import KratosError
+    from workbench.external.results import ResultError
     from workbench.owned import check_dir
     from workbench.paths import OutputError, checked_paths
 
@@ -217,14 +299,16 @@ def main(argv: list[str] | None = None) -> int:
     try:
         codes = [c.strip() for c in args.codes.split(",") if c.strip()]
         bad = [c for c in codes if c not in CODES]
-        if bad or not codes or len(set(codes)) != len(codes):
+        added = parse_added(args.add)
+        if bad or (not codes and not added) or len(set(codes)) != len(codes):
             raise CompareError(f"--codes {args.codes[:60]!r}; allowed: distinct names of {', '.join(CODES)}")
         if not (math.isfinite(args.time_limit) and args.time_limit > 0):
             raise CompareError(f"--time-limit {args.time_limit!r}; allowed: a number of seconds > 0")
         paths = checked_paths(args.out)
         cases = [load_case(n) for n in (args.cases or DEFAULT_CASES)]
-        for case in cases:
-            code_levels(case, args.levels, error=CompareError)
+        levels = {case.name: code_levels(case, args.levels, error=CompareError) for case in cases}
+        mine = {(a.name, case.name): added_levels(a, case, levels[case.name]) for a in added for case in cases}
+        _read_added(mine)
         folder = paths.command("external_", "compare")
         check_dir(folder, kinds=("external",))
         check_dir(paths.mesh_cache, kinds=("mesh_cache",))
@@ -232,7 +316,7 @@ def main(argv: list[str] | None = None) -> int:
             for c in codes:
                 check_dir(paths.command(f"external_{c}_", case.name), kinds=("external",))
         _check_codes(codes)
-    except (CompareError, CaseError, OutputError, CcxError, KratosError) as exc:
+    except (CompareError, CaseError, OutputError, CcxError, KratosError, ResultError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     import importlib
@@ -263,14 +347,46 @@ def main(argv: list[str] | None = None) -> int:
                 reference = got[0].extrapolated
             rows.extend(got)
     with atomic_dir(folder, kind="external") as stage:
-        data = {"codes": {c: CODES[c] for c in codes}, "levels": args.levels, "targets": list(TARGETS),
-                "rows": [_as_json(r) for r in rows]}
+        rows = _with_added(rows, mine, stage)
+        data = {"codes": {c: CODES[c] for c in codes} | {a.name: f"{a.name} (added: {a.folder})" for a in added},
+                "levels": args.levels, "targets": list(TARGETS), "rows": [_as_json(r) for r in rows]}
         write_json(stage / "compare.json", data)
         write_compare_report(data, stage)
     print(f"external compare: {len(cases)} case(s), {len(codes)} code(s) -> {folder}")
     for line in _verdict_lines(rows):
         print(line)
     return 1 if failed else 0
+
+
+def _read_added(mine: dict) -> None:
+    """Read every added result once before any code runs: a malformed file is one line (ResultError), exit 2."""
+    from workbench.external.score import read_results
+
+    for geos in mine.values():
+        for g in geos:
+            read_results([str(f) for f in g.files], fmt="csv")
+
+
+def _with_added(rows: list[CodeRow], mine: dict, stage: Path) -> list[CodeRow]:
+    """The rows with every added code's, each geometry scored into ``<stage>/<name>_<case>/`` and placed after the
+    case's other rows."""
+    from workbench.external.code_runs import score_geometry
+
+    out = list(rows)
+    for (name, case), geos in mine.items():
+        for g in geos:
+            target = stage / f"{name}_{case}" / ("" if g.geometry == case else g.geometry) / "score"
+            target.parent.mkdir(parents=True, exist_ok=True)
+            headline = score_geometry(case, list(g.files), target)
+            f = target / "score.json"
+            if not f.is_file():
+                row = CodeRow(case, g.geometry, name, headline)
+            else:
+                walls = [{"process_wall_s": w} for w in g.wall_s] if all(w is not None for w in g.wall_s) else []
+                row = _row(case, g.geometry, name, walls, json.loads(f.read_text()))
+            last = max((i for i, r in enumerate(out) if r.case == case), default=len(out) - 1)
+            out.insert(last + 1, row)
+    return out
 
 
 def _as_json(r: CodeRow) -> dict:

@@ -13,6 +13,10 @@ __all__ = ["verdict_lines", "report_markdown", "plot_case", "write_compare_repor
 NAMES = {"workbench": "workbench", "ccx": "CalculiX", "kratos": "Kratos"}
 
 
+def _name(code: str) -> str:
+    return NAMES.get(code, code)
+
+
 def _pct(x: float | None, digits: int = 2) -> str:
     if x is None or not math.isfinite(x):
         return "-"
@@ -48,7 +52,7 @@ def verdict_lines(rows: list[dict]) -> list[str]:
         parts = []
         for r in scored:
             reach = {x["target"]: x for x in r["reach"]}
-            parts.append(f"{NAMES[r['code']]} {_pct(r['errors'][-1])} at its finest level (extrapolated "
+            parts.append(f"{_name(r['code'])} {_pct(r['errors'][-1])} at its finest level (extrapolated "
                          f"{_pct(_rel_dev(r), 3) if r['theory'] is not None else 'n/a'} from the theory), "
                          f"1 %: {_t(reach[0.01]) if 0.01 in reach else '-'}, "
                          f"0.1 %: {_t(reach[0.001]) if 0.001 in reach else '-'}")
@@ -56,16 +60,16 @@ def verdict_lines(rows: list[dict]) -> list[str]:
         q = scored[0]["label"] if scored else ""
         line = f"{_where(first)}" + (f" ({q}; against {scored[0]['reference']})" if scored else "") + ": "
         line += "; ".join(parts) if parts else "no code scored"
-        others = [f"{NAMES[r['code']]} {r['status']}" for r in rs if r["status"] != "scored"]
+        others = [f"{_name(r['code'])} {r['status']}" for r in rs if r["status"] != "scored"]
         if others:
             line += ". " + "; ".join(o[:200] for o in others)
         if len(scored) > 1:
             best = min(scored, key=lambda r: r["errors"][-1])
             fast = [r for r in scored if any(x["target"] == 0.01 and x["seconds"] is not None for x in r["reach"])]
-            line += f". Most accurate on the finest level: {NAMES[best['code']]}"
+            line += f". Most accurate on the finest level: {_name(best['code'])}"
             if fast:
                 f = min(fast, key=lambda r: next(x["seconds"] for x in r["reach"] if x["target"] == 0.01))
-                line += f"; fastest to 1 %: {NAMES[f['code']]}"
+                line += f"; fastest to 1 %: {_name(f['code'])}"
         out.append(line + ".")
     return out
 
@@ -82,14 +86,14 @@ def report_markdown(data: dict, figures: dict[str, str]) -> str:
               "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if r["status"] != "scored":
-            lines.append(f"| {_where(r)} | {NAMES[r['code']]} | {r['status'][:300]} | | | | | | | |")
+            lines.append(f"| {_where(r)} | {_name(r['code'])} | {r['status'][:300]} | | | | | | | |")
             continue
         reach = {x["target"]: x for x in r["reach"]}
         vals = ", ".join(f"{v:.6g}" for v in r["values"])
         band = f"{r['extrapolated']:.7g} +- {r['band']:.2g}" if r["band"] is not None else f"{r['extrapolated']:.7g}"
         models = ", ".join(r["models"]) if r["models"] else r["models_why"]
         walls = ", ".join(f"{t:.3g}" for t in r["wall_s"])
-        lines.append(f"| {_where(r)} | {NAMES[r['code']]} | {r['label']} (against {r['reference']}) | {vals} | "
+        lines.append(f"| {_where(r)} | {_name(r['code'])} | {r['label']} (against {r['reference']}) | {vals} | "
                      f"{band} ({r['status_study']}) | {_pct(_rel_dev(r), 3)} | {models} | {walls} | "
                      f"{_t(reach[0.01]) if 0.01 in reach else '-'} | {_t(reach[0.001]) if 0.001 in reach else '-'} |")
     if figures:
@@ -114,7 +118,7 @@ def plot_case(rows: list[dict], path: Path) -> None:
         if r["status"] != "scored" or not r["wall_s"]:
             continue
         e = [max(x, 1e-8) for x in r["errors"]]
-        label = NAMES[r["code"]] + ("" if r["geometry"] == r["case"] else f" [{r['geometry']}]")
+        label = _name(r["code"]) + ("" if r["geometry"] == r["case"] else f" [{r['geometry']}]")
         ax.loglog(r["wall_s"], e, marker=markers.get(r["code"], "x"), label=label)
     for target in (1e-2, 1e-3):
         ax.axhline(target, color="0.6", lw=0.8, ls="--")
