@@ -86,7 +86,8 @@ def test_compare_the_workbench_on_three_levels(tmp_path, capsys):
     assert own["errors"][-1] == pytest.approx(abs(own["values"][-1] / own["theory"] - 1.0), rel=1e-12)
     assert own["models"] == ["halfplane/small"]  # the workbench's own case is its own model (the bands)
     reach = {x["target"]: x for x in own["reach"]}
-    assert reach[0.01]["seconds"] == own["wall_s"][0]  # well within 1 % already on the coarsest level
+    assert reach[0.01]["seconds"] == min(own["wall_s"])  # every level is within 1 %: the fastest one (the first
+    # carries the FFCx compilation of a cold cache)
     md = (folder / "report.md").read_text()
     assert md.index("## Verdict") < md.index("## Every code") and "error_time_hertz_cylinder.png" in md
     assert (folder / "error_time_hertz_cylinder.png").stat().st_size > 1000

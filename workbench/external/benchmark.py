@@ -29,7 +29,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["Material", "Body", "ContactPair", "Support", "Drive", "Run", "Benchmark", "RESULT_COLUMNS", "UNITS"]
+__all__ = ["Material", "Body", "ContactPair", "Support", "Drive", "Run", "Benchmark", "RESULT_COLUMNS", "UNITS",
+           "pair_modulus"]
 
 UNITS = {"length": "mm", "force": "N", "pressure": "MPa", "load": "N/mm (per unit thickness)",
          "model": "2D plane strain, thickness 1 mm, frictionless contact"}
@@ -162,3 +163,15 @@ class Benchmark:
             if b.name == name:
                 return b
         raise KeyError(f"benchmark {self.case}: no body {name!r}; bodies: {[b.name for b in self.bodies]}")
+
+
+def pair_modulus(bench: Benchmark, pair: ContactPair) -> float:
+    """E* of a contact pair (MPa): :func:`analytic.materials.composite_modulus` of its elastic bodies (a rigid body
+    adds nothing: ``E1 = inf``)."""
+    from analytic.materials import composite_modulus
+
+    elastic = [b.material for b in (bench.body(pair.slave_body), bench.body(pair.master_body)) if not b.rigid]
+    if len(elastic) == 1:
+        return composite_modulus(elastic[0].E, elastic[0].nu)
+    lower, upper = elastic
+    return composite_modulus(lower.E, lower.nu, E1=upper.E, nu1=upper.nu)

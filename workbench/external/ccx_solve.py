@@ -33,7 +33,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["CcxError", "StepResult", "RunResult", "ccx_executable", "run_ccx", "dat_forces", "solve_run",
-           "result_rows", "write_result_csv", "LOAD_RTOL", "MAX_RUNS", "CCX_TIMEOUT_S", "composite_modulus"]
+           "result_rows", "write_result_csv", "LOAD_RTOL", "MAX_RUNS", "CCX_TIMEOUT_S"]
 
 CCX_TIMEOUT_S = 1800
 LOAD_RTOL = 0.005  # relative distance of a step's load from its target that ends the calibration
@@ -102,16 +102,6 @@ def dat_forces(dat: Path, *, nset: str = "DRIVE") -> list[tuple[float, np.ndarra
     if not out:
         raise CcxError(f"{dat}: no 'total force' of set {nset} (*NODE PRINT, TOTALS=ONLY) in the .dat")
     return out
-
-
-def composite_modulus(benchmark, pair) -> float:
-    """E* of a contact pair (MPa): ``1/E* = sum (1 - nu^2)/E`` over its elastic bodies (a rigid one adds 0)."""
-    inv = 0.0
-    for name in (pair.slave_body, pair.master_body):
-        b = benchmark.body(name)
-        if not b.rigid:
-            inv += (1.0 - b.material.nu ** 2) / b.material.E
-    return 1.0 / inv
 
 
 def _step_loads(dat: Path, *, drive, steps: list[int]) -> list[float]:

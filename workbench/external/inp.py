@@ -291,9 +291,9 @@ def first_approach(benchmark) -> list[float]:
     drive = benchmark.drive
     if drive.control != "force":
         return [float(v) for v in drive.report]
-    from workbench.external.ccx_solve import composite_modulus
+    from workbench.external.benchmark import pair_modulus
 
-    E_star = min(composite_modulus(benchmark, p) for p in benchmark.pairs)
+    E_star = min(pair_modulus(benchmark, p) for p in benchmark.pairs)
     return [float(P) / (0.3 * E_star) for P in drive.report]
 
 

@@ -11,8 +11,7 @@ A deck writer is a :class:`DeckWriter`: ``write(exported, *, approach=None) -> l
 ``exported.folder`` (named after the mesh's stem) and returns them; ``cannot(case) -> str | None`` says, before
 anything is built, why it cannot model a case (None: it can). :func:`writer_for` imports the format's module (which
 calls :func:`register_writer` on import) and returns its writer, or raises :class:`FormatError` (one line) when the
-format has none yet. Until CalculiX's general writer registers, ``inp`` is the issue-26 deck of a block scene under
-a circle (:func:`_legacy_inp`, here), which it replaces.
+format has none.
 """
 
 from __future__ import annotations
@@ -102,47 +101,3 @@ def deck_formats(fmt: str, case) -> tuple[list[DeckWriter], list[str]]:
         else:
             out.append(w)
     return out, skipped
-
-
-# --- inp until CalculiX's general writer registers: the issue-26 deck (a block under a circle) -------------------
-
-def _legacy_cannot(case) -> str | None:
-    g = case.runs()[0].geometry
-    if g.scene == "block" and getattr(g, "indenter", None) == "circle":
-        return None
-    return (f"scene {g.scene!r} indenter {getattr(g, 'indenter', None)!r}; the .inp writer of this checkout models "
-            "block scenes with a circle indenter only (allowed: hertz_cylinder, hertz_augmented_lagrangian)")
-
-
-def _legacy_inp(exported, *, approach: float | None = None) -> list[Path]:
-    """The issue-26 CalculiX deck (:func:`workbench.external.inp.inp_deck`: its own CPE8 band, displacement driven
-    by the approach estimate or ``approach``) of the block part of a block/circle benchmark."""
-    import numpy as np
-
-    from analytic.materials import plane_strain_modulus
-    from workbench.external.inp import BlockMeshData, approach_estimate, inp_deck
-    from workbench.external.mesh_model import MeshModel
-
-    bench, model = exported.benchmark, exported.model
-    block = bench.body("block")
-    keep = [g for g in ("contact", "clamped", "symmetry", "sides") if g in model.facets]
-    cells = model.cells[block.cells]
-    used = np.unique(cells)
-    new = np.full(len(model.nodes), -1, dtype=int)
-    new[used] = np.arange(len(used))
-    sub = MeshModel(model.nodes[used], {"body": new[cells]}, {g: new[model.facets[g]] for g in keep}).quadratic()
-    mesh = BlockMeshData(sub.nodes, sub.cells["body"], sub.facets)
-    hz = bench.reference["predictions"]["hertz"]
-    E, nu = block.material.E, block.material.nu
-    a, R = hz["half_width"], hz["R"]
-    d = approach if approach is not None else approach_estimate(
-        P=hz["P"], E_star=plane_strain_modulus(E, nu), nu=nu, a=a, depth=bench.geometry["block"]["height"])
-    text = inp_deck(mesh, E=E, nu=nu, R=R, a=a, d=d, h_contact=bench.h_contact, half_model=bench.drive.half_model,
-                    title=f"{bench.case} h_c/a = {bench.level:g} (workbench export)")
-    path = exported.folder / f"{bench.mesh.stem}.inp"
-    path.write_text(text)
-    return [path]
-
-
-WRITERS["inp"] = DeckWriter("inp", "CalculiX/Abaqus .inp (issue 26: block scenes under a circle)", _legacy_inp,
-                            _legacy_cannot)
