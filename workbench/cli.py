@@ -22,6 +22,10 @@ Subcommands:
     external ccx CASE    export, run CalculiX on each level, score (``<out>/external_ccx_<case>/``)
     external kratos CASE export, run Kratos (its own venv, ``make external``) on each level, score
                          (``<out>/external_kratos_<case>/``)
+    external workbench CASE  the workbench's own solver run and scored as an external code is
+                         (``<out>/external_workbench_<case>/``)
+    external compare [CASE...]  the workbench, CalculiX and Kratos side by side on the same levels, scored alike,
+                         the verdict first (``<out>/external_compare/``; ``--add NAME=FOLDER``: a code of yours)
 
 ``<out>`` is ``--out`` (default: ``results/`` of this checkout, or ``$WORKBENCH_RESULTS``); nothing depends on
 the working directory. A study's own options follow its name (``workbench convergence --help``).
