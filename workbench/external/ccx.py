@@ -32,7 +32,6 @@ run finished. Units mm, N/mm, MPa, s.
 
 from __future__ import annotations
 
-import argparse
 import json
 import subprocess
 import sys
@@ -92,43 +91,25 @@ def _level(exp, *, exe: str, guesses: dict, key: str, log) -> dict:
             "not_modelled": skipped, "results": results}
 
 
-def _parser() -> argparse.ArgumentParser:
-    from workbench.cli import _Parser
-
-    p = _Parser(prog="workbench external ccx", description=__doc__,
-                formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("code", choices=("ccx",))
-    p.add_argument("case", metavar="CASE")
-    p.add_argument("--levels", type=int, default=3, help="number of mesh levels from the case's ci_level down")
-    p.add_argument("--out", default=None, help="output folder (default: results/ of this checkout)")
-    return p
-
-
 def main(argv: list[str] | None = None) -> int:
     """``workbench external ccx`` (exit 0 every modelled run done and scored, 1 a run failed (the rest written),
     2 bad input or ccx missing)."""
-    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
-    from cases import CaseError, load_case
+    from cases import CaseError
     from workbench import interrupt
     from workbench.atomic import atomic_dir
-    from workbench.owned import check_dir, ensure_dir
-    from workbench.paths import OutputError, checked_paths
+    from workbench.external.code_runs import code_parser, open_command, print_summary, score_all
+    from workbench.owned import ensure_dir
+    from workbench.paths import OutputError
 
-    args = _parser().parse_args(argv)
+    args = code_parser("ccx", __doc__).parse_args(argv)
     try:
-        paths = checked_paths(args.out)  # the output folder's guard, whichever way it was given
-        case = load_case(args.case)
-        levels = ccx_levels(case, args.levels)
-        folder = paths.command("external_ccx_", case.name)
-        check_dir(folder, kinds=("external",))
-        check_dir(paths.mesh_cache, kinds=("mesh_cache",))
+        paths, case, levels, folder = open_command("ccx", args, error=CcxError)
         exe = ccx_executable()  # after the arguments: a bad value is named even where ccx is missing
     except (CcxError, CaseError, OutputError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     import workbench.external.benchmarks  # noqa: F401  (the scenes' benchmark builders register)
     from workbench.external.benchmarks import build
-    from workbench.external.code_runs import score_geometry
 
     interrupt.stage(f"running CalculiX on {case.name} (writing {folder.name})")
     summary: dict = {"case": case.name, "code": CODE, "threads": 1, "geometries": {}}
@@ -152,20 +133,12 @@ def main(argv: list[str] | None = None) -> int:
                     failed += len(rec["failed"])
                     for variant, name in rec["results"].items():
                         results.setdefault((key, variant), []).append(exp.folder / name)
-            for (key, variant), files in results.items():
-                name = f"score_{variant}" if variant else "score"
-                target = stage / key / name if key else stage / name
-                target.parent.mkdir(parents=True, exist_ok=True)
-                entry = summary["geometries"][key or case.name]
-                entry["score" if not variant else f"score_{variant}"] = score_geometry(case.name, files, target)
+            score_all(case.name, results, stage, summary)
             (stage / "ccx.json").write_text(json.dumps(summary, indent=1, default=str))
     except (CaseError, ValueError) as exc:  # OutputError among them: the folder changed meanwhile
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
-    print(f"external ccx {case.name}: {len(levels)} level(s) -> {folder}")
-    for key, entry in summary["geometries"].items():
-        for name in [k for k in entry if k.startswith("score")]:
-            print(f"{key}{'' if name == 'score' else ' (' + name[6:] + ')'}: {entry[name]}")
+    print_summary("ccx", case.name, levels, folder, summary)
     if failed:
         print(f"{failed} run(s) failed: see {folder / 'ccx.json'}")
     return 1 if failed else 0

@@ -28,11 +28,8 @@ Units mm, N/mm, MPa, s.
 
 from __future__ import annotations
 
-import argparse
 import json
-import subprocess
 import sys
-import time
 from pathlib import Path
 
 __all__ = ["main", "KratosError", "kratos_python", "run_job", "KRATOS_VENV", "JOB"]
@@ -66,23 +63,11 @@ def run_job(folder: Path, *, python: Path, time_limit: float) -> dict:
     wall time (``process_wall_s``). KratosError (one line) if it failed or ran out of time."""
     env = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "PATH": "/usr/bin:/bin",
            "HOME": str(folder), "PYTHONDONTWRITEBYTECODE": "1"}  # nothing written in the home folder
-    t0 = time.perf_counter()
-    with open(folder / "kratos.log", "w") as log:
-        try:
-            proc = subprocess.run([str(python), str(JOB), str(folder)], cwd=folder, stdout=log,
-                                  stderr=subprocess.PIPE, timeout=time_limit, env=env, text=True)
-        except subprocess.TimeoutExpired:
-            raise KratosError(f"Kratos on {folder.name} exceeded the time limit of {time_limit:g} s "
-                              "(--time-limit); nothing written") from None
-    wall = time.perf_counter() - t0
-    lines = [ln for ln in (proc.stderr or "").splitlines() if ln.strip()]
-    if proc.returncode != 0:
-        first = next((ln for ln in lines if ln.startswith("error:")), lines[-1] if lines else "")
-        raise KratosError(f"Kratos job on {folder.name} failed (exit {proc.returncode}): "
-                          f"{first.removeprefix('error: ')[:300]} (log: kratos.log)")
-    record = json.loads((folder / "kratos_job.json").read_text())
-    record["process_wall_s"] = wall
-    return record
+    from workbench.external.code_runs import timed_job
+
+    return timed_job([str(python), str(JOB), str(folder)], record=folder / "kratos_job.json", cwd=folder, env=env,
+                     log=folder / "kratos.log", what=f"Kratos job on {folder.name}", error=KratosError,
+                     time_limit=time_limit)
 
 
 def _level_summary(exp, record: dict, modelled, skipped: dict) -> dict:
@@ -101,41 +86,18 @@ def _level_summary(exp, record: dict, modelled, skipped: dict) -> dict:
                          for m in modelled}, "not_modelled": skipped}
 
 
-def _parser() -> argparse.ArgumentParser:
-    from workbench.cli import _Parser
-
-    p = _Parser(prog="workbench external kratos", description=__doc__,
-                formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("code", choices=("kratos",))
-    p.add_argument("case", metavar="CASE")
-    p.add_argument("--levels", type=int, default=3, help="number of mesh levels from the case's ci_level down")
-    p.add_argument("--out", default=None, help="output folder (default: results/ of this checkout)")
-    p.add_argument("--time-limit", type=float, default=TIME_LIMIT_S, help="seconds per level (the Kratos job)")
-    return p
-
-
 def main(argv: list[str] | None = None) -> int:
     """``workbench external kratos`` (exit 0 done, 1 a Kratos run failed, 2 bad input or no Kratos venv)."""
-    import math
-
-    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
-    from cases import CaseError, load_case
+    from cases import CaseError
     from workbench import interrupt
     from workbench.atomic import atomic_dir
-    from workbench.external.code_runs import code_levels, score_geometry
-    from workbench.owned import check_dir, ensure_dir
-    from workbench.paths import OutputError, checked_paths
+    from workbench.external.code_runs import code_parser, open_command, print_summary, score_all
+    from workbench.owned import ensure_dir
+    from workbench.paths import OutputError
 
-    args = _parser().parse_args(argv)
+    args = code_parser("kratos", __doc__, time_limit=TIME_LIMIT_S).parse_args(argv)
     try:
-        if not (math.isfinite(args.time_limit) and args.time_limit > 0):
-            raise KratosError(f"--time-limit {args.time_limit!r}; allowed: a number of seconds > 0", code=2)
-        paths = checked_paths(args.out)  # the output folder's guard, whichever way it was given
-        case = load_case(args.case)
-        levels = code_levels(case, args.levels, error=KratosError)
-        folder = paths.command("external_kratos_", case.name)
-        check_dir(folder, kinds=("external",))
-        check_dir(paths.mesh_cache, kinds=("mesh_cache",))
+        paths, case, levels, folder = open_command("kratos", args, error=KratosError)
         python = kratos_python()  # after the arguments: a bad value is named even where Kratos is missing
     except (KratosError, CaseError, OutputError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
@@ -150,7 +112,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with atomic_dir(folder, kind="external") as stage:
             ensure_dir(paths.mesh_cache, kind="mesh_cache", kinds=("mesh_cache",))
-            results: dict[str, list[Path]] = {}
+            results: dict[tuple[str, str], list[Path]] = {}
             for lv in levels:
                 sub = stage / f"h{lv:g}"
                 sub.mkdir()
@@ -164,15 +126,12 @@ def main(argv: list[str] | None = None) -> int:
                     entry = summary["geometries"].setdefault(key or case.name, {"levels": [], "score": None})
                     entry["levels"].append(_level_summary(exp, record, modelled, skipped))
                     entry["not_modelled"] = skipped
-                    results.setdefault(key, []).append(exp.folder / "result.csv")
+                    results.setdefault((key, ""), []).append(exp.folder / "result.csv")
                     last = entry["levels"][-1]
                     loads = [f"{q['P']:.6g}" for r in last["runs"] for q in r["reported"]]
                     print(f"  {last['process_wall_s']:.2f} s, {sum(r['iterations'] for r in last['runs'])} "
                           f"Newton iterations, P = {', '.join(loads)} N/mm", flush=True)
-            for key, files in results.items():
-                target = stage / key / "score" if key else stage / "score"
-                target.parent.mkdir(parents=True, exist_ok=True)
-                summary["geometries"][key or case.name]["score"] = score_geometry(case.name, files, target)
+            score_all(case.name, results, stage, summary)
             (stage / "kratos.json").write_text(json.dumps(summary, indent=1, default=str))
     except KratosError as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
@@ -180,7 +139,5 @@ def main(argv: list[str] | None = None) -> int:
     except (NotModelled, CaseError, ValueError) as exc:  # OutputError among them: the folder changed meanwhile
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
-    print(f"external kratos {case.name}: {len(levels)} level(s) -> {folder}")
-    for key, entry in summary["geometries"].items():
-        print(f"{key}: {entry['score']}")
+    print_summary("kratos", case.name, levels, folder, summary)
     return 0

@@ -18,13 +18,9 @@ A level whose job failed or ran out of time: one line naming it, exit 1, nothing
 
 from __future__ import annotations
 
-import argparse
 import json
-import math
 import os
-import subprocess
 import sys
-import time
 from pathlib import Path
 
 __all__ = ["main", "OwnError", "run_job", "CODE"]
@@ -45,57 +41,25 @@ def run_job(case: str, level: float, folder: Path, *, mesh_cache: Path, time_lim
     """One level's job (:mod:`workbench.external.own_job`) in its own process; its record with the process wall time
     (``process_wall_s``). OwnError (one line) if it failed or ran out of time."""
     env = dict(os.environ) | {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
-    t0 = time.perf_counter()
-    try:
-        proc = subprocess.run([sys.executable, "-m", "workbench.external.own_job", case, repr(level), str(folder),
-                               str(mesh_cache)], capture_output=True, text=True, timeout=time_limit, env=env)
-    except subprocess.TimeoutExpired:
-        raise OwnError(f"the workbench on {case} h = {level:g} exceeded the time limit of {time_limit:g} s "
-                       "(--time-limit); nothing written") from None
-    wall = time.perf_counter() - t0
-    if proc.returncode != 0:
-        lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
-        first = next((ln for ln in lines if ln.startswith("error:")), lines[-1] if lines else "")
-        raise OwnError(f"the workbench on {case} h = {level:g} failed (exit {proc.returncode}): "
-                       f"{first.removeprefix('error: ')[:300]}")
-    record = json.loads((folder / "own_job.json").read_text())
-    record["process_wall_s"] = wall
-    return record
+    from workbench.external.code_runs import timed_job
 
-
-def _parser() -> argparse.ArgumentParser:
-    from workbench.cli import _Parser
-
-    p = _Parser(prog="workbench external workbench", description=__doc__,
-                formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("code", choices=("workbench",))
-    p.add_argument("case", metavar="CASE")
-    p.add_argument("--levels", type=int, default=3, help="number of mesh levels from the case's ci_level down")
-    p.add_argument("--out", default=None, help="output folder (default: results/ of this checkout)")
-    p.add_argument("--time-limit", type=float, default=TIME_LIMIT_S, help="seconds per level")
-    return p
+    return timed_job([sys.executable, "-m", "workbench.external.own_job", case, repr(level), str(folder),
+                      str(mesh_cache)], record=folder / "own_job.json", env=env, error=OwnError,
+                     what=f"the workbench on {case} h = {level:g}", time_limit=time_limit)
 
 
 def main(argv: list[str] | None = None) -> int:
     """``workbench external workbench`` (exit 0 done, 1 a level failed, 2 bad input)."""
-    import workbench.scenes  # noqa: F401  (the scenes register their case schemas)
-    from cases import CaseError, load_case
+    from cases import CaseError
     from workbench import interrupt
     from workbench.atomic import atomic_dir
-    from workbench.external.code_runs import code_levels, score_geometry
-    from workbench.owned import check_dir, ensure_dir
-    from workbench.paths import OutputError, checked_paths
+    from workbench.external.code_runs import code_parser, open_command, print_summary, score_all
+    from workbench.owned import ensure_dir
+    from workbench.paths import OutputError
 
-    args = _parser().parse_args(argv)
+    args = code_parser("workbench", __doc__, time_limit=TIME_LIMIT_S).parse_args(argv)
     try:
-        if not (math.isfinite(args.time_limit) and args.time_limit > 0):
-            raise OwnError(f"--time-limit {args.time_limit!r}; allowed: a number of seconds > 0", code=2)
-        paths = checked_paths(args.out)  # the output folder's guard, whichever way it was given
-        case = load_case(args.case)
-        levels = code_levels(case, args.levels, error=lambda m: OwnError(m, code=2))
-        folder = paths.command("external_workbench_", case.name)
-        check_dir(folder, kinds=("external",))
-        check_dir(paths.mesh_cache, kinds=("mesh_cache",))
+        paths, case, levels, folder = open_command("workbench", args, error=OwnError)
     except (OwnError, CaseError, OutputError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
@@ -122,12 +86,7 @@ def main(argv: list[str] | None = None) -> int:
                     print(f"  {key}: {rec['process_wall_s']:.2f} s, "
                           f"{sum(r['iterations'] for r in geo['runs'])} Newton iterations, P = {loads} N/mm",
                           flush=True)
-            for (key, variant), files in results.items():
-                name = f"score_{variant}" if variant else "score"
-                target = stage / key / name if key else stage / name
-                target.parent.mkdir(parents=True, exist_ok=True)
-                summary["geometries"][key or case.name]["score" if not variant else name] = \
-                    score_geometry(case.name, files, target)
+            score_all(case.name, results, stage, summary)
             (stage / "workbench.json").write_text(json.dumps(summary, indent=1, default=str))
     except OwnError as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
@@ -135,8 +94,5 @@ def main(argv: list[str] | None = None) -> int:
     except (CaseError, ValueError) as exc:  # OutputError among them: the folder changed meanwhile
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
-    print(f"external workbench {case.name}: {len(levels)} level(s) -> {folder}")
-    for key, entry in summary["geometries"].items():
-        for name in [k for k in entry if k.startswith("score")]:
-            print(f"{key}{'' if name == 'score' else ' (' + name[6:] + ')'}: {entry[name]}")
+    print_summary("workbench", case.name, levels, folder, summary)
     return 0
