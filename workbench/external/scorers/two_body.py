@@ -146,7 +146,8 @@ class TwoBodyScorer:
                     "fine": values[0], "max": max(values), "h": [lv["h"] for lv in levels], "ratios": values,
                     "theory": 0.0, "theory_name": "the uniform pressure P / W", "tolerance": tol,
                     "within_tolerance": None if tol is None else bool(max(values) <= tol),
-                    "status": "not extrapolated (a round-off quantity on every mesh)", "extrapolated": max(values),
+                    "status": "not extrapolated: the largest over the levels (round-off for a consistent method)",
+                    "extrapolated": max(values),
                     "band": 0.0, "uncertainty": 0.0, "group": {"run": label, "step": step, "body": body,
                                                                  "quantity": "uniformity"}}
                 continue
