@@ -52,7 +52,7 @@ done; exit 1
 endef
 
 .PHONY: help setup test run ci lint clean collect-alone mutations convergence stability validity bench report list example check-numbers fuzz faults $(CASES)
-.PHONY: viz-check external external-ccx kratos-venv kratos-check save-baseline save-numbers emulate model-bands
+.PHONY: slow-tests viz-check external external-ccx kratos-venv kratos-check save-baseline save-numbers emulate model-bands
 
 # Exit codes: the workbench exits 1 on a tolerance FAIL (results written) and 2 on bad input (nothing written).
 # GNU make itself always exits 2 when a recipe fails, so the recipe names the workbench's own code on the last
@@ -80,6 +80,7 @@ help:
 	@echo "make kratos-check the Kratos job on the patch test and its writer's tests (creates .venv-kratos)"
 	@echo "make model-bands  the workbench's model hierarchy on every case's scene, saved for score's verdict (CASES_BANDS=...)"
 	@echo "make external-ccx the CalculiX tests (slow ones too) and external ccx on five cases, 3 levels each (CCX_CASES=...)"
+	@echo "make slow-tests   the checks make test leaves out (concave_symmetric's error budget, about 130 s)"
 	@echo "make fuzz         property-based fuzzing of case files and the command line (many examples)"
 	@echo "make faults       concurrent runs, SIGINT/SIGTERM during writes, a full disk -> results/faults/report.md"
 	@echo "make mutations    each mutation of tools/mutations.py must make the tests fail (names the catching test)"
@@ -101,6 +102,10 @@ $(STAMP): requirements.txt pyproject.toml
 
 test: setup
 	$(PY) -m pytest -q tests
+
+# The slow checks `make test` leaves out (each names this target when it skips): concave_symmetric's error budget
+slow-tests: setup
+	WORKBENCH_SLOW_TESTS=1 $(PY) -m pytest -q -rs tests/test_error_budget_cases.py
 
 lint: setup
 	$(VENV)/bin/ruff check .
