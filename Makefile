@@ -80,7 +80,7 @@ help:
 	@echo "make kratos-check the Kratos job on the patch test and its writer's tests (creates .venv-kratos)"
 	@echo "make model-bands  the workbench's model hierarchy on every case's scene, saved for score's verdict (CASES_BANDS=...)"
 	@echo "make external-ccx the CalculiX tests (slow ones too) and external ccx on five cases, 3 levels each (CCX_CASES=...)"
-	@echo "make slow-tests   the checks make test leaves out (concave_symmetric's error budget, about 130 s)"
+	@echo "make slow-tests   the checks make test leaves out (concave_symmetric's error budget, every test file collected alone)"
 	@echo "make fuzz         property-based fuzzing of case files and the command line (many examples)"
 	@echo "make faults       concurrent runs, SIGINT/SIGTERM during writes, a full disk -> results/faults/report.md"
 	@echo "make mutations    each mutation of tools/mutations.py must make the tests fail (names the catching test)"
@@ -103,9 +103,10 @@ $(STAMP): requirements.txt pyproject.toml
 test: setup
 	$(PY) -m pytest -q tests
 
-# The slow checks `make test` leaves out (each names this target when it skips): concave_symmetric's error budget
+# The slow checks `make test` leaves out (each names this target when it skips): concave_symmetric's error budget,
+# every test file collected alone (issue 28)
 slow-tests: setup
-	WORKBENCH_SLOW_TESTS=1 $(PY) -m pytest -q -rs tests/test_error_budget_cases.py
+	WORKBENCH_SLOW_TESTS=1 $(PY) -m pytest -q -rs tests/test_error_budget_cases.py tests/test_files_alone.py
 
 lint: setup
 	$(VENV)/bin/ruff check .
