@@ -117,12 +117,15 @@ def plot_case(rows: list[dict], path: Path) -> None:
     for r in rows:
         if r["status"] != "scored" or not r["wall_s"]:
             continue
-        e = [max(x, 1e-8) for x in r["errors"]]
+        e = [max(x, 1e-16) for x in r["errors"]]  # log axis: an exact zero only; round-off (1e-11) shown as is
         label = _name(r["code"]) + ("" if r["geometry"] == r["case"] else f" [{r['geometry']}]")
         ax.loglog(r["wall_s"], e, marker=markers.get(r["code"], "x"), label=label)
     for target in (1e-2, 1e-3):
         ax.axhline(target, color="0.6", lw=0.8, ls="--")
     scored = [r for r in rows if r["status"] == "scored"]
+    from matplotlib.ticker import NullFormatter
+
+    ax.xaxis.set_minor_formatter(NullFormatter())  # decades only: minor labels overlap on a short time span
     ax.set_xlabel("process wall time per level (s)")
     ax.set_ylabel("error of the main quantity (relative)")
     ax.set_title(f"{rows[0]['case']}: {scored[0]['label'] if scored else ''}"[:80], fontsize=9)
