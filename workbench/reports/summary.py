@@ -1,7 +1,9 @@
 """Summary report: ``results/report.md`` and ``results/report.html``.
 
-Verdict first (issue 22): the page opens with "N of M cases PASS" and one line per failing check (the check,
-its value against its tolerance, or the band check's own reason), before any table. Then one row per scene with
+Verdict first (issue 22): the page opens with "N of M cases PASS", then one figure (issue 37, ``forest.png``:
+every case's judged quantities over their theory, with their bands, :mod:`workbench.reports.forest`), so the
+verdict is seen before it is read, then one line per failing check (the check, its value against its tolerance,
+or the band check's own reason), before any table. Then one row per scene with
 its verdict, headline numbers and a link to the case report (narrow enough for a 1400 px window), the error
 budget (long; below the verdicts), the paper-claims table, and links to the studies (convergence, stability,
 benchmark) when they have been run. It reads only what the
@@ -17,15 +19,19 @@ from pathlib import Path
 from cases import case_names
 from workbench.atomic import write_root_text, write_text
 from workbench.owned import check_dir, check_root_file, record_root_files
+from workbench.reports.forest import forest_caption, forest_rows
 from workbench.reports.markdown import fmt, markdown_to_html
 
-__all__ = ["STUDY_REPORTS", "check_summary_writes", "load_metrics", "failing_checks", "verdict_markdown",
-           "summary_markdown", "trust_markdown", "write_summary"]
+__all__ = ["FOREST_PNG", "STUDY_REPORTS", "check_summary_writes", "load_metrics", "failing_checks", "forest_markdown",
+           "verdict_markdown", "summary_markdown", "trust_markdown", "write_summary"]
 
 STUDY_REPORTS = ("convergence/report.md", "stability/report.md", "bench/report.md", "analytic/convective.md",
                  "validity/report.md", "ci_report.md")
 """The reports (Markdown) below the output folder other than the summary and the cases' (the studies and the CI
 report); writing the summary gives each an HTML twin."""
+
+FOREST_PNG = "forest.png"
+"""The summary's opening figure (:mod:`workbench.reports.forest_plot`), at the top of the output folder."""
 
 _HEADLINE = ("p_max", "half_width", "rms", "load_balance", "b_over_b0")
 
@@ -76,6 +82,14 @@ def verdict_markdown(metrics: dict[str, dict]) -> list[str]:
     if missing:
         lines.append(f"- Not run yet: {', '.join(missing)}.")
     return lines + ([""] if failed or missing else [])
+
+
+def forest_markdown(metrics: dict[str, dict]) -> list[str]:
+    """The opening figure (:data:`FOREST_PNG`) and its caption; nothing when no case has a judged quantity."""
+    rows = forest_rows(metrics)
+    if not rows:
+        return []
+    return [f"![every judged quantity against its theory]({FOREST_PNG})", "", f"*{forest_caption(rows)}*", ""]
 
 
 def _budget_markdown(metrics: dict[str, dict]) -> list[str]:
@@ -189,7 +203,8 @@ def summary_markdown(results: Path) -> str:
     from workbench.reports.paper_claims import claims_markdown
 
     metrics = load_metrics(results)
-    lines = ["# Contact verification workbench: summary", "", *verdict_markdown(metrics)]
+    verdict = verdict_markdown(metrics)  # the count, then the figure, then the failing checks
+    lines = ["# Contact verification workbench: summary", "", *verdict[:2], *forest_markdown(metrics), *verdict[2:]]
     lines += [
         "## Cases",
         "",
@@ -251,7 +266,7 @@ def check_summary_writes(results: Path, *, case_reports: bool = True) -> None:
     folder or over a file that the workbench did not write: the summary files at the top of ``results``, the
     case folders whose reports it draws again, the study folders that get an HTML twin."""
     results = Path(results)
-    for name in ("report.md", "report.html", "p_delta.png"):
+    for name in ("report.md", "report.html", "p_delta.png", FOREST_PNG):
         check_root_file(results, name)
     if case_reports:
         for name in case_names():
@@ -298,6 +313,14 @@ def write_summary(results: Path, *, case_reports: bool = True) -> None:
         record_root_files(results, ["p_delta.png"])
         plot_load_indentation(curves, results / "p_delta.png", title="Load against indentation (our designs)",
                               reference=paper)
+    rows = forest_rows(metrics)
+    if rows:
+        from workbench.reports.forest_plot import plot_forest
+
+        record_root_files(results, [FOREST_PNG])
+        passed = sum(bool(m.get("pass")) for m in metrics.values())
+        plot_forest(rows, results / FOREST_PNG, title=f"Every judged quantity against its theory ({passed} of "
+                                                        f"{len(case_names())} cases PASS)")
     md = summary_markdown(results)
     write_root_text(results, "report.md", md)
     # the summary links the Markdown reports; its HTML twin links their HTML twins
