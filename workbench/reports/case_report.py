@@ -10,13 +10,15 @@ from __future__ import annotations
 import json
 import sys
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
 from workbench.atomic import write_text
 from workbench.reports.markdown import fmt, markdown_to_html
 
-__all__ = ["case_report_markdown", "load_series", "pressure_panels", "write_case_report", "write_case_reports"]
+__all__ = ["B_MEASURES", "BMeasure", "b_headline", "case_report_markdown", "judged_b_measure", "judged_prediction",
+           "load_series", "pressure_panels", "write_case_report", "write_case_reports"]
 
 
 def _fmt(v) -> str:
@@ -37,27 +39,130 @@ def load_series(folder: Path) -> list[dict] | None:
             for sr in json.loads(f.read_text())["series"]]
 
 
-def _b_marks(metrics: dict | None, label: str) -> list[tuple[str, float]]:
-    """Contact edges x = b0 (b/b0) of the headline b/b0 values (FEM, converged, first order, the paper's
-    printed value) on the convective run's panel; b0 is the classical half-width of the small-kinematics run."""
-    an = (metrics or {}).get("analytic", {})
-    if label != "convective" or "b_over_b0_fem" not in an:
+class BMeasure(NamedTuple):
+    """One measure of the convective contact-size ratio b/b0 and where ``metrics.json["analytic"]`` keeps it.
+
+    Attributes:
+        check: The case's tolerance check (and error) of the measure.
+        name: What it measures, for the headline.
+        fem, converged, first_order, paper: The ``analytic`` keys of the FEM value and of the theories (converged
+            theory, its first order, the paper's printed value; None where no such key exists).
+    """
+
+    check: str
+    name: str
+    fem: str
+    converged: str
+    first_order: str
+    paper: str | None = None
+
+
+B_MEASURES = (
+    BMeasure("b_over_b0_moment", "moment ratio", "b_over_b0_moment_fem", "b_over_b0_moment_converged",
+             "b_over_b0_moment_first_order"),
+    BMeasure("b_over_b0", "edge ratio", "b_over_b0_fem", "b_over_b0_converged", "b_over_b0_first_order",
+             "b_over_b0_paper"),
+)
+"""The b/b0 measures a convective case records: the moment ratio (2 sqrt(M2/M0) of the pressure, convective over
+small; smooth, resolved on coarse grids) and the edge ratio (the zero crossings, unresolved between nodes)."""
+
+
+def judged_b_measure(metrics: dict | None) -> BMeasure | None:
+    """The b/b0 measure the case's verdict reads: of the measures whose FEM value ``metrics["analytic"]`` records,
+    the one the case checks with the tightest tolerance (the halfplanes cases: the moment ratio at 0.2 %, the edges
+    at 5 %); a measure recorded but not checked only when none is checked; None for a case with no b/b0."""
+    an, tol = (metrics or {}).get("analytic") or {}, (metrics or {}).get("tolerances") or {}
+    recorded = [b for b in B_MEASURES if an.get(b.fem) is not None]
+    checked = [b for b in recorded if tol.get(b.check) is not None]
+    if checked:
+        return min(checked, key=lambda b: tol[b.check])
+    return recorded[0] if recorded else None
+
+
+def _run_of(metrics: dict | None, label: str) -> dict:
+    return next((r for r in (metrics or {}).get("runs", []) if r.get("label") == label), {})
+
+
+def _is_convective(metrics: dict | None, label: str) -> bool:
+    return _run_of(metrics, label).get("kinematics", label) == "convective"
+
+
+def b_headline(metrics: dict | None) -> list[str]:
+    """The convective panel's headline (issue 37): first the measure the verdict reads (:func:`judged_b_measure`),
+    FEM against the converged theory with its error and tolerance, then each other b/b0 measure the case records,
+    named as such. Empty for a case with no b/b0."""
+    judged = judged_b_measure(metrics)
+    if judged is None:
         return []
+    an, tol = metrics["analytic"], metrics.get("tolerances") or {}
+    errors, checks = metrics.get("errors") or {}, metrics.get("checks") or {}
+
+    def line(b: BMeasure, lead: str) -> str:
+        text = f"{lead}{b.name} b/b0: FEM {an[b.fem]:.5f}"
+        if an.get(b.converged) is not None:
+            text += f" against converged theory {an[b.converged]:.5f}"
+        if errors.get(b.check) is not None and b.check in tol:
+            verdict = {True: "PASS", False: "FAIL"}.get(checks.get(b.check), "")
+            text += f" (error {errors[b.check]:.1e}, tolerance {tol[b.check]:.0e}{' ' + verdict if verdict else ''})"
+        return text
+
+    others = [b for b in B_MEASURES if b is not judged and an.get(b.fem) is not None]
+    return [line(judged, "judged by the " if judged.check in tol else ""),
+            *[line(b, "also: ") for b in others]]
+
+
+def _b_marks(metrics: dict | None, label: str) -> list[tuple[str, float]]:
+    """Contact edges x = b0 (b/b0) of the judged b/b0 measure (:func:`judged_b_measure`: FEM, converged theory,
+    first order, the paper's printed value) on the convective run's panel; b0 is the classical half-width of the
+    small-kinematics run."""
+    b = judged_b_measure(metrics)
+    if b is None or not _is_convective(metrics, label):
+        return []
+    an = metrics["analytic"]
     b0 = ((an.get("runs") or {}).get("small") or {}).get("half_width")
     if not b0:
         return []
-    names = (("b_over_b0_fem", "FEM"), ("b_over_b0_converged", "converged theory"),
-             ("b_over_b0_first_order", "first order"), ("b_over_b0_paper", "paper (printed)"))
-    return [(f"b/b0 {text} = {an[key]:.4g}", b0 * an[key]) for key, text in names if an.get(key) is not None]
+    names = ((b.fem, "FEM"), (b.converged, "converged theory"), (b.first_order, "first order"),
+             (b.paper, "paper (printed)"))
+    return [(f"{b.name} b/b0 {text} = {an[key]:.5g}", b0 * an[key]) for key, text in names
+            if key is not None and an.get(key) is not None]
+
+
+def judged_prediction(label: str, names: list[str], metrics: dict | None) -> str | None:
+    """The prediction (of ``names``, a series' predictions) the case judges run ``label`` against, for the
+    residual panel: the converged convective theory for a convective run of a case that checks
+    ``rms_convective``; the theory named by the checked RMS error (``rms_vs_exact_circle``: the exact circle);
+    else the first (the scene's classical theory at the measured load). None when there is no prediction."""
+    if not names:
+        return None
+    tol = (metrics or {}).get("tolerances") or {}
+    if "rms_convective" in tol and _is_convective(metrics, label):
+        found = [n for n in names if "converged" in n.lower()]
+        if found:
+            return found[0]
+    rms = ((metrics or {}).get("checked_errors") or {}).get("rms", "")
+    if rms.startswith("rms_vs_"):
+        words = rms.removeprefix("rms_vs_").replace("_", " ")
+        found = [n for n in names if words in n.lower()]
+        if found:
+            return found[0]
+    return names[0]
 
 
 def pressure_panels(series: list[dict], metrics: dict | None = None) -> list[dict]:
-    """The panels of :func:`workbench.reports.plots.plot_pressure_panels`, one per series (with the b/b0
-    contact edges of a convective case marked, see :func:`_b_marks`)."""
-    return [{"label": sr["label"], "x": sr["x"], "p_fem": sr["p"], "sigma_nn": sr["sigma_nn"],
-             "xlabel": sr["xlabel"], "xlim": sr["xlim"], "marks": _b_marks(metrics, sr["label"]),
-             "predictions": {k: (sr["x"], v) for k, v in sr["predictions"].items() if v is not None}}
-            for sr in series]
+    """The panels of :func:`workbench.reports.plots.plot_pressure_panels`, one per series: the convective run's
+    panel headlines the b/b0 measure the verdict reads (:func:`b_headline`) and marks its contact edges
+    (:func:`_b_marks`); every residual is against the theory the case judges that run by
+    (:func:`judged_prediction`)."""
+    panels = []
+    for sr in series:
+        preds = {k: (sr["x"], v) for k, v in sr["predictions"].items() if v is not None}
+        headline = b_headline(metrics) if _is_convective(metrics, sr["label"]) else []
+        panels.append({"label": sr["label"], "x": sr["x"], "p_fem": sr["p"], "sigma_nn": sr["sigma_nn"],
+                       "xlabel": sr["xlabel"], "xlim": sr["xlim"], "marks": _b_marks(metrics, sr["label"]),
+                       "headline": headline, "residual": judged_prediction(sr["label"], list(preds), metrics),
+                       "predictions": preds})
+    return panels
 
 
 # What each model means physically: docs/models.md (linked from every case report, one line per run; the

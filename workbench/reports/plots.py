@@ -65,13 +65,15 @@ def has_curve(values) -> bool:
 
 def plot_pressure_panels(panels: list[dict], path: Path, *, title: str) -> None:
     """One column per run: FEM pressure against every analytic prediction, and below it the residual
-    (FEM - theory) / p0 of the first prediction, or of the convective one where present (p0: that
-    prediction's peak).
+    (FEM - theory) / p0 of the theory the run is judged by (``residual``; without it, the convective prediction
+    where present, else the first; p0: that prediction's peak).
 
     Args:
         panels: dicts with ``label``, ``x`` (mm), ``p_fem`` (MPa), optional ``sigma_nn`` (MPa),
             ``predictions`` (name -> (x, p) arrays), ``xlabel``, ``xlim`` and optional ``marks``: a list of
-            (label, x) drawn as vertical lines (e.g. the contact edge b = b0 (b/b0) of each theory).
+            (label, x) drawn as vertical lines (e.g. the contact edge b = b0 (b/b0) of each theory), optional
+            ``headline`` (lines under the panel's title: the measure the verdict reads) and ``residual`` (the
+            name of the prediction the residual is taken against).
         path: PNG file to write (atomically, 150 dpi).
         title: Figure title.
 
@@ -98,7 +100,8 @@ def plot_pressure_panels(panels: list[dict], path: Path, *, title: str) -> None:
         for (name, xm), colour in zip(panel.get("marks", []), ("C3", "C4", "C5", "C6", "C8"), strict=False):
             ax.axvline(xm, color=colour, lw=1.0, ls=(0, (4, 2)), label=name)
         ax.set_ylabel("p (MPa)")
-        ax.set_title(panel["label"], fontsize=10)
+        ax.set_title("\n".join([panel["label"], *panel.get("headline", [])]), fontsize=10 if not panel.get("headline")
+                     else 8)
         if panel.get("xlim"):
             ax.set_xlim(*panel["xlim"])
         if _singular(p):
@@ -110,8 +113,9 @@ def plot_pressure_panels(panels: list[dict], path: Path, *, title: str) -> None:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
         plt.setp(ax.get_xticklabels(), visible=False)
-        if preds:  # the residual against the most specific theory: the convective one where present
-            name, (xp, pp) = next((q for q in preds if "convective" in q[0]), preds[0])
+        if preds:  # the residual against the theory the run is judged by (else the convective one, else the first)
+            name, (xp, pp) = next((q for q in preds if q[0] == panel.get("residual")),
+                                  next((q for q in preds if "convective" in q[0]), preds[0]))
             pp = np.asarray(pp, dtype=float)
             p0 = float(np.nanmax(pp)) if np.isfinite(pp).any() else float("nan")
             same = len(xp) == len(x) and np.allclose(np.asarray(xp, dtype=float), x)
