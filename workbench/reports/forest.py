@@ -211,8 +211,8 @@ def forest_caption(rows: list[ForestRow]) -> str:
     text = ("Every judged quantity of every case over its theory (theory = 1; symmetric-log scale of the deviation). "
             "Circles with a bar: the extrapolated value of the error budget and its band (`make run`); the band "
             "check passes when the bar holds the theory (an `exclude_*` check: when it does not hold that theory). "
-            "Green: the verdict passes, red: it fails, grey: not judged; x: the alternative theory the band must "
-            "exclude.")
+            "Green: the verdict passes, red: it fails, grey: not judged; x: the row's alternative theory (an "
+            "`exclude_alt` check needs it outside the bar).")
     if no_band:
         text += (" Squares, no band: cases without an error budget (CI level: " + ", ".join(no_band)
                  + "), the fine value against the theory, the check's tolerance shaded around 1.")

@@ -19,7 +19,7 @@ from pathlib import Path
 
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
-from matplotlib.ticker import FuncFormatter
+from matplotlib.ticker import FuncFormatter, NullLocator
 
 from workbench.atomic import atomic_path
 from workbench.reports.forest import ForestRow
@@ -28,17 +28,26 @@ from workbench.reports.plots import plt
 __all__ = ["plot_forest"]
 
 _COLOUR = {True: "tab:green", False: "tab:red", None: "0.5"}
-_KIND_NOTE = {"exclude_theory": " (must exclude the theory)"}
+_KIND_NOTE = {"exclude_theory": " (excludes the theory)"}
 
 
 def _linthresh(rows: list[ForestRow]) -> float:
-    """The linear range of the symmetric-log axis: the decade of the smallest deviation, band or tolerance."""
-    scales = [abs(r.ratio - 1.0) for r in rows if r.ratio is not None]
-    scales += [r.band for r in rows if r.band] + [r.tolerance for r in rows if r.tolerance]
-    scales += [abs(r.alt_ratio - 1.0) for r in rows if r.alt_ratio is not None]
+    """The linear range of the symmetric-log axis: the decade of the smallest band or tolerance (a deviation
+    smaller than every band sits in the linear range, near the theory), else of the smallest deviation."""
+    scales = [r.band for r in rows if r.band] + [r.tolerance for r in rows if r.tolerance]
+    if not scales:
+        scales = [abs(r.ratio - 1.0) for r in rows if r.ratio is not None]
     positive = [s for s in scales if s > 0.0 and math.isfinite(s)]
     smallest = min(positive, default=1e-3)
     return min(max(10.0 ** math.floor(math.log10(smallest)), 1e-9), 1e-3)
+
+
+def _ticks(thresh: float, lim: float) -> list[float]:
+    """At most four decades each side of the theory, from the linear range's edge to the axis limit."""
+    lo, hi = math.ceil(math.log10(thresh)), math.floor(math.log10(lim))
+    step = max(1, math.ceil((hi - lo + 1) / 4))
+    decades = [10.0 ** k for k in range(hi, lo - 1, -step)]
+    return sorted([-d for d in decades] + [0.0] + decades)
 
 
 def _tick(v: float, _pos=None) -> str:
@@ -54,7 +63,7 @@ def plot_forest(rows: list[ForestRow], path: Path, *, title: str) -> Path | None
     if not rows:
         return None
     n = len(rows)
-    fig, ax = plt.subplots(figsize=(10.0, 1.6 + 0.26 * n))
+    fig, ax = plt.subplots(figsize=(11.0, 1.6 + 0.26 * n))
     thresh = _linthresh(rows)
     ax.set_xscale("symlog", linthresh=thresh, linscale=1.0)
     ys = list(range(n))[::-1]  # the first row on top
@@ -90,6 +99,8 @@ def plot_forest(rows: list[ForestRow], path: Path, *, title: str) -> Path | None
     ax.set_yticks(ys, [f"{r.case}: {r.quantity}{_KIND_NOTE.get(r.kinds[0], '') if r.kinds else ''}" for r in rows],
                   fontsize=6)
     ax.set_ylim(-0.7, n - 0.3)
+    ax.set_xticks(_ticks(thresh, lim))
+    ax.xaxis.set_minor_locator(NullLocator())
     ax.xaxis.set_major_formatter(FuncFormatter(_tick))
     ax.tick_params(axis="x", labelsize=6)
     ax.set_xlabel("value / theory (theory = 1; symmetric log of the deviation, linear within "
