@@ -143,3 +143,13 @@ def test_write_summary_draws_the_figure(tmp_path):
     assert png.is_file() and png.stat().st_size > 10_000
     assert imread(png).shape[0] > 400  # one line per row: a tall figure
     assert f'src="{FOREST_PNG}"' in (tmp_path / "report.html").read_text()
+
+
+def test_a_users_forest_png_is_refused_before_anything_is_written(tmp_path):
+    from workbench.paths import OutputError
+    from workbench.reports.summary import check_summary_writes
+
+    (tmp_path / FOREST_PNG).write_bytes(b"mine")
+    with pytest.raises(OutputError, match=FOREST_PNG):
+        check_summary_writes(tmp_path, case_reports=False)
+    assert (tmp_path / FOREST_PNG).read_bytes() == b"mine"
