@@ -74,6 +74,14 @@ def test_a_budget_without_band_checks_gives_its_rows_with_a_theory_not_judged():
     assert all(r.passed is None for r in rows)
 
 
+def test_an_unresolved_exclusion_passes_and_says_so():
+    m = _budget_case()
+    m["error_budget"]["b_over_b0"] |= {"alt_value": 0.9810, "alt_in_band": True}
+    m["band_checks"]["exclude_alt:b_over_b0"]["unresolved"] = {"b_over_b0": "unresolved: ..."}
+    row = case_forest_rows("budgeted", m)[0]
+    assert row.passed is True and row.note.startswith("unresolved")
+
+
 def test_an_undefined_band_keeps_its_row_and_says_why():
     m = _budget_case()
     m["error_budget"]["b_over_b0"] |= {"gci": None, "status": "oscillating"}

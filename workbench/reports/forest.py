@@ -53,7 +53,8 @@ class ForestRow(NamedTuple):
         alt_ratio: The alternative theory over the theory (an exclusion's other theory), or None.
         signed: False when only ``|value / theory - 1|`` is recorded (the row sits at ``1 + error``).
         tolerance: The tolerance of a CI-level check (relative), else None.
-        note: Why ``ratio`` or ``band`` is undefined, or "".
+        note: Why ``ratio`` or ``band`` is undefined, that an exclusion is unresolved (its band holds both
+            theories: it passes, :mod:`workbench.pipeline.bands`), or "".
     """
 
     case: str
@@ -127,13 +128,19 @@ def _budget_rows(case: str, m: dict) -> list[ForestRow]:
         kind = c.get("kind") or str(key).split(":", 1)[0]
         for name in _row_names(rows):
             ok = rows[name] if isinstance(rows, dict) else c.get("passed")
-            j = judged.setdefault(name, {"ok": [], "kinds": []})
+            j = judged.setdefault(name, {"ok": [], "kinds": [], "unresolved": False})
             j["ok"].append(bool(ok))
+            j["unresolved"] |= name in (c.get("unresolved") or {})
             if kind not in j["kinds"]:
                 j["kinds"].append(kind)
     if judged:
-        return [_budget_row(case, name, budget.get(name) or {}, passed=all(j["ok"]), kinds=tuple(j["kinds"]))
-                for name, j in judged.items()]
+        out = []
+        for name, j in judged.items():
+            row = _budget_row(case, name, budget.get(name) or {}, passed=all(j["ok"]), kinds=tuple(j["kinds"]))
+            if j["unresolved"] and not row.note:  # passes, but the band holds the alternative theory too
+                row = row._replace(note="unresolved: the band holds the theory and the alternative")
+            out.append(row)
+        return out
     return [_budget_row(case, name, r, passed=None, kinds=()) for name, r in budget.items()
             if isinstance(r, dict) and _finite(r.get("theory")) not in (None, 0.0)]
 
