@@ -161,3 +161,14 @@ def test_a_users_forest_png_is_refused_before_anything_is_written(tmp_path):
     with pytest.raises(OutputError, match=FOREST_PNG):
         check_summary_writes(tmp_path, case_reports=False)
     assert (tmp_path / FOREST_PNG).read_bytes() == b"mine"
+
+
+def test_the_figure_draws_undefined_and_exact_rows(tmp_path):
+    from workbench.reports.forest import ForestRow
+    from workbench.reports.forest_plot import plot_forest
+
+    rows = [ForestRow("a", "q", None, None, False, ("contain_theory",), note="no theory"),
+            ForestRow("a", "exact", 1.0, 0.0, True, ("contain_theory",)),
+            ForestRow("b", "far", 5.0, None, None, ())]
+    assert plot_forest(rows, tmp_path / "f.png", title="t").stat().st_size > 5_000
+    assert plot_forest([], tmp_path / "g.png", title="t") is None and not (tmp_path / "g.png").exists()
