@@ -87,9 +87,9 @@ def plot_forest(rows: list[ForestRow], path: Path, *, title: str) -> Path | None
             ax.plot([dev], [y], "s", ms=4, color=colour, mfc=colour if r.signed else "none")
         else:  # a budget row whose band is undefined: its value, hollow, and why
             ax.plot([dev], [y], "o", ms=4, color=colour, mfc="none")
-        if r.note:
-            ax.annotate(r.note[:60], (dev, y), xytext=(6, 0), textcoords="offset points", va="center",
-                        fontsize=5, color=colour)
+        if r.note:  # at the right edge, clear of the bars
+            ax.text(0.995, y, r.note[:70], transform=ax.get_yaxis_transform(), ha="right", va="bottom", fontsize=5,
+                    color=colour)
         if r.alt_ratio is not None:
             ax.plot([r.alt_ratio - 1.0], [y], "x", color="k", ms=4)
             span.append(abs(r.alt_ratio - 1.0))
@@ -106,16 +106,19 @@ def plot_forest(rows: list[ForestRow], path: Path, *, title: str) -> Path | None
     ax.set_xlabel("value / theory (theory = 1; symmetric log of the deviation, linear within "
                   f"+-{thresh:.0e})", fontsize=7)
     ax.grid(axis="x", alpha=0.3)
-    handles = [Line2D([], [], marker="o", color="tab:green", ls="-", ms=4, label="extrapolated, band (budget)"),
-               Line2D([], [], marker="s", color="tab:green", ls="", ms=4, label="fine value, no band (CI level)"),
-               Patch(color="0.85", label="tolerance (CI level)"),
-               Line2D([], [], marker="x", color="k", ls="", ms=4, label="alternative theory"),
-               Patch(color="tab:green", label="passes"), Patch(color="tab:red", label="fails"),
-               Patch(color="0.5", label="not judged")]
-    if any(not r.signed for r in rows):
-        handles.insert(2, Line2D([], [], marker="s", color="tab:green", mfc="none", ls="", ms=4,
-                                 label="|value/theory - 1| only"))
-    ax.legend(handles=handles, fontsize=6, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    ci = [r for r in rows if "tolerance" in r.kinds]
+    handles = [(len(ci) < n, Line2D([], [], marker="o", color="0.3", ls="-", ms=4,
+                                    label="extrapolated, band (budget)")),
+               (bool(ci), Line2D([], [], marker="s", color="0.3", ls="", ms=4, label="fine value, no band (CI level)")),
+               (any(not r.signed for r in rows), Line2D([], [], marker="s", color="0.3", mfc="none", ls="", ms=4,
+                                                        label="|value/theory - 1| only")),
+               (bool(ci), Patch(color="0.85", label="tolerance (CI level)")),
+               (any(r.alt_ratio is not None for r in rows),
+                Line2D([], [], marker="x", color="k", ls="", ms=4, label="alternative theory")),
+               *[(any(r.passed is v for r in rows), Patch(color=_COLOUR[v], label=text))
+                 for v, text in ((True, "passes"), (False, "fails"), (None, "not judged"))]]
+    ax.legend(handles=[h for shown, h in handles if shown], fontsize=6, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+              borderaxespad=0.0)
     ax.set_title(title, fontsize=9)
     fig.tight_layout()
     path = Path(path)
