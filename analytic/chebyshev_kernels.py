@@ -72,7 +72,7 @@ def _lambda(t: np.ndarray, m_max: int, *, derivative: bool) -> np.ndarray:
     if to.size:
         sg = np.sign(to)
         root = np.sqrt(to * to - 1.0)
-        z = to - sg * root
+        z = sg / (np.abs(to) + root)  # = t - sign(t) sqrt(t^2 - 1), without the cancellation at large |t|
         zm = z[:, None] ** m
         if derivative:
             out[~inside] = (sg / root)[:, None] * zm
