@@ -78,7 +78,8 @@ def _lambda(t: np.ndarray, m_max: int, *, derivative: bool) -> np.ndarray:
             out[~inside] = (sg / root)[:, None] * zm
         else:
             val = -zm / np.where(m == 0, 1, m)
-            val[:, 0] = -math.log(2.0) - np.log(np.abs(z))
+            with np.errstate(divide="ignore"):  # |t| = inf (a degenerate iterate of a root search): lambda_0 = -inf
+                val[:, 0] = -math.log(2.0) - np.log(np.abs(z))
             out[~inside] = val
     return out
 

@@ -154,30 +154,43 @@ def _static_validity(m: DesignMeasure) -> str | None:
     return None
 
 
-def force_law(mem: FamilyMember, *, d_max: float, n_rows: int = 41, n_terms: int = 32) -> ForceLawTable:
-    """The table of a member from first touch to d_max (mm along the path), n_rows rows (>= 2).
+def force_law(mem: FamilyMember, *, d_max: float | None = None, n_rows: int = 41, step: float = 0.002,
+              n_terms: int = 32) -> ForceLawTable:
+    """The table of a member from first touch: to ``d_max`` (mm along the path) in ``n_rows`` rows (>= 2), or,
+    with d_max None, in steps of ``step`` (mm) up to the last row inside the validity limit (at most 0.5 mm).
 
     Raises:
-        ValueError: one line: a bad value, or the design (or a state up to d_max) outside the validity limit.
+        ValueError: one line: a bad value, the design outside the validity limit, or (d_max given) a state up to
+            d_max outside it.
     """
     if not (isinstance(n_rows, int) and 2 <= n_rows <= 1000):
         raise ValueError(f"n_rows = {n_rows!r} out of range: need an integer 2 <= n_rows <= 1000")
+    if not (math.isfinite(step) and 1e-5 <= step <= 0.1):
+        raise ValueError(f"step = {step!r} out of range: need 1e-5 <= step <= 0.1 mm")
     des, m = build(mem)
     why = _static_validity(m)
     if why:
         raise ValueError(f"design {mem.name!r} out of range: outside the interacting-patch model's validity "
                          f"limit: {why}")
-    if not (math.isfinite(d_max) and m.d_touch < d_max <= m.d_touch + 0.5):
+    if d_max is not None and not (math.isfinite(d_max) and m.d_touch < d_max <= m.d_touch + 0.5):
         raise ValueError(f"d_max = {d_max!r} out of range: need {m.d_touch:.6g} < d_max <= {m.d_touch + 0.5:.6g} mm "
                          "(from first touch to 0.5 mm beyond)")
     E_star = YOUNGS_MODULUS / (1.0 - POISSON_RATIO**2)
     dg = design_gap(des, m)
-    ds = m.d_touch + (d_max - m.d_touch) * np.linspace(0.0, 1.0, n_rows)[1:]
+    if d_max is not None:
+        ds = m.d_touch + (d_max - m.d_touch) * np.linspace(0.0, 1.0, n_rows)[1:]
+    else:
+        ds = m.d_touch + step * np.arange(1, int(0.5 / step) + 1)
     rows = [ForceLawRow(float(m.d_touch), 0.0, ())]
     prev: PatchSolution | None = None
     for d in ds:
         sol = _continued(dg, prev, float(d), d0=rows[-1].d, E_star=E_star, depth=mem.depth, n_terms=n_terms)
         why = validity(sol, dg, depth=mem.depth)
+        if why and d_max is None:
+            if len(rows) < 2:
+                raise ValueError(f"design {mem.name!r} out of range: already at d = {d:.6g} mm {why} "
+                                 f"(first touch at {m.d_touch:.6g} mm); try a smaller step")
+            break
         if why:
             raise ValueError(f"d_max = {d_max!r} out of range: at d = {d:.6g} mm {why}; the model's validity limit "
                              f"is below this d_max (first touch at {m.d_touch:.6g} mm, last valid row "

@@ -224,8 +224,10 @@ def _solve_fixed_set(asm: _Assembly, c0, b0, *, delta, P) -> tuple[Patch, ...]:
     K = len(c0)
     scale = float(np.mean(b0))
 
+    lo, hi = math.log(1e-8 * scale), math.log(1e4 * scale)  # keeps a wild trial step of the root finite
+
     def unpack(y):
-        return y[:K] * scale, np.exp(y[K:])
+        return y[:K] * scale, np.exp(np.clip(y[K:], lo, hi))
 
     def residual(y):
         c, b = unpack(y)
