@@ -41,9 +41,11 @@ Validity (what the model leaves out). The half-plane idealisation of the elastic
 b_k small against the radii of both surfaces there (b/|R| <= :data:`MAX_PATCH_OVER_RADIUS`), the patches'
 span small against the body depth r_ref (span/r_ref <= :data:`MAX_SPAN_OVER_DEPTH`), and the surfaces nearly
 parallel to the half-plane across the whole span (|slope of the elastic surface| <= :data:`MAX_SURFACE_SLOPE`:
-beyond it the normals of the patches differ and the coupling through a flat surface is no longer the body's).
-Those limits are the model's analytic validity limit; the map against the FEM that validates regions comes
-later (issue 40, item 3). Units: mm, N/mm, MPa.
+beyond it the normals of the patches differ and the coupling through a flat surface is no longer the body's;
+for patches separated by s on an elastic surface of radius R the slope is about s/|R|, so this is the limit of
+the separation against the radius). The model's error inside these limits is of the order of (b/R) and of the
+slope squared (a few per cent at the limits), not measured yet. Those limits are the model's analytic validity
+limit; the map against the FEM that validates regions comes later (issue 40, item 3). Units: mm, N/mm, MPa.
 """
 
 from __future__ import annotations
