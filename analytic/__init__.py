@@ -9,6 +9,11 @@ Modules (each with one job):
     fit             least-squares semi-elliptical fit of sampled pressures
     superposition   sum of independent Hertz patches along the arc length of a concave surface
     curves, lcp, designs   (convex/concave curves and the local contact problem; another module owner)
+    chebyshev_kernels   exact log and Cauchy kernel integrals against the bounded Chebyshev pressure series
+    interacting_patches all contact patches on a half-plane solved together (real gap, log coupling)
+    westergaard     the periodic wavy contact, exact and by the periodic kernel (the multi-patch reference)
+    design_family   the paper's two designs as members of a family of interference numbers (LCP-checked)
+    force_law, force_law_eval   P(d) and patches of a design (``workbench forcelaw``); the copyable evaluator
 
 Units everywhere: mm, N, MPa; loads per unit thickness (N/mm). Pressure positive in compression.
 Command line: ``python -m analytic {hertz,wedge,convective,halfplane,table1,lcp} ... [--json]``.

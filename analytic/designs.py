@@ -28,7 +28,8 @@ from scipy.sparse.linalg import spsolve
 
 from analytic.curves import BSpline, CircleArc, CompositeCurve, Curve, clamped_uniform_knots
 
-__all__ = ["ConcaveDesign", "DESIGN_NAMES", "design", "particle_at", "fit_clamped_bspline", "closing_arc",
+__all__ = ["ConcaveDesign", "ConformalKnobs", "DESIGN_NAMES", "SymmetricKnobs", "build_design", "design",
+           "particle_at", "fit_clamped_bspline", "closing_arc",
            "close_particle",
            "YOUNGS_MODULUS", "POISSON_RATIO"]
 
@@ -201,23 +202,45 @@ _SYM_R_CONCAVE = 6.81
 _SYM_V = (1.46216665, 3.05351646)
 
 
-def _symmetric_concave(half_width: float) -> np.ndarray:
+class SymmetricKnobs(NamedTuple):
+    """What the symmetric construction takes (mm); the defaults are the paper's design.
+
+    r_convex, r_concave: the particle shoulder and the concave flank radii (the pair's Hertz radii);
+    v: the line of centres (shoulder centre minus flank centre) at d = 0, (horizontal, downward);
+    centre_flat: a flat inserted at the bottom of the groove (moves both flanks apart by 2 centre_flat);
+    groove_extra: length added to the groove's 45-degree straight (deepens the groove by groove_extra/sqrt 2 and
+    moves the flanks apart by sqrt 2 groove_extra); depth: the body's depth below the groove bottom.
+    """
+
+    r_convex: float = _SYM_R_CONVEX
+    r_concave: float = _SYM_R_CONCAVE
+    v: tuple[float, float] = _SYM_V
+    centre_flat: float = 0.0
+    groove_extra: float = 0.0
+    depth: float = 20.0
+
+
+def _symmetric_concave(half_width: float, knobs: SymmetricKnobs | None = None) -> np.ndarray:
     """Right half of the cup (from the centre, left to right): a central groove (fillet R 0.6 turning 0 -> 45
     deg, straight, convex R 2 back to 8 deg) that keeps the particle bottom > 1.2 mm away, a straight flank,
-    the concave contact arc R 6.81 (8 -> 55 deg), a convex rim R 3 (55 -> 0 deg) and the flat top."""
-    rf, rg, rc, rr = 0.6, 2.0, _SYM_R_CONCAVE, 3.0
+    the concave contact arc R 6.81 (8 -> 55 deg), a convex rim R 3 (55 -> 0 deg) and the flat top (the
+    radius, the groove and a central flat from ``knobs``, :class:`SymmetricKnobs`)."""
+    k = knobs or SymmetricKnobs()
+    rf, rg, rc, rr = 0.6, 2.0, k.r_concave, 3.0
     a0, a1, a2 = np.radians(45.0), np.radians(8.0), np.radians(55.0)
-    lengths = [rf * a0, 0.6, rg * (a0 - a1), 0.5, rc * (a2 - a1), rr * a2, 40.0]
+    lengths = [rf * a0, 0.6 + k.groove_extra, rg * (a0 - a1), 0.5, rc * (a2 - a1), rr * a2, 40.0]
     curv = [1.0 / rf, 0.0, -1.0 / rg, 0.0, 1.0 / rc, -1.0 / rr, 0.0]
+    if k.centre_flat > 0.0:
+        lengths, curv = [k.centre_flat, *lengths], [0.0, *curv]
     pts = _curve_from_curvature(lengths, curv, start=(0.0, 0.0), theta0=0.0, sigma=0.15)
     pts = pts[pts[:, 0] <= half_width]
     return pts
 
 
-def _symmetric_particle(shoulder_x: float) -> np.ndarray:
+def _symmetric_particle(shoulder_x: float, r_convex: float = _SYM_R_CONVEX) -> np.ndarray:
     """Lower part of the particle, clockwise from the right side (heading down) to the left side (heading
     up): shoulder arc R 2.96 (90 deg -> 5 deg normal), flat bottom arc, symmetric left shoulder."""
-    r1, beta = _SYM_R_CONVEX, np.radians(5.0)
+    r1, beta = r_convex, np.radians(5.0)
     rb = r1 + shoulder_x / np.sin(beta)
     lengths = [r1 * (np.pi / 2 - beta), rb * 2 * beta, r1 * (np.pi / 2 - beta)]
     curv = [-1.0 / r1, -1.0 / rb, -1.0 / r1]
@@ -236,31 +259,60 @@ def _center_of_curvature(curve: Curve, t: float) -> np.ndarray:
     return curve.point([t])[0] + curve.normal([t])[0] / curve.curvature([t])[0]
 
 
-def _symmetric() -> ConcaveDesign:
+def _middle_half(points: np.ndarray, s_start: float, length: float) -> np.ndarray:
+    """The raw points of the middle half of a segment [s_start, s_start + length] (arc length along ``points``)."""
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+    keep = (s >= s_start + 0.25 * length) & (s <= s_start + 0.75 * length)
+    return points[keep]
+
+
+def _arc_centre(points: np.ndarray) -> np.ndarray:
+    """Centre of the least-squares circle through ``points`` (Kasa's linear fit)."""
+    x, y = points[:, 0], points[:, 1]
+    A = np.column_stack([2.0 * x, 2.0 * y, np.ones_like(x)])
+    sol = np.linalg.lstsq(A, x * x + y * y, rcond=None)[0]
+    return sol[:2]
+
+
+def _symmetric(knobs: SymmetricKnobs | None = None, *, name: str = "symmetric") -> ConcaveDesign:
+    k = knobs or SymmetricKnobs()
     half_width = 15.0
-    right = _symmetric_concave(half_width)
+    right = _symmetric_concave(half_width, k)
+    paper = k == SymmetricKnobs()
+    a0, a1, a2 = np.radians(45.0), np.radians(8.0), np.radians(55.0)
+    flank_start = k.centre_flat + 0.6 * a0 + 0.6 + k.groove_extra + 2.0 * (a0 - a1) + 0.5
+    flank = _middle_half(right, flank_start, k.r_concave * (a2 - a1))
     right = np.vstack([right, [[half_width, right[-1, 1]]]]) if right[-1, 0] < half_width else right
     left = right[::-1].copy()
     left[:, 0] *= -1.0
     pts = np.vstack([left[:-1], right])
     concave = _mirror_symmetric(fit_clamped_bspline(pts, 240))
     # flank centre of curvature (right side): at the flank arc mid-point (35 deg normal)
-    pr = concave.project(np.array([[3.6, -0.5]]))
-    c2 = _center_of_curvature(concave, pr.t[0])
+    # (a family member: the centre of the raw flank arc's middle half, smooth in the knobs; the spline's local
+    # curvature carries the fit's ripple)
+    if paper:
+        pr = concave.project(np.array([[3.6, -0.5]]))
+        c2 = _center_of_curvature(concave, pr.t[0])
+    else:
+        c2 = _arc_centre(flank)
     # particle: shoulder centre x = c2x + v_x (two passes correct the smoothing shift), then translate
-    sx = c2[0] + _SYM_V[0]
+    v = k.v
+    sx = c2[0] + v[0]
     for _ in range(3):
-        lower = _symmetric_particle(sx)
+        lower = _symmetric_particle(sx, k.r_convex)
         spl = _mirror_symmetric(fit_clamped_bspline(lower, 120))
-        q = spl.project(np.array([[sx + 2.0, -2.0]]))
-        c1 = _center_of_curvature(spl, q.t[0])
-        sx += (c2[0] + _SYM_V[0]) - c1[0]
-    shift = np.array([0.0, (c2[1] - _SYM_V[1]) - c1[1]])
+        if paper:
+            q = spl.project(np.array([[sx + 2.0, -2.0]]))
+            c1 = _center_of_curvature(spl, q.t[0])
+        else:
+            c1 = _arc_centre(_middle_half(lower, 0.0, k.r_convex * (0.5 * np.pi - np.radians(5.0))))
+        sx += (c2[0] + v[0]) - c1[0]
+    shift = np.array([0.0, (c2[1] - v[1]) - c1[1]])
     spl = spl.translated(shift)
     particle = close_particle(spl)
     return ConcaveDesign(
-        name="symmetric", concave=concave, particle=particle, direction=np.array([0.0, -1.0]),
-        body_box=(-half_width, half_width, -20.0), table1_d=(0.60, 0.80, 1.00),
+        name=name, concave=concave, particle=particle, direction=np.array([0.0, -1.0]),
+        body_box=(-half_width, half_width, -k.depth), table1_d=(0.60, 0.80, 1.00),
         table1_delta=(0.086, 0.27, 0.46),
         targets={"radius_convex": 2.96, "radius_concave": -6.81, "relative_radius": 5.23})
 
@@ -278,7 +330,23 @@ _CC_RAMP = 0.25  # length of the curvature ramp to the left of the primary
 _CC_INFO: dict = {}
 
 
-def _cc_profiles(x: np.ndarray):
+class ConformalKnobs(NamedTuple):
+    """What the close-to-conformal construction takes (mm); the defaults are the paper's design.
+
+    r_convex, r_concave: the primary pair's radii (the concave one as a magnitude); x2: the secondary pair's
+    abscissa (the bumps between the pairs and the far ramp scale with x2/2.4); eps: the secondary gap once the
+    primary touches; d0: the initial vertical gap at the primary; depth: the body's depth below the primary.
+    """
+
+    r_convex: float = _CC_R_CONVEX
+    r_concave: float = _CC_R_CONCAVE
+    x2: float = _CC_X2
+    eps: float = _CC_EPS
+    d0: float = _CC_D0
+    depth: float = 20.0
+
+
+def _cc_profiles(x: np.ndarray, knobs: ConformalKnobs | None = None):
     """Graph second derivatives f'' (concave surface) and q'' (particle lower surface).
 
     f'' = 1/50 at the primary (x = 0), ramping to 1/44 over 0.25 mm on the left, plus a concave bump
@@ -287,23 +355,26 @@ def _cc_profiles(x: np.ndarray):
     three compact bumps whose amplitudes solve G'(x2) = 0, G(x2) = eps, G(x_m) = h_m (linear system),
     then ramping to 1/23 - 1/50 beyond x = 3 (so that the far gap opens like a relative radius ~ 40 mm).
     """
-    g0 = 1.0 / _CC_R_CONVEX - 1.0 / _CC_R_CONCAVE
+    k = knobs or ConformalKnobs()
+    sc = k.x2 / _CC_X2  # 1.0 exactly for the paper's design
+    g0 = 1.0 / k.r_convex - 1.0 / k.r_concave
     g1 = 1.0 / _CC_R_CONVEX_I - 1.0 / _CC_R_CONCAVE_I
     ramp_l = _smootherstep(-x / _CC_RAMP)
-    f2 = 1.0 / _CC_R_CONCAVE + (1.0 / _CC_R_CONCAVE_I - 1.0 / _CC_R_CONCAVE) * ramp_l
+    f2 = 1.0 / k.r_concave + (1.0 / _CC_R_CONCAVE_I - 1.0 / k.r_concave) * ramp_l
     g_far = 1.0 / 23.0 - 1.0 / 50.0
-    ramp_r = _smootherstep((x - 3.0) / 1.5)
+    ramp_r = _smootherstep((x - 3.0 * sc) / (1.5 * sc))
     base = g0 + (g1 - g0) * ramp_l + (g_far - g0) * ramp_r
-    bumps = [_bump(x, 0.6, 0.6), _bump(x, _CC_XM, 0.6), _bump(x, _CC_X2, 0.6)]
+    bumps = [_bump(x, 0.6 * sc, 0.6 * sc), _bump(x, _CC_XM * sc, 0.6 * sc), _bump(x, k.x2, 0.6 * sc)]
     # linear conditions on the amplitudes
-    i2 = int(np.argmin(np.abs(x - _CC_X2)))
-    im = int(np.argmin(np.abs(x - _CC_XM)))
+    i2 = int(np.argmin(np.abs(x - k.x2)))
+    im = int(np.argmin(np.abs(x - _CC_XM * sc)))
     G_base, G1_base = _integrate2(x, base)
     cols = [_integrate2(x, b) for b in bumps]
     A = np.array([[c[1][i2] for c in cols], [c[0][i2] for c in cols], [c[0][im] for c in cols]])
-    rhs = np.array([-G1_base[i2], _CC_EPS - G_base[i2], _CC_HM - G_base[im]])
+    rhs = np.array([-G1_base[i2], k.eps - G_base[i2], _CC_HM - G_base[im]])
     amp = np.linalg.solve(A, rhs)
-    _CC_INFO["bump_amplitudes"] = amp.tolist()
+    if k == ConformalKnobs():  # the paper's design only (a family member does not overwrite it)
+        _CC_INFO["bump_amplitudes"] = amp.tolist()
     g2 = base + sum(a * b for a, b in zip(amp, bumps, strict=True))
     neg = -amp[1] * bumps[1] if amp[1] < 0 else 0.0 * x  # concave side takes the negative bump
     f2 = f2 + neg
@@ -311,10 +382,11 @@ def _cc_profiles(x: np.ndarray):
     return f2, q2
 
 
-def _close_to_conformal() -> ConcaveDesign:
+def _close_to_conformal(knobs: ConformalKnobs | None = None, *, name: str = "close_to_conformal") -> ConcaveDesign:
+    k = knobs or ConformalKnobs()
     half_width = 15.0
     x = np.linspace(-half_width, half_width, 30001)
-    f2, q2 = _cc_profiles(x)
+    f2, q2 = _cc_profiles(x, k)
     f, _ = _integrate2(x, f2)
     q, q1 = _integrate2(x, q2)
     concave = fit_clamped_bspline(np.column_stack([x, f]), 400)
@@ -334,14 +406,14 @@ def _close_to_conformal() -> ConcaveDesign:
     ms = (np.arctan(q1s) - chord_s) - (chord_s - ang[ia])
     xb = float(xs[int(np.argmin(np.abs(ms)))])
     xp = np.linspace(xb, xa, 20001)  # clockwise: bottom runs right to left
-    yp = np.interp(xp, x, q) + _CC_D0
+    yp = np.interp(xp, x, q) + k.d0
     # the fit imposes the end tangents of the point set: use the exact graph tangents there
     spl = fit_clamped_bspline(np.column_stack([xp, yp]), 300)
     spl = _with_end_tangents(spl, np.interp(xb, x, q1), np.interp(xa, x, q1))
     particle = close_particle(spl)
     return ConcaveDesign(
-        name="close_to_conformal", concave=concave, particle=particle, direction=np.array([0.0, -1.0]),
-        body_box=(-half_width, half_width, -20.0), table1_d=(0.46, 0.47, 0.48, 0.50, 0.70, 1.00),
+        name=name, concave=concave, particle=particle, direction=np.array([0.0, -1.0]),
+        body_box=(-half_width, half_width, -k.depth), table1_d=(0.46, 0.47, 0.48, 0.50, 0.70, 1.00),
         table1_delta=(0.00043, 0.010, 0.020, 0.040, 0.24, 0.54),
         targets={"radius_convex": 41.0, "radius_concave": -50.0, "relative_radius": 233.0,
                  "intersection_radius_convex": 23.0, "intersection_radius_concave": -44.0,
@@ -359,6 +431,14 @@ def _with_end_tangents(spl: BSpline, slope_start: float, slope_end: float) -> BS
 
 
 _CACHE: dict[str, ConcaveDesign] = {}
+
+
+def build_design(knobs: SymmetricKnobs | ConformalKnobs, *, name: str) -> ConcaveDesign:
+    """A family member built by the construction of its kind (:mod:`analytic.design_family` chooses the knobs);
+    the default knobs give the paper's design, float for float."""
+    if isinstance(knobs, SymmetricKnobs):
+        return _symmetric(knobs, name=name)
+    return _close_to_conformal(knobs, name=name)
 
 
 def design(name: str) -> ConcaveDesign:

@@ -26,6 +26,8 @@ Subcommands:
                          (``<out>/external_workbench_<case>/``)
     external compare [CASE...]  the workbench, CalculiX and Kratos side by side on the same levels, scored alike,
                          the verdict first (``<out>/external_compare/``; ``--add NAME=FOLDER``: a code of yours)
+    forcelaw DESIGN      P(d), patch positions and sizes of a design from the interacting-patch model, csv/json
+                         and a numpy evaluator (``<out>/forcelaw_<design>/``; :mod:`workbench.forcelaw_command`)
 
 ``<out>`` is ``--out`` (default: ``results/`` of this checkout, or ``$WORKBENCH_RESULTS``); nothing depends on
 the working directory. A study's own options follow its name (``workbench convergence --help``).
@@ -48,7 +50,7 @@ from pathlib import Path
 from workbench.owned import check_dir, check_run_outputs, ensure_dir
 from workbench.paths import check_output_folder, checked_paths
 
-__all__ = ["main", "STUDIES", "EXTERNAL"]
+__all__ = ["main", "STUDIES", "EXTERNAL", "TOOLS"]
 
 # subcommand -> module with ``main(argv) -> int`` (the study's own options follow the subcommand)
 STUDIES = {
@@ -64,7 +66,9 @@ EXTERNAL = {
     "export": "workbench.external.export",
     "external": "workbench.external.codes",
 }
-OWN_OPTIONS = {**STUDIES, **EXTERNAL}
+# tools: subcommand -> module with ``main(argv) -> int``, own options too
+TOOLS = {"forcelaw": "workbench.forcelaw_command"}
+OWN_OPTIONS = {**STUDIES, **EXTERNAL, **TOOLS}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -145,7 +149,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--out", type=_folder, default=None)
     c.add_argument("--no-pictures", action="store_true", help="run every case with `run --no-pictures`")
     for name, module in OWN_OPTIONS.items():
-        kind = "external code" if name in EXTERNAL else "study"
+        kind = "external code" if name in EXTERNAL else "tool" if name in TOOLS else "study"
         st = sub.add_parser(name, help=f"{kind} ({module}); its options follow", add_help=False)
         st.add_argument("study_args", nargs=argparse.REMAINDER)
     return p
