@@ -1,7 +1,7 @@
 """One output-folder guard for every command that writes (issue 35): the same hostile folders for each command.
 
 Requirement: ``run``, ``mesh``, ``report``, ``ci``, the five studies, ``score``, ``export`` and ``external``
-(``ccx``, ``kratos``, ``workbench``, ``compare``) refuse each hostile folder below with exit 2 and one ``error:``
+(``ccx``, ``kratos``, ``workbench``, ``compare``) and ``forcelaw`` refuse each hostile folder below with exit 2 and one ``error:``
 line naming it, whether the output folder comes
 from ``--out`` or from ``WORKBENCH_RESULTS``, and nothing in the sandbox changes (paths and SHA-256 before and
 after). The folders: a file; a folder whose parents are missing; the home folder; a source folder of the checkout
@@ -28,7 +28,7 @@ STUDIES = {"convergence": "convergence", "stability": "stability", "bench": "ben
            "convective-table": "analytic"}
 EXTERNAL = ("external", "external_kratos", "external_workbench", "external_compare")  # ccx, kratos, own, compare
 MESH_WRITERS = {"run", "mesh", "convergence", "stability", "bench", "validity", "export", *EXTERNAL}
-COMMANDS = ["run", "mesh", "report", "ci", *STUDIES, "score", "export", *EXTERNAL]
+COMMANDS = ["run", "mesh", "report", "ci", *STUDIES, "score", "export", *EXTERNAL, "forcelaw"]
 ROWS = ["file", "missing_parents", "home", "source", "user_target", "mesh_link", "mesh_user"]
 WORDS = {"file": ["is not a folder"], "missing_parents": ["does not exist"], "home": ["home folder"],
          "source": ["source folder"], "user_target": ["not written by the workbench"], "mesh_link": ["symlink"],
@@ -48,6 +48,7 @@ def recorders(monkeypatch):
     """The step after each command's guard raises Reached."""
     import importlib
 
+    import analytic.force_law as force_law
     import workbench.external.ccx as ccx
     import workbench.external.compare as compare
     import workbench.external.export as export
@@ -70,6 +71,7 @@ def recorders(monkeypatch):
     monkeypatch.setattr(kratos, "kratos_python", _reached)
     monkeypatch.setattr(own_code, "run_job", _reached)
     monkeypatch.setattr(compare, "_check_codes", _reached)
+    monkeypatch.setattr(force_law, "force_law", _reached)
     for module in MODULES.values():
         monkeypatch.setattr(importlib.import_module(module), "main", _reached)
 
@@ -82,7 +84,8 @@ def _target(command: str, root) -> tuple[str, bool]:
             "score": (f"score_{CASE}", False), "export": (f"export_{CASE}", False),
             "external": (f"external_ccx_{CASE}", False), "external_kratos": (f"external_kratos_{CASE}", False),
             "external_workbench": (f"external_workbench_{CASE}", False),
-            "external_compare": ("external_compare", False)}[command]
+            "external_compare": ("external_compare", False),
+            "forcelaw": ("forcelaw_close_to_conformal", False)}[command]
 
 
 def _argv(command: str, sandbox, out: str | None, *, mesh_cache: str | None = None) -> list[str]:
@@ -94,7 +97,8 @@ def _argv(command: str, sandbox, out: str | None, *, mesh_cache: str | None = No
             "score": ["score", CASE, str(sandbox / "level.csv")], "export": ["export", CASE, "--format", "json"],
             "external": ["external", "ccx", CASE], "external_kratos": ["external", "kratos", CASE],
             "external_workbench": ["external", "workbench", CASE],
-            "external_compare": ["external", "compare", CASE]}.get(command, [command])
+            "external_compare": ["external", "compare", CASE],
+            "forcelaw": ["forcelaw", "close_to_conformal"]}.get(command, [command])
     return head + extra
 
 
