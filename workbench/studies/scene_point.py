@@ -1,35 +1,69 @@
-"""A study point's scene, through the scene registry (:func:`workbench.scenes.scene_for`), not a scene's internals.
+"""A study point is a case run solved by :func:`workbench.pipeline.run_case.run_one`; this module holds the two
+things the studies share around it: the block scene sized from the target itself, and the name of a failure.
 
-The studies size their own meshes (from the target half-width itself, so that a published sweep's meshes do not
-move) and drive the solver with their own overrides; the obstacle and the comparison with theory are the scene's,
-exactly as a case run gets them (:class:`workbench.scenes.base.Scene`).
+:class:`TargetSized` is the registered block scene (:class:`workbench.scenes.block.BlockScene`: its obstacle and its
+comparison with theory, exactly as a case run gets them) with the studies' mesh rule: W = H = width_factor a and
+h_c = a / h_ratio from the TARGET half-width a itself (the scene recomputes the half-width from the load, which
+differs from a in the last bit and would move the published sweeps' meshes), the mesh named by the point, and a
+displacement-controlled load path where the point asks for one (the stability sweep's faults).
+:func:`run_point` runs one such point silently on ``MPI.COMM_SELF``; :func:`run_failure` names what a run raised.
 """
 
 from __future__ import annotations
 
-__all__ = ["run_failure", "run_scene_case", "scene_compare", "scene_obstacle"]
+from pathlib import Path
+
+from workbench.scenes.block import BlockScene
+
+__all__ = ["TargetSized", "run_failure", "run_point", "run_scene_case"]
 
 
-def _mesh(files, estimate):
-    from workbench.scenes import SceneMesh
+class TargetSized(BlockScene):
+    """The block scene of one study point, its mesh sized from the target half-width ``run.loading.half_width``.
 
-    return SceneMesh(files, estimate, "")
+    Args:
+        h_ratio: a / h_c (the contact element size is a / h_ratio, mm, as the study states it).
 
+    Attributes:
+        built: The :class:`workbench.scenes.base.SceneMesh` of the last :meth:`mesh` (the point's record reads its
+            cells even when the solve fails), else None.
+    """
 
-def scene_obstacle(run, *, files, estimate):
-    """The rigid obstacle of ``run`` from its registered scene (``estimate``: the scene's contact estimate the
-    mesh was sized from, e.g. the block's classical theory at the target load)."""
-    from workbench.scenes import scene_for
+    def __init__(self, *, h_ratio: float):
+        self.h_ratio = h_ratio
+        self.built = None
 
-    return scene_for(run).obstacle(run, _mesh(files, estimate))
+    def estimate(self, run):
+        """The classical theory at the target half-width (force target; the mesh's size for any control)."""
+        from workbench.scenes.block_theory import block_theory
 
+        return block_theory(run.geometry, run.material, half_width=run.loading.half_width)
 
-def scene_compare(run, result, *, files, estimate):
-    """The registered scene's comparison of ``result`` with theory (block: the classical theory at the measured
-    load, :class:`workbench.scenes.block.BlockComparison`)."""
-    from workbench.scenes import scene_for
+    def mesh(self, run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None):
+        """The (cached) block mesh named ``name``: W = width_factor a, H = height_factor a, h_c = a / h_ratio,
+        the run's growth and half model, the apex refined under a wedge."""
+        from meshes.block import build_block_mesh
+        from workbench.scenes import SceneMesh
 
-    return scene_for(run).compare(run, result, _mesh(files, estimate), progress=lambda _: None).comparison
+        g, a = run.geometry, run.loading.half_width
+        files = build_block_mesh(width=g.width_factor * a, height=g.height_factor * a, contact_half_width=a,
+                                 h_contact=a / self.h_ratio, growth=run.discretisation.growth,
+                                 half_model=g.half_model, apex_refinement=g.indenter == "wedge",
+                                 out_dir=Path(mesh_cache), name=name, stats_dir=stats_dir, comm=comm)
+        target = self.estimate(run)
+        self.built = SceneMesh(files, target, f"mesh {files.stats.get('cells', '?')} cells, a = {a:.4g} mm "
+                                              f"(target), P target = {target.P:.6g} N/mm")
+        return self.built
+
+    def load_path(self, run, mesh):
+        """Force control to the classical load of a, or displacement control to the run's last ``d``."""
+        from workbench.scenes.base import LoadPath
+
+        ld = run.loading
+        if ld.control == "displacement":
+            return LoadPath("displacement", ld.d[-1], ld.steps, symmetric_half=run.geometry.half_model,
+                            record_at=tuple(ld.d) if len(ld.d) > 1 else None)
+        return super().load_path(run, mesh)
 
 
 def run_failure(exc: BaseException) -> str:
@@ -49,16 +83,23 @@ def run_failure(exc: BaseException) -> str:
     return f"failed: {type(exc).__name__}: {text}"
 
 
-def run_scene_case(run, *, name: str, mesh_cache):
-    """Mesh (cached under ``name``), solve and compare a case-level ``run`` through its registered scene in this
-    process (:func:`workbench.pipeline.run_case.run_one` on MPI.COMM_SELF, silent): the scene's
-    :class:`workbench.scenes.base.Outcome`, as a case file would get it."""
+def run_point(run, *, name: str, mesh_cache, scene=None, meshes: dict | None = None, case: str | None = None,
+              **solver_overrides):
+    """Mesh (cached under ``name``), solve and compare one study point in this process
+    (:func:`workbench.pipeline.run_case.run_one` on MPI.COMM_SELF, silent): the scene's
+    :class:`workbench.scenes.base.Outcome`. ``scene``: the point's scene (default: the run's registered one);
+    ``meshes``: the worker's read meshes by cache key; ``case``: the name in the solver's messages;
+    ``solver_overrides``: the study's solver options."""
     import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
-
-    from pathlib import Path
 
     from mpi4py import MPI
 
     from workbench.pipeline.run_case import run_one
 
-    return run_one(run, name=name, mesh_cache=Path(mesh_cache), comm=MPI.COMM_SELF, progress=lambda _msg: None)
+    return run_one(run, name=name, mesh_cache=Path(mesh_cache), comm=MPI.COMM_SELF, progress=lambda _msg: None,
+                   scene=scene, meshes=meshes, case=case, **solver_overrides)
+
+
+def run_scene_case(run, *, name: str, mesh_cache):
+    """A case-level ``run`` through its registered scene (:func:`run_point` with no study options)."""
+    return run_point(run, name=name, mesh_cache=mesh_cache)

@@ -52,9 +52,7 @@ from cases.schema import Discretisation, Loading, Material, Run, Solver
 from workbench.atomic import write_json, write_text
 from workbench.owned import ensure_dir
 from workbench.paths import default_paths
-from workbench.scenes.base import LoadPath
 from workbench.scenes.block_schema import BlockGeometry
-from workbench.scenes.block_theory import block_theory
 from workbench.studies.config import STABILITY_STUDIES, StabilityConfig, to_json
 from workbench.studies.executor import (
     ExecutorChoice,
@@ -63,7 +61,7 @@ from workbench.studies.executor import (
     run_points,
     worker_summary,
 )
-from workbench.studies.scene_point import scene_compare, scene_obstacle
+from workbench.studies.scene_point import TargetSized, run_failure
 from workbench.studies.where_report import where_section
 
 __all__ = ["STUDIES", "Spec", "StabilityConfig", "TwoBodySpec", "classify", "classify_augmented_lagrangian",
@@ -163,8 +161,9 @@ class Spec:
                                 height_factor=size, half_model=True)
         if self.control == "force":
             loading = Loading(control="force", half_width=self.target_half_width, steps=self.n_steps)
-        else:
-            loading = Loading(control="displacement", d=(self.d,), steps=self.n_steps)
+        else:  # the target half-width sizes the mesh (TargetSized) and nothing else
+            loading = Loading(control="displacement", half_width=self.target_half_width, d=(self.d,),
+                              steps=self.n_steps)
         solver = Solver(**{f.name: self.option(f.name) for f in dataclasses.fields(Solver)})
         return Run(label=self.indenter, material=Material(E=self.E, nu=self.nu), geometry=geo, loading=loading,
                    discretisation=Discretisation(degree=self.degree, h_contact=1.0 / self.h_ratio), solver=solver)
@@ -237,7 +236,9 @@ def specs(cfg: StabilityConfig | None = None) -> list[Spec]:
 
 
 def run_block_spec(spec: Spec, *, comm, mesh_cache: Path | None = None) -> dict:
-    """Run one block spec; returns its record (parameters, converged, iterations, time, errors, warnings).
+    """Run one block spec through the case pipeline (:func:`workbench.pipeline.run_case.run_one`: the block scene
+    with the mesh sized from the target, :class:`workbench.studies.scene_point.TargetSized`); returns its record
+    (parameters, converged, iterations, time, errors, warnings).
 
     Args:
         spec: The run.
@@ -245,35 +246,31 @@ def run_block_spec(spec: Spec, *, comm, mesh_cache: Path | None = None) -> dict:
         mesh_cache: Mesh cache folder (default ``<results>/mesh_cache``).
     """
     from fem.solver import ContactSolveError
-    from workbench.mesh_io import read_mesh
-    from workbench.scenes.wiring import solve_run
+    from workbench.pipeline.run_case import run_one
 
     run = spec.run()
     a = spec.target_half_width
-    th0 = block_theory(run.geometry, run.material, half_width=a)  # the target: Hertz (or wedge) load of a
-    files = _mesh(spec, comm=comm, mesh_cache=mesh_cache if mesh_cache is not None else default_paths().mesh_cache)
-    mesh_data = read_mesh(files.msh, comm)
-    load = LoadPath(spec.control, th0.P if spec.control == "force" else spec.d, spec.n_steps, symmetric_half=True)
-    rec = {"study": spec.study, "label": spec.label, "params": spec.params(),
-           "cells": files.stats.get("cells"), "target_half_width": a, "P_target": th0.P}
+    scene = TargetSized(h_ratio=spec.h_ratio)
+    meshes: dict = {}
+    rec = {"study": spec.study, "label": spec.label, "params": spec.params()}
     t0 = time.perf_counter()
     try:
-        res = solve_run(run, mesh_data, scene_obstacle(run, files=files, estimate=th0), load, case=spec.label,
-                        **spec.solver_overrides())
-    except ContactSolveError as exc:
-        return rec | {"converged": False, "error": f"diverged: {exc}", "time_s": time.perf_counter() - t0,
-                      "warnings": [], "errors": {}, "iterations": None}
-    except ValueError as exc:  # a run the solver refuses (e.g. displacement formulation at nu = 0.4999): named
-        return rec | {"converged": False, "error": f"refused: {exc}", "time_s": time.perf_counter() - t0,
-                      "warnings": [], "errors": {}, "iterations": None}
-    rec |= {"converged": True, "error": None, "time_s": time.perf_counter() - t0, "ndofs": res.ndofs,
-            "iterations": int(sum(res.newton_iterations)), "max_iterations": int(max(res.newton_iterations)),
-            "solves": len(res.newton_iterations),
-            "cutbacks": sum(1 for r in res.load_steps if r["kind"] == "cutback"),
-            "warnings": list(res.warnings), "P": res.P, "d": res.d}
+        o = run_one(run, name=f"stability_{spec.indenter}",
+                    mesh_cache=mesh_cache if mesh_cache is not None else default_paths().mesh_cache, comm=comm,
+                    progress=lambda _msg: None, scene=scene, meshes=meshes, case=spec.label,
+                    **spec.solver_overrides())
+    except (ContactSolveError, ValueError) as exc:  # named: diverged, or refused (e.g. displacement at nu = 0.4999)
+        return _head(rec, scene, a) | {"converged": False, "error": run_failure(exc),
+                                       "time_s": time.perf_counter() - t0, "warnings": [], "errors": {},
+                                       "iterations": None}
+    res, cmp = o.result, o.comparison
+    rec = _head(rec, scene, a) | {
+        "converged": True, "error": None, "time_s": time.perf_counter() - t0, "ndofs": res.ndofs,
+        "iterations": int(sum(res.newton_iterations)), "max_iterations": int(max(res.newton_iterations)),
+        "solves": len(res.newton_iterations), "cutbacks": sum(1 for r in res.load_steps if r["kind"] == "cutback"),
+        "warnings": list(res.warnings), "P": res.P, "d": res.d}
     if spec.option("method") == AL or any("uzawa" in r for r in res.load_steps):
         rec["uzawa"] = _uzawa(res)
-    cmp = scene_compare(run, res, files=files, estimate=th0)
     hw, pmax, th = cmp.half_width, cmp.p_max, cmp.theory
     rec |= {"errors": cmp.errors, "half_width": hw, "p_max": pmax, "n_patches": len(res.patches),
             "half_width_theory": th.half_width, "p_ref_theory": th.p_ref,
@@ -281,22 +278,16 @@ def run_block_spec(spec: Spec, *, comm, mesh_cache: Path | None = None) -> dict:
     if spec.condition:
         from fem.conditioning import jacobian_condition
 
-        c = jacobian_condition(res, mesh_data)
+        c = jacobian_condition(res, meshes[scene.built.files.key])  # the mesh the result was solved on
         rec["condition"] = c._asdict()
     return rec
 
 
-def _mesh(spec: Spec, *, comm, mesh_cache: Path):
-    """The (cached) block mesh of a spec, sized from the TARGET half-width a itself: W = H = size_factor a,
-    h_c = a / h_ratio (:func:`workbench.scenes.block.block_mesh` sizes from the half-width recomputed from the
-    load, which differs from a in the last bit and would move the published sweep's meshes)."""
-    from meshes.block import build_block_mesh
-
-    a = spec.target_half_width
-    size = spec.size_factor * a
-    return build_block_mesh(width=size, height=size, contact_half_width=a, h_contact=a / spec.h_ratio,
-                            half_model=True, apex_refinement=spec.indenter == "wedge", out_dir=mesh_cache,
-                            name=f"stability_{spec.indenter}", stats_dir=None, comm=comm)
+def _head(rec: dict, scene: TargetSized, a: float) -> dict:
+    """The record's mesh and target (known once the point's scene has meshed it): cells, a and its load."""
+    mesh = scene.built
+    return rec | {"cells": mesh.files.stats.get("cells") if mesh else None, "target_half_width": a,
+                  "P_target": mesh.estimate.P if mesh else None}
 
 
 def _uzawa(res) -> dict:
@@ -426,7 +417,7 @@ def run_conformal(cfg: StabilityConfig | None = None, *, comm, progress) -> list
                       progress=progress)
     except ContactSolveError as exc:
         return [base | {"label": "close_to_conformal d=0.46..0.48", "converged": False,
-                        "error": f"diverged: {exc}", "warnings": [], "errors": {}, "iterations": None,
+                        "error": run_failure(exc), "warnings": [], "errors": {}, "iterations": None,
                         "time_s": time.perf_counter() - t0}]
     from analytic.hertz import TABLE1
 
@@ -504,9 +495,8 @@ def run_two_body_spec(spec: TwoBodySpec, cfg: StabilityConfig, *, comm) -> dict:
     try:
         m = run_one(run, name="stability_two_body", mesh_cache=cfg.cache_dir, comm=comm,
                     progress=lambda _: None).metrics
-    except (ContactSolveError, ValueError) as exc:
-        kind = "diverged" if isinstance(exc, ContactSolveError) else "refused"
-        return rec | {"converged": False, "error": f"{kind}: {exc}", "time_s": time.perf_counter() - t0,
+    except (ContactSolveError, ValueError) as exc:  # named: diverged or refused
+        return rec | {"converged": False, "error": run_failure(exc), "time_s": time.perf_counter() - t0,
                       "warnings": [], "errors": {}, "iterations": None}
     its = [int(i) for i in m["newton_iterations"]]
     e = m["errors"]

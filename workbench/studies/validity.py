@@ -53,7 +53,7 @@ from workbench.studies.executor import (
     run_points,
     worker_summary,
 )
-from workbench.studies.scene_point import run_failure, scene_compare, scene_obstacle
+from workbench.studies.scene_point import TargetSized, run_failure, run_point
 from workbench.studies.validity_elastic_wedge import ElasticWedgeTask, claim_elastic_wedge, elastic_wedge_tasks
 from workbench.studies.validity_halfplanes import HalfplanesTask, halfplanes_tasks, halfplanes_theories
 
@@ -182,17 +182,19 @@ def _run(task: Task):
 
 
 def build_mesh(task: Task, mesh_cache: str) -> dict:
-    """Build (or reuse) the mesh of ``task`` in the cache; returns its statistics."""
-    from meshes.block import build_block_mesh
-
-    W = task.width_factor
-    files = build_block_mesh(width=W, height=W, contact_half_width=1.0, h_contact=1.0 / task.h_ratio,
-                             growth=task.growth, half_model=True, apex_refinement=task.scene == "wedge",
-                             out_dir=Path(mesh_cache), name=task.mesh_name, stats_dir=None, comm=None)
-    return {"mesh": task.mesh_name, "cells": files.stats.get("cells")}
+    """Build (or reuse) the mesh of ``task`` in the cache through its point's scene; returns its statistics."""
+    run = _run(task)
+    mesh = _scene(task).mesh(run, name=task.mesh_name, mesh_cache=Path(mesh_cache), comm=None)
+    return {"mesh": task.mesh_name, "cells": mesh.files.stats.get("cells")}
 
 
-_MESHES: dict = {}
+def _scene(task: Task):
+    """The point's scene: the block scene with the mesh sized from a = 1 mm itself (W = width_factor a, h_c = a /
+    h_ratio: :class:`workbench.studies.scene_point.TargetSized`)."""
+    return TargetSized(h_ratio=task.h_ratio)
+
+
+_MESHES: dict = {}  # the meshes this worker has read, by cache key (run_one's ``meshes``)
 
 
 def solve_task(task: Task, mesh_cache: str) -> dict:
@@ -232,40 +234,19 @@ def run_validity_point(point: Point) -> dict:
 
 
 def _solve_task(task: Task, mesh_cache: str) -> dict:
-    import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
-
-    from mpi4py import MPI
-
-    from meshes.block import build_block_mesh
-    from workbench.mesh_io import read_mesh
-    from workbench.scenes.base import LoadPath
-    from workbench.scenes.block_theory import block_theory
     from workbench.scenes.budget_theory import moment_half_width
-    from workbench.scenes.wiring import solve_run
 
-    comm = MPI.COMM_SELF
     rec = {"task": asdict(task), "model": task.model, "converged": False, "error": None}
-    run = _run(task)
-    th0 = block_theory(run.geometry, run.material, half_width=1.0)
-    if task.mesh_name not in _MESHES:
-        W = task.width_factor
-        files = build_block_mesh(width=W, height=W, contact_half_width=1.0, h_contact=1.0 / task.h_ratio,
-                                 growth=task.growth, half_model=True, apex_refinement=task.scene == "wedge",
-                                 out_dir=Path(mesh_cache), name=task.mesh_name, stats_dir=None, comm=comm)
-        _MESHES[task.mesh_name] = (read_mesh(files.msh, comm), files)
-    mesh_data, files = _MESHES[task.mesh_name]
-    cells = files.stats.get("cells")
-    load = LoadPath("force", th0.P, task.n_steps, symmetric_half=True)
     # finite strain: FINITE_* (above); a run that cannot converge fails in seconds, with its SNES reason
-    extra = ({"material_model": task.material_model, "max_cutbacks": FINITE_CUTBACKS, "max_it": FINITE_MAX_IT}
-             if task.kinematics == "finite" else {})
+    extra = ({"max_cutbacks": FINITE_CUTBACKS, "max_it": FINITE_MAX_IT} if task.kinematics == "finite" else {})
     t0 = time.perf_counter()
     try:
-        res = solve_run(run, mesh_data, scene_obstacle(run, files=files, estimate=th0), load,
-                        case=f"validity {task.model}", **extra)
+        o = run_point(_run(task), name=task.mesh_name, mesh_cache=mesh_cache, scene=_scene(task), meshes=_MESHES,
+                      case=f"validity {task.model}", **extra)
     except Exception as exc:  # noqa: BLE001  (named: diverged, refused or failed)
         return rec | {"error": run_failure(exc), "time_s": time.perf_counter() - t0}
-    cmp = scene_compare(run, res, files=files, estimate=th0)
+    res, cmp = o.result, o.comparison
+    cells = o.metrics["mesh"].get("cells")
     th = cmp.theory
     s = res.samples
     moment = 2.0 * moment_half_width(s.s, s.p, s.weight, center=0.0)
