@@ -82,7 +82,8 @@ import numpy as np
 
 from workbench.atomic import write_json, write_text
 from workbench.owned import ensure_dir
-from workbench.studies.config import BENCH_SECTIONS, SCALE_FAMILIES, BenchConfig, from_json, to_json
+from workbench.studies.bench_config import BENCH_SECTIONS, SCALE_FAMILIES, BenchConfig
+from workbench.studies.config import from_json, to_json
 from workbench.studies.rates import fit_exponent
 
 __all__ = ["BenchConfig", "LOG_EVENTS", "first_reaching", "main", "rel_diff", "run_bench", "scale_overrides",

@@ -53,7 +53,8 @@ import numpy as np
 
 from workbench.atomic import write_json, write_text
 from workbench.owned import ensure_dir
-from workbench.studies.config import ConvergenceConfig, to_json
+from workbench.studies.config import to_json
+from workbench.studies.convergence_config import ConvergenceConfig
 from workbench.studies.executor import (
     ExecutorChoice,
     add_executor_options,

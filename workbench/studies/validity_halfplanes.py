@@ -1,6 +1,6 @@
 """The validity study's two-elastic-half-planes part (issue 25): Ciavarella-Hills over beta of both signs.
 
-Each point is a Dundurs beta and a parabolic gap b0/R (:class:`workbench.studies.config.ValidityConfig`
+Each point is a Dundurs beta and a parabolic gap b0/R (:class:`workbench.studies.validity_config.ValidityConfig`
 ``halfplanes_beta`` x ``halfplanes_b0_over_R``), solved through the registered ``halfplanes`` scene
 (:mod:`workbench.scenes.halfplanes`: two graded blocks, non-matching meshes, the upper one carrying the profile)
 with ``small`` and ``convective`` kinematics (``convection = "profile"``: Ciavarella and Hills's eq. (8)), on three
