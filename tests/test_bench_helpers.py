@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from workbench.studies.bench import LOG_EVENTS, first_reaching, rel_diff
+from workbench.studies.bench_measure import LOG_EVENTS, first_reaching, rel_diff
 from workbench.studies.bench_config import BenchConfig
 from workbench.studies.bench_report import to_markdown
 from workbench.studies.config import from_json, to_json

@@ -90,7 +90,7 @@ def test_bench_config_refuses_bad_scale_solver():
 
 
 def test_scale_rows_switch_to_gamg_above_threshold():
-    from workbench.studies.bench import scale_overrides
+    from workbench.studies.bench_measure import scale_overrides
     from workbench.studies.bench_config import BenchConfig
 
     cfg = BenchConfig(krylov_threshold=1000, scale_linear_solver="lu_reuse")
@@ -119,7 +119,7 @@ def test_auto_chooses_by_size():
 
 
 def test_scale_rows_auto_is_one_configuration():
-    from workbench.studies.bench import scale_overrides
+    from workbench.studies.bench_measure import scale_overrides
     from workbench.studies.bench_config import BenchConfig
 
     cfg = BenchConfig(krylov_threshold=1000, scale_linear_solver="auto")

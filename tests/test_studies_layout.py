@@ -25,7 +25,9 @@ RUNNERS = {"workbench.studies.bench", "workbench.studies.convergence", "workbenc
 # config and rates
 OWN = {"workbench.studies.bench": {"workbench.studies.bench_config", "workbench.studies.bench_report",
                                    "workbench.studies.bench_plot", "workbench.studies.bench_two_body",
-                                   "workbench.studies.bench_startup"},
+                                   "workbench.studies.bench_startup", "workbench.studies.bench_measure",
+                                   "workbench.studies.bench_accuracy", "workbench.studies.bench_scale",
+                                   "workbench.studies.bench_process", "workbench.studies.bench_options"},
        "workbench.studies.convergence": {"workbench.studies.convergence_config", "workbench.studies.convergence_report",
                                          "workbench.studies.convergence_plot"},
        "workbench.studies.stability": {"workbench.studies.stability_config", "workbench.studies.stability_specs",
