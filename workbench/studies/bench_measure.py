@@ -172,16 +172,11 @@ def hertz_errors(result, run) -> dict:
 
 
 def solve_on(run, mesh_data, theory, *, case: str, **overrides):
-    """Solve a block run on a given mesh through the case wiring: its scene's obstacle and load path (force
-    control to ``theory.P``), :func:`workbench.scenes.wiring.solve_run` with the ``overrides``."""
-    from workbench.scenes import SceneMesh, scene_for
-    from workbench.scenes.wiring import solve_run
+    """Solve a block run on a given mesh through the case pipeline (:func:`workbench.studies.scene_point.run_on_mesh`:
+    its scene's obstacle, force control to ``theory.P``, ``run_one`` with the ``overrides``); the ContactResult."""
+    from workbench.studies.scene_point import run_on_mesh
 
-    scene = scene_for(run)
-    mesh = SceneMesh(files=None, estimate=theory, summary="")  # the mesh is given: only the estimate is read
-    return solve_run(run, mesh_data, scene.obstacle(run, mesh), scene.load_path(run, mesh), case=case, **overrides)
-
-
+    return run_on_mesh(run, mesh_data, theory, case=case, **overrides).result
 
 
 def ours_once(run, cfg: BenchConfig, *, comm) -> dict:

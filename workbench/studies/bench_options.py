@@ -18,6 +18,7 @@ from workbench.studies.bench_measure import (
     rel_diff,
     solve_case,
 )
+from workbench.studies.scene_point import run_failure
 
 __all__ = ["lu_reuse", "predictor_free", "solver_variants"]
 
@@ -81,7 +82,7 @@ def lu_reuse(cfg: BenchConfig, *, comm, progress) -> dict:
             try:
                 res = solve_case(run, md, petsc_options=opts)
             except Exception as exc:  # noqa: BLE001  (a failed variant is a result, not a crash)
-                row[key] = {"failed": str(exc).splitlines()[0]}
+                row[key] = {"failed": run_failure(exc)}
                 continue
             ev = log_delta(before, log_counts())
             row["ndofs"] = res.ndofs

@@ -6,7 +6,9 @@ comparison with theory, exactly as a case run gets them) with the studies' mesh 
 h_c = a / h_ratio from the TARGET half-width a itself (the scene recomputes the half-width from the load, which
 differs from a in the last bit and would move the published sweeps' meshes), the mesh named by the point, and a
 displacement-controlled load path where the point asks for one (the stability sweep's faults).
-:func:`run_point` runs one such point silently on ``MPI.COMM_SELF``; :func:`run_failure` names what a run raised.
+:class:`GivenMesh` is the same block scene on a mesh the study already holds in memory (the benchmark's solves on one
+mesh, timed; its tutorial baseline's uniform box): :func:`run_on_mesh` solves a run on it through ``run_one``.
+:func:`run_point` runs one point silently on ``MPI.COMM_SELF``; :func:`run_failure` names what a run raised.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from pathlib import Path
 
 from workbench.scenes.block import BlockScene
 
-__all__ = ["TargetSized", "run_failure", "run_point", "run_scene_case"]
+__all__ = ["GivenMesh", "TargetSized", "run_failure", "run_on_mesh", "run_point", "run_scene_case"]
 
 
 class TargetSized(BlockScene):
@@ -64,6 +66,35 @@ class TargetSized(BlockScene):
             return LoadPath("displacement", ld.d[-1], ld.steps, symmetric_half=run.geometry.half_model,
                             record_at=tuple(ld.d) if len(ld.d) > 1 else None)
         return super().load_path(run, mesh)
+
+
+class GivenMesh(BlockScene):
+    """The block scene of a run on a mesh already in memory (``mesh_data``, a dolfinx ``MeshData``), driven to the
+    load of ``estimate`` (its :class:`workbench.scenes.block_theory.BlockTheory`): :func:`run_on_mesh` hands the
+    mesh to ``run_one`` through its ``meshes`` dict under :attr:`key`; nothing is meshed or read."""
+
+    def __init__(self, mesh_data, estimate):
+        self.mesh_data, self.estimate = mesh_data, estimate
+        self.key = f"given-{id(mesh_data):x}"
+
+    def mesh(self, run, *, name: str, mesh_cache: Path, comm, stats_dir: Path | None = None):
+        """The given mesh (no files: ``stats`` holds its cell count)."""
+        from meshes.cache import MeshFiles
+        from workbench.scenes import SceneMesh
+
+        cells = self.mesh_data.mesh.topology.index_map(self.mesh_data.mesh.topology.dim).size_global
+        files = MeshFiles(msh=None, xdmf=None, stats={"cells": int(cells)}, key=self.key, cached=True)
+        return SceneMesh(files, self.estimate, f"given mesh, {cells} cells")
+
+
+def run_on_mesh(run, mesh_data, estimate, *, case: str, **solver_overrides):
+    """Solve and compare ``run`` on ``mesh_data`` (:class:`GivenMesh`) through
+    :func:`workbench.pipeline.run_case.run_one` (silent, on the mesh's communicator): the scene's Outcome."""
+    from workbench.pipeline.run_case import run_one
+
+    scene = GivenMesh(mesh_data, estimate)
+    return run_one(run, name=case, mesh_cache=Path("."), comm=mesh_data.mesh.comm, progress=lambda _msg: None,
+                   scene=scene, meshes={scene.key: mesh_data}, case=case, **solver_overrides)
 
 
 def run_failure(exc: BaseException) -> str:
