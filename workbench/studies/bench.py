@@ -8,8 +8,12 @@ load of a = 0.5 mm, half model). Error measure: ``rms = RMS(p - p_H)/p0`` at the
 (:func:`workbench.scenes.block_theory.rms_error`); target ``rms_target = 0.5 %``. Times are wall seconds;
 "warm" means the FFCx JIT cache and the mesh cache are filled and the forms were loaded once in the process
 (the best of up to ``repeats`` identical runs: the CPU may be shared). Every solve goes through the case
-wiring (:func:`workbench.scenes.wiring.solve_run`, our runs through
-:func:`workbench.pipeline.run_case.run_one`) with the section's overrides.
+pipeline (:func:`workbench.pipeline.run_case.run_one`) with the section's overrides: our runs on their scene's
+cached mesh, the solves timed on one mesh in memory and the baseline on its uniform box through
+:func:`workbench.studies.scene_point.run_on_mesh`. Modules: sections 1-2 :mod:`workbench.studies.bench_accuracy`,
+3 :mod:`workbench.studies.bench_scale`, 4-5a :mod:`workbench.studies.bench_process`, 5b-6
+:mod:`workbench.studies.bench_options`, 7 :mod:`workbench.studies.bench_two_body`, 8
+:mod:`workbench.studies.bench_startup`; the measuring tools :mod:`workbench.studies.bench_measure`.
 
 Sections:
 

@@ -194,9 +194,8 @@ def solve_task(task: Task, mesh_cache: str) -> dict:
     record's named ``error`` (an exception object holding PETSc state could not even be sent back)."""
     try:
         return _solve_task(task, mesh_cache)
-    except Exception as exc:  # noqa: BLE001
-        return {"task": asdict(task), "model": task.model, "converged": False,
-                "error": f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}"}
+    except Exception as exc:  # noqa: BLE001  (named: diverged, refused or failed)
+        return {"task": asdict(task), "model": task.model, "converged": False, "error": run_failure(exc)}
 
 
 @dataclass(frozen=True)
