@@ -1,5 +1,6 @@
-"""A study point is a case run solved by :func:`workbench.pipeline.run_case.run_one`; this module holds the two
-things the studies share around it: the block scene sized from the target itself, and the name of a failure.
+"""A study point is a case run solved by :func:`workbench.pipeline.run_case.run_one`; this module holds what the
+studies share around it: two adapters of the block scene (sized from the target itself, or on a mesh in memory),
+the silent point runner and the name of a failure.
 
 :class:`TargetSized` is the registered block scene (:class:`workbench.scenes.block.BlockScene`: its obstacle and its
 comparison with theory, exactly as a case run gets them) with the studies' mesh rule: W = H = width_factor a and
@@ -17,7 +18,7 @@ from pathlib import Path
 
 from workbench.scenes.block import BlockScene
 
-__all__ = ["GivenMesh", "TargetSized", "run_failure", "run_on_mesh", "run_point", "run_scene_case"]
+__all__ = ["GivenMesh", "TargetSized", "run_failure", "run_on_mesh", "run_point"]
 
 
 class TargetSized(BlockScene):
@@ -129,8 +130,3 @@ def run_point(run, *, name: str, mesh_cache, scene=None, meshes: dict | None = N
 
     return run_one(run, name=name, mesh_cache=Path(mesh_cache), comm=MPI.COMM_SELF, progress=lambda _msg: None,
                    scene=scene, meshes=meshes, case=case, **solver_overrides)
-
-
-def run_scene_case(run, *, name: str, mesh_cache):
-    """A case-level ``run`` through its registered scene (:func:`run_point` with no study options)."""
-    return run_point(run, name=name, mesh_cache=mesh_cache)
