@@ -116,7 +116,8 @@ def run_one(run: Run, *, name: str, mesh_cache: Path, comm, progress=print, stat
         frames: A list that receives every converged step for the VTK time series.
         scene: The scene that meshes, drives and compares the run (default: its registered scene,
             :func:`workbench.scenes.scene_for`); a study passes its adapter of that scene
-            (:class:`workbench.studies.scene_point.TargetSized`: the mesh sized from the target itself).
+            (:mod:`workbench.studies.scene_point`: ``TargetSized``, the mesh sized from the target itself;
+            ``GivenMesh``, a mesh already in memory, handed in through ``meshes``).
         meshes: A dict that keeps the read meshes by their cache key (``MeshFiles.key``): a study's worker reads
             each mesh once for all its runs, and the caller finds the ``MeshData`` a result was solved on.
         case: The name the solver's messages carry (default ``name[label]``; a study point: its own label).
