@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from workbench.studies.config import ConvergenceConfig, to_json
+from workbench.studies.config import to_json
 from workbench.studies.convergence import (
     cheapest,
     ideal_growth,
@@ -19,6 +19,7 @@ from workbench.studies.convergence import (
     l2_pressure_error,
     observed_rates,
 )
+from workbench.studies.convergence_config import ConvergenceConfig
 from workbench.studies.convergence_report import to_markdown
 from workbench.studies.rates import RateFit, fit_rate
 

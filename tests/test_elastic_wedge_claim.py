@@ -21,7 +21,7 @@ from mpi4py import MPI
 from meshes.two_body import build_profile_blocks
 from workbench.mesh_io import read_mesh
 from workbench.studies import validity_elastic_wedge as ew
-from workbench.studies.config import ValidityConfig
+from workbench.studies.validity_config import ValidityConfig
 
 
 def test_shaped_wedge_mesh_lies_on_its_faces(tmp_path):
@@ -138,7 +138,7 @@ def test_report_claims_row_and_summary_say_the_verdict(tmp_path):
 def test_the_rigid_claim_ignores_the_elastic_wedge_runs():
     """Both parts' records carry ``stresses`` (of different shapes): the rigid wedge's claim reads only its own
     (a make validity run once failed there, after all its runs)."""
-    from workbench.studies import validity as v
+    from workbench.studies import validity_assemble as va
 
     cfg = ValidityConfig(elastic_wedge_theta=(math.pi / 10, math.pi / 5))
     recs = _synthetic(cfg, geometry=0.02)
@@ -148,5 +148,5 @@ def test_the_rigid_claim_ignores_the_elastic_wedge_runs():
     z = [0.25] * 3
     recs.append({"task": {"scene": "wedge", "param": math.pi / 10, "traction": "obstacle", "level": "h2"},
                  "converged": True, "P": 1.0, "stresses": {"x": [0.0] * 3, "z": z, "sxx": z, "szz": z, "sxz": z}})
-    rigid = v.claim_points(cfg, recs)
+    rigid = va.claim_points(cfg, recs)
     assert rigid["verdict"] is None and all("reason" in r["h2"] for r in rigid["rows"])

@@ -238,7 +238,7 @@ def test_saved_model_bands_match_the_case_and_refuse_another_scene():
 
     from cases import load_case
     from workbench.external.models import load_model_bands
-    from workbench.studies.config import VALIDITY_MODELS
+    from workbench.studies.validity_config import VALIDITY_MODELS
 
     case = load_case("hertz_cylinder")
     bands = load_model_bands("hertz_cylinder", case=case)

@@ -18,7 +18,7 @@ from fem.elasticity import plane_strain_modulus
 from fem.obstacles import CircleObstacle
 from fem.solver import solve_contact
 from meshes.block import build_block_mesh
-from workbench.studies.config import BenchConfig
+from workbench.studies.bench_config import BenchConfig
 
 R, E, NU = 10.0, 200e3, 0.3
 A = 0.05 * R

@@ -13,7 +13,7 @@ import pytest
 
 from fem import stepping
 from workbench.studies import validity as v
-from workbench.studies.config import ValidityConfig
+from workbench.studies.validity_config import ValidityConfig
 
 
 def _states(*ds):

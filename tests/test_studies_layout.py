@@ -13,19 +13,28 @@ import pytest
 
 from workbench.cli import STUDIES
 from workbench.paths import default_paths
-from workbench.studies.config import BenchConfig, ConvectiveTableConfig, ConvergenceConfig, StabilityConfig
+from workbench.studies.bench_config import BenchConfig
+from workbench.studies.convective_table_config import ConvectiveTableConfig
+from workbench.studies.convergence_config import ConvergenceConfig
+from workbench.studies.stability_config import StabilityConfig
 
 STUDY_DIR = Path(__file__).resolve().parents[1] / "workbench" / "studies"
 RUNNERS = {"workbench.studies.bench", "workbench.studies.convergence", "workbench.studies.stability",
            "workbench.studies.convective_table", "workbench.studies.validity"}
-# what each runner may import of the other study modules: its own report and plot, the shared config and rates
-OWN = {"workbench.studies.bench": {"workbench.studies.bench_report", "workbench.studies.bench_plot",
-                                   "workbench.studies.bench_two_body",
-                                   "workbench.studies.bench_startup"},
-       "workbench.studies.convergence": {"workbench.studies.convergence_report", "workbench.studies.convergence_plot"},
-       "workbench.studies.stability": {"workbench.studies.stability_plot"},
-       "workbench.studies.convective_table": set(),
-       "workbench.studies.validity": {"workbench.studies.validity_report", "workbench.studies.validity_plot",
+# what each runner may import of the other study modules: its own config, specs, report and plot, the shared
+# config and rates
+OWN = {"workbench.studies.bench": {"workbench.studies.bench_config", "workbench.studies.bench_report",
+                                   "workbench.studies.bench_plot", "workbench.studies.bench_two_body",
+                                   "workbench.studies.bench_startup", "workbench.studies.bench_measure",
+                                   "workbench.studies.bench_accuracy", "workbench.studies.bench_scale",
+                                   "workbench.studies.bench_process", "workbench.studies.bench_options"},
+       "workbench.studies.convergence": {"workbench.studies.convergence_config", "workbench.studies.convergence_report",
+                                         "workbench.studies.convergence_plot"},
+       "workbench.studies.stability": {"workbench.studies.stability_config", "workbench.studies.stability_specs",
+                                       "workbench.studies.stability_report", "workbench.studies.stability_plot"},
+       "workbench.studies.convective_table": {"workbench.studies.convective_table_config"},
+       "workbench.studies.validity": {"workbench.studies.validity_config", "workbench.studies.validity_assemble",
+                                      "workbench.studies.validity_report", "workbench.studies.validity_plot",
                                       "workbench.studies.validity_halfplanes",
                                       "workbench.studies.validity_elastic_wedge"}}
 # the shared pieces every study may import: config and rates, the point runner and its executor (local processes or
@@ -53,13 +62,16 @@ def test_a_study_imports_no_other_study(graph, study):
     assert _studies_imported_by(graph, study) <= OWN[study] | SHARED
 
 
-# a report's own section formatters (formatting only, no study code)
-REPORT_OWN = {"bench_report": {"workbench.studies.bench_startup_report"}}
+# a report's own section formatters (formatting only, no study code) and its study's config (read back from the JSON)
+REPORT_OWN = {"bench_report": {"workbench.studies.bench_startup_report", "workbench.studies.bench_config"},
+              "stability_report": {"workbench.studies.stability_config"}}
+CONFIGS = ["bench_config", "convective_table_config", "convergence_config", "stability_config", "validity_config"]
 
 
 @pytest.mark.parametrize("module", ["bench_report", "bench_startup_report", "bench_plot", "convergence_report",
-                                    "convergence_plot", "stability_plot", "validity_report", "validity_plot",
-                                    "config", "rates", "executor", "reference", "scene_point", "where_report"])
+                                    "convergence_plot", "stability_report", "stability_plot", "validity_report",
+                                    "validity_plot", "config", *CONFIGS, "rates", "executor", "reference",
+                                    "scene_point", "where_report"])
 def test_reports_plots_and_shared_modules_import_no_study(graph, module):
     """Reports and plots read the study JSON; the shared modules are leaves every study may import: none of them
     imports a study."""

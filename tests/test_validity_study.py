@@ -11,7 +11,9 @@ from dataclasses import asdict
 import pytest
 
 from workbench.studies import validity as v
-from workbench.studies.config import ValidityConfig, to_json
+from workbench.studies import validity_assemble as va
+from workbench.studies.config import to_json
+from workbench.studies.validity_config import ValidityConfig
 
 
 @pytest.mark.parametrize("kw", [dict(nu=(0.5,)), dict(nu=()), dict(models=(("halfplane", "finite"),)),
@@ -59,7 +61,7 @@ def test_tasks_cover_every_model_level_and_skip_finite_where_it_locks():
                                         (0.08, 1e-3, ">5%"), (5e-3, 4e-3, "unresolved"), (0.05, 1e-3, "unresolved"),
                                         (2e-4, 5e-4, "<0.1%")])
 def test_classify(d, u, band):
-    got, reason = v.classify(d, u, (1e-3, 1e-2, 5e-2), 3.0)
+    got, reason = va.classify(d, u, (1e-3, 1e-2, 5e-2), 3.0)
     assert got == band
     assert (reason is None) == (band != "unresolved")
 
@@ -69,11 +71,11 @@ def test_value_extrapolates_and_corrects_the_truncation():
     ratios = (4.0, 8.0, 16.0)
     levels = {f"h{i}": {"moment": 1.0 + 0.01 / r**2} for i, r in enumerate(ratios)}
     levels["far"] = {"moment": levels["h1"]["moment"] + 3e-4}
-    out = v._value(levels, "moment", ratios)
+    out = va._value(levels, "moment", ratios)
     assert out["observed_order"] == pytest.approx(2.0, rel=1e-8)
     assert out["value"] == pytest.approx(1.0 + 4e-4, rel=1e-12)
     assert out["truncation"] == pytest.approx(1e-4 / out["value"], rel=1e-12)
-    assert v._value({"h0": {"moment": 1.0}}, "moment", ratios)["value"] is None
+    assert va._value({"h0": {"moment": 1.0}}, "moment", ratios)["value"] is None
 
 
 def _synthetic_records(cfg: ValidityConfig) -> list[dict]:
@@ -96,7 +98,7 @@ def _synthetic_records(cfg: ValidityConfig) -> list[dict]:
 def test_assemble_report_summary_and_claims_row(tmp_path):
     cfg = ValidityConfig(cylinder_a_over_R=(0.1,), wedge_theta=(math.pi / 10,), nu=(0.0,), out=tmp_path)
     records = _synthetic_records(cfg)
-    points, dropped = v.assemble(cfg, records, [])
+    points, dropped = va.assemble(cfg, records, [])
     assert len(points) == 2
     cyl = next(p for p in points if p["scene"] == "cylinder")
     wed = next(p for p in points if p["scene"] == "wedge")
@@ -226,10 +228,10 @@ def test_halfplanes_points_bands_split_report_and_map(tmp_path):
 
     cfg = ValidityConfig(halfplanes_beta=(-0.3, 0.3), halfplanes_b0_over_R=(0.1,), rigid=False, out=tmp_path)
     records = _synthetic_hp_records(cfg)
-    points, dropped = v.assemble(cfg, records, [])
+    points, dropped = va.assemble(cfg, records, [])
     assert [(p["scene"], p["beta"]) for p in points] == [("halfplanes", -0.3), ("halfplanes", 0.3)]
     neg, pos = points
-    r = neg["models"][v.HP_COMPLETE]["moment"]
+    r = neg["models"][va.HP_COMPLETE]["moment"]
     assert r["value"] == pytest.approx(neg["theories"]["ch_converged"]["moment"], rel=1e-12)  # the ratio cancels f
     b = neg["bands"]["ch_converged"]["moment"]
     assert b["inside"] and b["band"] == "<0.1%"

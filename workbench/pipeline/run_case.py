@@ -105,22 +105,42 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
 
 
 def run_one(run: Run, *, name: str, mesh_cache: Path, comm, progress=print, stats_dir: Path | None = None,
-            frames: list | None = None, **solver_overrides) -> Outcome:
-    """Mesh, solve and compare one run through its scene (``solver_overrides``: extra solver keywords;
-    ``frames``: a list that receives every converged step for the VTK time series)."""
+            frames: list | None = None, scene=None, meshes: dict | None = None, case: str | None = None,
+            **solver_overrides) -> Outcome:
+    """Mesh, solve and compare one run through its scene: the one way a case run and every study point is solved.
+
+    Args:
+        run: The run record.  name: The case (or study point) name; the scene names its mesh from it.
+        mesh_cache: The mesh cache folder.  comm: The MPI communicator.  progress: One-line progress printer.
+        stats_dir: Where the scene writes mesh statistics (None: nowhere).
+        frames: A list that receives every converged step for the VTK time series.
+        scene: The scene that meshes, drives and compares the run (default: its registered scene,
+            :func:`workbench.scenes.scene_for`); a study passes its adapter of that scene
+            (:mod:`workbench.studies.scene_point`: ``TargetSized``, the mesh sized from the target itself;
+            ``GivenMesh``, a mesh already in memory, handed in through ``meshes``).
+        meshes: A dict that keeps the read meshes by their cache key (``MeshFiles.key``): a study's worker reads
+            each mesh once for all its runs, and the caller finds the ``MeshData`` a result was solved on.
+        case: The name the solver's messages carry (default ``name[label]``; a study point: its own label).
+        solver_overrides: Extra solver keywords (:func:`workbench.scenes.wiring.solve_run`).
+    """
     from workbench.mesh_io import read_mesh
     from workbench.pipeline.size_estimate import check_run_fits
 
     interrupt.check()  # a study that recorded a signal's PETSc.Error as a failed run stops at its next run
-    scene = scene_for(run)
+    scene = scene_for(run) if scene is None else scene
     check_run_fits(run, where=f"{name} [{run.label}]", field="h_contact")  # studies too: refused before meshing
     interrupt.stage(f"meshing [{run.label}] of {name}")
     mesh = scene.mesh(run, name=name, mesh_cache=mesh_cache, comm=comm, stats_dir=stats_dir)
     progress(f"[{run.label}] {mesh.summary}")
-    mesh_data = read_mesh(mesh.files.msh, comm)
+    if meshes is None:
+        mesh_data = read_mesh(mesh.files.msh, comm)
+    else:
+        if mesh.files.key not in meshes:
+            meshes[mesh.files.key] = read_mesh(mesh.files.msh, comm)
+        mesh_data = meshes[mesh.files.key]
     interrupt.stage(f"the Newton solve [{run.label}] of {name}")
     result = solve_run(run, mesh_data, scene.obstacle(run, mesh), scene.load_path(run, mesh),
-                       case=f"{name}[{run.label}]", on_step=step_printer(progress, run.label), frames=frames,
+                       case=case or f"{name}[{run.label}]", on_step=step_printer(progress, run.label), frames=frames,
                        **solver_overrides)
     interrupt.check()
     for w in result.warnings:

@@ -3,14 +3,15 @@
 :func:`to_markdown` turns the benchmark JSON (``<results>/bench/bench.json``, the data of
 :func:`workbench.studies.bench.run_bench`) into ``report.md``, with a final table of the targets, each met / not
 met with its measured value. The settings (targets, baseline stiffness, box size, ...) are read from the
-JSON's ``config`` (:class:`workbench.studies.config.BenchConfig`; its defaults for keys an older JSON lacks).
+JSON's ``config`` (:class:`workbench.studies.bench_config.BenchConfig`; its defaults for keys an older JSON lacks).
 """
 
 from __future__ import annotations
 
 import math
 
-from workbench.studies.config import BenchConfig, from_json
+from workbench.studies.bench_config import BenchConfig
+from workbench.studies.config import from_json
 from workbench.studies.where_report import reference_text
 
 __all__ = ["to_markdown"]
@@ -339,7 +340,7 @@ def _md_reuse(lr: dict) -> list[str]:
         "",
         "GMRES needs about one triangular solve per contact dof whose state differs from the first "
         "Jacobian, so this wins only when the contact zone holds few dofs (see the comment at "
-        "reuse_lu in workbench/studies/config.py, BenchConfig).",
+        "reuse_lu in workbench/studies/bench_config.py, BenchConfig).",
         "",
     ]
 

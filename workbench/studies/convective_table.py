@@ -18,7 +18,8 @@ from scipy import optimize
 
 from analytic import convective, materials, wedge
 from workbench.atomic import write_json, write_text
-from workbench.studies.config import ConvectiveTableConfig, to_json
+from workbench.studies.config import to_json
+from workbench.studies.convective_table_config import ConvectiveTableConfig
 
 __all__ = ["ConvectiveTableConfig", "compute", "main", "to_markdown"]
 

@@ -53,7 +53,8 @@ import numpy as np
 
 from workbench.atomic import write_json, write_text
 from workbench.owned import ensure_dir
-from workbench.studies.config import ConvergenceConfig, to_json
+from workbench.studies.config import to_json
+from workbench.studies.convergence_config import ConvergenceConfig
 from workbench.studies.executor import (
     ExecutorChoice,
     add_executor_options,
@@ -62,6 +63,7 @@ from workbench.studies.executor import (
     worker_summary,
 )
 from workbench.studies.rates import fit_rate
+from workbench.studies.scene_point import run_failure
 
 __all__ = ["ConvergenceConfig", "Point", "cheapest", "ideal_growth", "judge_rates", "l2_pressure_error", "main",
            "observed_rates", "points", "run_convergence_point", "run_study", "to_csv", "write_outputs"]
@@ -156,8 +158,8 @@ def _measure(case, cfg: ConvergenceConfig, *, series: str, geometry: dict, metho
                                                   growth=growth, kappa0=kappa0),
                                        name=case.name, repeats=repeats, comm=comm, mesh_cache=cfg.cache_dir)
                  for run in case.runs(h_contact=level)}
-    except RuntimeError as exc:  # fem.solver.ContactSolveError: record, keep the study going
-        row["failed"] = str(exc).splitlines()[0]
+    except RuntimeError as exc:  # fem.solver.ContactSolveError: record (named), keep the study going
+        row["failed"] = run_failure(exc)
         return row
     t = timed.get("small", timed.get("base", next(iter(timed.values()))))
     o, m = t.outcome, t.outcome.metrics

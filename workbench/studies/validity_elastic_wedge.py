@@ -56,7 +56,7 @@ import numpy as np
 
 from analytic import materials
 from workbench.error_budget import grid_study
-from workbench.studies.scene_point import run_failure, run_scene_case
+from workbench.studies.scene_point import run_failure, run_point
 
 __all__ = ["EW_LABEL", "PROBE_X", "PROBE_Z", "ElasticWedgeTask", "build_mesh", "claim_elastic_wedge",
            "elastic_wedge_tasks", "solve_task"]
@@ -163,7 +163,7 @@ def solve_task(task: ElasticWedgeTask, mesh_cache: str) -> dict:
     try:
         from fem.probe import stress_at_points
 
-        o = run_scene_case(_run(task), name=task.mesh_name, mesh_cache=mesh_cache)
+        o = run_point(_run(task), name=task.mesh_name, mesh_cache=mesh_cache)
         m = o.metrics
         b = m["analytic"]["half_width"]
         lower, upper, xz = probe_points(b=b, m=math.tan(task.param), shaped=task.upper == "shaped")

@@ -1,6 +1,6 @@
 """The validity study's two-elastic-half-planes part (issue 25): Ciavarella-Hills over beta of both signs.
 
-Each point is a Dundurs beta and a parabolic gap b0/R (:class:`workbench.studies.config.ValidityConfig`
+Each point is a Dundurs beta and a parabolic gap b0/R (:class:`workbench.studies.validity_config.ValidityConfig`
 ``halfplanes_beta`` x ``halfplanes_b0_over_R``), solved through the registered ``halfplanes`` scene
 (:mod:`workbench.scenes.halfplanes`: two graded blocks, non-matching meshes, the upper one carrying the profile)
 with ``small`` and ``convective`` kinematics (``convection = "profile"``: Ciavarella and Hills's eq. (8)), on three
@@ -26,7 +26,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from analytic import convective, materials
-from workbench.studies.scene_point import run_failure, run_scene_case
+from workbench.studies.scene_point import run_failure, run_point
 
 __all__ = ["HP_LABEL", "HalfplanesTask", "bodies_for", "build_mesh", "halfplanes_tasks", "halfplanes_theories",
            "solve_task"]
@@ -126,7 +126,7 @@ def solve_task(task: HalfplanesTask, mesh_cache: str) -> dict:
     rec = {"task": asdict(task), "model": task.model, "converged": False, "error": None}
     t0 = time.perf_counter()
     try:
-        o = run_scene_case(_run(task), name=task.mesh_name, mesh_cache=mesh_cache)
+        o = run_point(_run(task), name=task.mesh_name, mesh_cache=mesh_cache)
     except Exception as exc:  # noqa: BLE001  (named: diverged, refused or failed)
         return rec | {"error": run_failure(exc), "time_s": time.perf_counter() - t0}
     m = o.metrics

@@ -1,0 +1,174 @@
+"""The performance benchmark's configuration (:mod:`workbench.studies.bench`); shared helpers in
+:mod:`workbench.studies.config`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+from workbench.paths import default_paths
+from workbench.studies.config import folder, is_decreasing
+
+__all__ = ["ACTIVE_SETS", "ACTIVE_SET_UPDATES", "BENCH_SECTIONS", "BenchConfig", "LINEAR_SOLVERS", "SCALE_FAMILIES",
+           "SCALE_PREDICTORS"]
+
+
+def _solver_variants() -> dict:
+    """label -> (petsc_options, solver overrides) of section 5b."""
+    return {
+        "case (MUMPS LU per Newton iteration)": ({}, {}),
+        "MUMPS ICNTL(7)=5 (METIS ordering)": ({"mat_mumps_icntl_7": 5}, {}),
+        "PETSc LU, nd ordering, reuse_ordering": (
+            {"pc_factor_mat_solver_type": "petsc", "pc_factor_mat_ordering_type": "nd",
+             "pc_factor_reuse_ordering": True},
+            {},
+        ),
+        "3 load steps (n_steps=3, the previous case default)": ({}, {"n_steps": 3}),
+    }
+
+
+BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free", "two_body", "startup")
+ACTIVE_SETS = ("extrapolate", "geometry")  # fem.options.ACTIVE_SETS (a study config imports no fem)
+ACTIVE_SET_UPDATES = ("newton", "edge_fit")  # fem.options.ACTIVE_SET_UPDATES
+LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg", "auto")  # fem.linear_solver.LINEAR_SOLVERS
+SCALE_PREDICTORS = ("auto", "hertz_zone")  # the force-control predictors of the cost-growth rows
+SCALE_FAMILIES = ("graded", "uniform")
+
+
+@dataclass(frozen=True)
+class BenchConfig:
+    """Performance benchmark (:mod:`workbench.studies.bench`).
+
+    Attributes:
+        case: The case benchmarked.
+        rms_target: The issue's RMS(p - p_H)/p0 target.
+        baseline_kappa: Baseline penalty stiffness kappa = baseline_kappa E / (1 mm): fixed, not scaled by 1/h.
+        baseline_force_rtol: Baseline force tolerance (ours: the case default 1e-10).
+        baseline_ladder: Baseline (W = H in a, uniform h in a) rungs, cheapest first (half model, P2: 41k,
+            161k, 642k dofs). W = H = 20 a is the smallest box whose size error alone stays below the target
+            (graded Nitsche P2 at W = H = 5, 10, 20, 40 a: rms 3.7 %, 1.1 %, 0.45 %, 0.23 %).
+        our_levels: h_c of our ladders.  our_methods, our_degrees: our configurations.
+        scale: Cost growth, family -> h / a: ``graded`` (meshes.block, ndofs ~ 1/h_c) and ``uniform`` (the
+            baseline's uniform box, ndofs ~ 1/h^2, up to ~1e6 dofs).
+        scale_box: W = H of the uniform family (in a).
+        small_ndofs: Below this a size is timed 3 times in its process (best kept).
+        mpi_levels: h_c of the MPI comparisons (None: the case default).
+        option_level: h_c of the solver-options comparison (graded, ~9e4 dofs).
+        scale_linear_solver: The ``linear_solver`` of the cost-growth rows up to ``krylov_threshold`` dofs
+            (:mod:`fem.linear_solver`; ``"lu"`` is the case default). ``"auto"`` (default): one configuration at
+            every size, the solver's own choice by size (``fem.linear_solver.AUTO_GAMG_NDOFS``; then
+            ``krylov_threshold`` does not apply), and the row's linear solve uses the same choice.
+        crossover_max_ndofs: Cost-growth rows up to this many dofs also time one linear solve with each of the
+            two kinds (MUMPS LU with the ``"auto"`` ordering, and GAMG): the measured LU/GAMG crossover; >= 0.
+        scale_predictor: The ``predictor`` of the cost-growth rows: ``"auto"`` (the case: the Hertz predictor, a
+            stiffness solve) or ``"hertz_zone"`` (the Hertz zone prescribed from the unloaded state, no stiffness
+            solve). Each row below ``krylov_threshold`` also runs the case solver, as the reference.
+        krylov_threshold: Cost-growth rows with more dofs than this use ``linear_solver="gamg"`` (no LU factor:
+            memory ~ ndofs) and compare with a GAMG linear solve; >= 0.
+        reuse_lu: PETSc options reusing the LU of the FIRST Jacobian through GMRES for the whole run
+            (snes_lag_preconditioner -2). The later Jacobians differ from it only in the rows of the contact
+            dofs whose state changed, so GMRES needs about as many triangular solves as there are such dofs: a
+            win when the contact zone holds few dofs, a loss when it holds thousands (a graded a/1280 mesh did
+            not finish in 3 min). (SNES lag 2 with preonly was measured 10x slower; lag -1 is refused.)
+        reuse_meshes: (family, h/a) of the LU-reuse comparison.
+        solver_variants: label -> (petsc_options, solver overrides) of the options comparison.
+        targets: The issue's targets (stated met / not met).
+        predictor_free_cases: Cases of the predictor-free Newton section (every run of each at its default
+            level, ``predictor="extrapolate"``: no analytic predictor).
+        predictor_free_active_set: The solver's ``active_set`` option of that section (``"geometry"``: the
+            first contact from the rigid overlap, several patches; ``"extrapolate"``: single patches only).
+            Today's option (``"extrapolate"``) is run too, as the reference row.
+        predictor_free_active_set_update: The solver's ``active_set_update`` option of that section
+            (``"edge_fit"``: prescribed-active-set iterations with the edges extrapolated from the pressure,
+            :mod:`fem.active_set_update`; ``"newton"``: one prescribed iteration, then semismooth Newton). When it
+            is not ``"newton"``, the same ``active_set`` with ``"newton"`` is run too, as a second reference row.
+        predictor_free_target: The issue's target: mean Newton iterations per solve <= this on every scene.
+        repeats: Warm repetitions per timing (best kept), >= 1.
+        sections: Sections run.
+        out: Output folder (default ``<results>/bench``).  mesh_cache: Mesh cache folder.
+    """
+
+    case: str = "hertz_cylinder"
+    rms_target: float = 0.005
+    baseline_kappa: float = 1e3
+    baseline_force_rtol: float = 1e-3
+    baseline_ladder: tuple[tuple[float, float], ...] = ((20.0, 0.2), (20.0, 0.1), (20.0, 0.05))
+    our_levels: tuple[float, ...] = (0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.0015625)
+    our_methods: tuple[str, ...] = ("nitsche", "penalty")
+    our_degrees: tuple[int, ...] = (1, 2)
+    scale: dict = field(default_factory=lambda: {"graded": (0.05, 0.0125, 0.003125, 0.00078125, 0.000390625),
+                                                 "uniform": (0.2, 0.1, 1.0 / 15.0, 0.05, 0.04)})
+    scale_box: float = 20.0
+    small_ndofs: int = 50_000
+    mpi_levels: tuple[float | None, ...] = (None, 0.00078125)
+    option_level: float = 0.00078125
+    scale_linear_solver: str = "auto"
+    crossover_max_ndofs: int = 400_000
+    scale_predictor: str = "hertz_zone"
+    krylov_threshold: int = 400_000
+    reuse_lu: dict = field(default_factory=lambda: {
+        "ksp_type": "gmres", "ksp_rtol": 1e-12, "ksp_atol": 0.0, "ksp_gmres_restart": 300, "ksp_max_it": 300,
+        "snes_lag_preconditioner": -2, "snes_lag_preconditioner_persists": True,
+    })
+    reuse_meshes: tuple[tuple[str, float], ...] = (("uniform", 0.2), ("graded", 0.003125))
+    solver_variants: dict = field(default_factory=_solver_variants)
+    targets: dict = field(default_factory=lambda: {"speedup_vs_baseline": 10.0, "default_warm_s": 3.0,
+                                                   "linear_solves": 1.5, "exponent": 1.15, "peak_mb": 2048.0,
+                                                   "largest_ndofs": 900_000})
+    predictor_free_cases: tuple[str, ...] = ("hertz_cylinder", "wedge", "wedge_convective", "parabola_convective",
+                                             "concave_symmetric", "close_to_conformal")
+    predictor_free_active_set: str = "geometry"
+    predictor_free_active_set_update: str = "edge_fit"
+    predictor_free_target: float = 4.0
+    repeats: int = 3
+    sections: tuple[str, ...] = BENCH_SECTIONS
+    out: Path | None = None
+    mesh_cache: Path | None = None
+
+    @property
+    def out_dir(self) -> Path:
+        """The output folder: ``out``, else ``<results>/bench``."""
+        return folder(self.out, default_paths().study("bench"))
+
+    @property
+    def cache_dir(self) -> Path:
+        """The mesh cache: ``mesh_cache``, else ``<results>/mesh_cache``."""
+        return folder(self.mesh_cache, default_paths().mesh_cache)
+
+    def __post_init__(self) -> None:
+        if int(self.repeats) != self.repeats or self.repeats < 1:
+            raise ValueError(f"repeats must be an integer >= 1, got {self.repeats!r}")
+        for family, levels in self.scale.items():
+            if family not in SCALE_FAMILIES:
+                raise ValueError(f"scale family must be one of {sorted(SCALE_FAMILIES)}, got {family!r}")
+            if any(not 0 < v <= 1 for v in levels) or not is_decreasing(tuple(levels)):
+                raise ValueError(f"scale[{family!r}] must be strictly decreasing values in (0, 1], "
+                                 f"got {list(levels)}")
+        if self.predictor_free_active_set not in ACTIVE_SETS:
+            raise ValueError(f"predictor_free_active_set must be one of {list(ACTIVE_SETS)}, "
+                             f"got {self.predictor_free_active_set!r}")
+        if self.predictor_free_active_set_update not in ACTIVE_SET_UPDATES:
+            raise ValueError(f"predictor_free_active_set_update must be one of {list(ACTIVE_SET_UPDATES)}, "
+                             f"got {self.predictor_free_active_set_update!r}")
+        if self.scale_linear_solver not in LINEAR_SOLVERS:
+            raise ValueError(f"scale_linear_solver must be one of {list(LINEAR_SOLVERS)}, "
+                             f"got {self.scale_linear_solver!r}")
+        if self.scale_predictor not in SCALE_PREDICTORS:
+            raise ValueError(f"scale_predictor must be one of {list(SCALE_PREDICTORS)}, got {self.scale_predictor!r}")
+        if isinstance(self.krylov_threshold, bool) or int(self.krylov_threshold) != self.krylov_threshold \
+                or self.krylov_threshold < 0:
+            raise ValueError(f"krylov_threshold must be an integer >= 0 (dofs), got {self.krylov_threshold!r}")
+        if isinstance(self.crossover_max_ndofs, bool) or int(self.crossover_max_ndofs) != self.crossover_max_ndofs \
+                or self.crossover_max_ndofs < 0:
+            raise ValueError(f"crossover_max_ndofs must be an integer >= 0 (dofs), got {self.crossover_max_ndofs!r}")
+        if not self.predictor_free_target > 0:
+            raise ValueError(f"predictor_free_target must be > 0, got {self.predictor_free_target!r}")
+        if not set(self.sections) <= set(BENCH_SECTIONS):
+            raise ValueError(f"sections must be a subset of {sorted(BENCH_SECTIONS)}, got {list(self.sections)}")
+
+    def quick(self) -> BenchConfig:
+        """Small sizes only (development): three graded and two uniform sizes, one MPI size, a cheap
+        options level, the first baseline rung."""
+        return replace(self, scale={"graded": tuple(self.scale["graded"][:3]), "uniform": (0.4, 0.2)},
+                       mpi_levels=(None,), option_level=0.0125, baseline_ladder=self.baseline_ladder[:1])
