@@ -11,8 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from workbench.studies.bench_measure import LOG_EVENTS, first_reaching, rel_diff
 from workbench.studies.bench_config import BenchConfig
+from workbench.studies.bench_measure import LOG_EVENTS, first_reaching, rel_diff
 from workbench.studies.bench_report import to_markdown
 from workbench.studies.config import from_json, to_json
 from workbench.studies.rates import ExponentFit, fit_exponent

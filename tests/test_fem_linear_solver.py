@@ -90,8 +90,8 @@ def test_bench_config_refuses_bad_scale_solver():
 
 
 def test_scale_rows_switch_to_gamg_above_threshold():
-    from workbench.studies.bench_measure import scale_overrides
     from workbench.studies.bench_config import BenchConfig
+    from workbench.studies.bench_measure import scale_overrides
 
     cfg = BenchConfig(krylov_threshold=1000, scale_linear_solver="lu_reuse")
     assert scale_overrides(cfg, 1000)["linear_solver"] == "lu_reuse"
@@ -119,8 +119,8 @@ def test_auto_chooses_by_size():
 
 
 def test_scale_rows_auto_is_one_configuration():
-    from workbench.studies.bench_measure import scale_overrides
     from workbench.studies.bench_config import BenchConfig
+    from workbench.studies.bench_measure import scale_overrides
 
     cfg = BenchConfig(krylov_threshold=1000, scale_linear_solver="auto")
     assert scale_overrides(cfg, 10**7) == {"predictor": "hertz_zone", "linear_solver": "auto"}
