@@ -1,13 +1,13 @@
 """One output-folder guard for every command that writes (issue 35): the same hostile folders for each command.
 
 Requirement: ``run``, ``mesh``, ``report``, ``ci``, the five studies, ``score``, ``export`` and ``external``
-(``ccx``, ``kratos``, ``workbench``, ``compare``) and ``forcelaw`` refuse each hostile folder below with exit 2
-and one ``error:`` line naming it, whether the output folder comes from ``--out`` or from ``WORKBENCH_RESULTS``,
-and nothing in the sandbox changes (paths and SHA-256 before and after). The folders: a file; a folder whose parents are missing; the home folder; a source folder of the checkout
-(a copy of its layout, the guard pointed at it); the command's own folder made by the user (no marker); and, for
-the commands that write the mesh cache, a ``mesh_cache`` that is a symlink out of the output folder or a user's
-unmarked folder. A good folder passes the guard for every command (the control: the matrix would pass trivially
-if everything were refused).
+(``ccx``, ``kratos``, ``workbench``, ``compare``) and ``forcelaw`` refuse each hostile folder below with exit 2 and
+one ``error:`` line naming it, whether the output folder comes from ``--out`` or from ``WORKBENCH_RESULTS``, and
+nothing in the sandbox changes (paths and SHA-256 before and after). The folders: a file; a folder whose parents are
+missing; the home folder; a source folder of the checkout (a copy of its layout, the guard pointed at it); the
+command's own folder made by the user (no marker); and, for the commands that write the mesh cache, a ``mesh_cache``
+that is a symlink out of the output folder or a user's unmarked folder. A good folder passes the guard for every
+command (the control: the matrix would pass trivially if everything were refused).
 
 In-process (``workbench.cli.main(argv)``): the step after each command's guard is replaced by a recorder that
 raises :class:`Reached`, so a guard that lets a hostile folder through fails the test without computing anything.
