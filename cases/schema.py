@@ -60,6 +60,20 @@ from dataclasses import MISSING, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
+from vocabulary import (
+    CASE_CONTROLS,
+    CASE_FORMULATIONS,
+    FINITE,
+    HALFPLANE,
+    KINEMATICS,
+    LINEAR,
+    LINEAR_SOLVERS,
+    MATERIAL_MODELS,
+    METHODS,
+    OBSTACLE,
+    model_conflict,
+)
+
 __all__ = [
     "CASE_DIR",
     "CONTROL_NEEDS",
@@ -139,8 +153,6 @@ MAX_LIST = 100  # entries of levels, d, budget lists
 MAX_VARIANTS = 100
 MAX_TOLERANCE = 10.0  # a relative error of 1000 %: anything above checks nothing
 E_MIN = 1e-6  # MPa: the stability study's scale sweep starts at 1e-3
-# The finite-strain material models (material.model; "linear" is the small-strain one), docs/models.md.
-HYPERELASTIC_MODELS = ("saint_venant_kirchhoff", "neo_hookean")
 # What each load control needs (the loading checks; a scene names the controls it supports).
 CONTROL_NEEDS = {"force": "with P or half_width", "displacement": "with d"}
 
@@ -517,15 +529,15 @@ _REQUIRED_SECTIONS = ("geometry", "loading")  # and [material] or [[body]] (_che
 
 # allowed values and ranges, checked per field (a scene's geometry keys: SceneSchema.choices / ranges)
 _CHOICES = {
-    ("loading", "control"): ("force", "displacement"),
+    ("loading", "control"): CASE_CONTROLS,
     ("discretisation", "degree"): (1, 2),
-    ("solver", "method"): ("nitsche", "penalty", "augmented_lagrangian"),
-    ("material", "model"): ("linear", "saint_venant_kirchhoff", "neo_hookean"),
-    ("solver", "kinematics"): ("small", "convective", "finite"),
-    ("solver", "traction"): ("halfplane", "obstacle"),
+    ("solver", "method"): METHODS,
+    ("material", "model"): MATERIAL_MODELS,
+    ("solver", "kinematics"): KINEMATICS,
+    ("solver", "traction"): (HALFPLANE, OBSTACLE),
     ("solver", "theta"): (1, 0, -1),
-    ("solver", "formulation"): ("auto", "displacement", "mixed"),
-    ("solver", "linear_solver"): ("lu", "lu_reuse", "gamg", "auto"),
+    ("solver", "formulation"): CASE_FORMULATIONS,
+    ("solver", "linear_solver"): LINEAR_SOLVERS,
 }
 # (low, high, low_inclusive, high_inclusive, text)
 _RANGES = {
@@ -710,23 +722,24 @@ def _check_model(run: Run, where: str) -> None:
     kinematics and finite kinematics with a hyperelastic material, the obstacle traction, the displacement
     formulation and a scene that supports it (the options :func:`fem.options.check_model` checks again)."""
     model, sol = run.material.model, run.solver
-    if sol.kinematics == "finite":
-        if model not in HYPERELASTIC_MODELS:
-            raise CaseError(f"{where}: solver.kinematics = 'finite' needs a hyperelastic material.model (got "
-                            f"{_r(model)}); allowed: 'saint_venant_kirchhoff', 'neo_hookean'")
-        if sol.traction != "obstacle":
-            raise CaseError(f"{where}: solver.kinematics = 'finite' needs solver.traction = 'obstacle' (got "
-                            f"{_r(sol.traction)}); allowed: 'obstacle' (traction along the obstacle's current normal)")
-        if effective_formulation(run) != "displacement":
-            raise CaseError(f"{where}: solver.kinematics = 'finite' supports the displacement formulation only (got "
-                            f"{_r(effective_formulation(run))}); allowed: formulation = 'displacement' or 'auto' with "
-                            f"nu < {NU_MIXED}")
-        if not scene_schema(run.geometry.scene).finite:
-            raise CaseError(f"{where}: solver.kinematics = 'finite' is not supported by the {_r(run.geometry.scene)} "
-                            f"scene; allowed: scene = {' or '.join(repr(n) for n in _scenes_that('finite'))}")
-    elif model != "linear":
+    bad = model_conflict(kinematics=sol.kinematics, material_model=model, traction=sol.traction,
+                         formulation=effective_formulation(run))
+    if bad is not None and bad.allowed == (LINEAR,):
         raise CaseError(f"{where}: material.model = {_r(model)} needs solver.kinematics = 'finite' (got "
                         f"{_r(sol.kinematics)}); allowed with small or convective kinematics: model = 'linear'")
+    if bad is not None and bad.name == "material_model":
+        raise CaseError(f"{where}: solver.kinematics = 'finite' needs a hyperelastic material.model (got "
+                        f"{_r(model)}); allowed: {', '.join(map(repr, bad.allowed))}")
+    if bad is not None and bad.name == "traction":
+        raise CaseError(f"{where}: solver.kinematics = 'finite' needs solver.traction = 'obstacle' (got "
+                        f"{_r(sol.traction)}); allowed: 'obstacle' (traction along the obstacle's current normal)")
+    if bad is not None:
+        raise CaseError(f"{where}: solver.kinematics = 'finite' supports the displacement formulation only (got "
+                        f"{_r(effective_formulation(run))}); allowed: formulation = 'displacement' or 'auto' with "
+                        f"nu < {NU_MIXED}")
+    if sol.kinematics == FINITE and not scene_schema(run.geometry.scene).finite:
+        raise CaseError(f"{where}: solver.kinematics = 'finite' is not supported by the {_r(run.geometry.scene)} "
+                        f"scene; allowed: scene = {' or '.join(repr(n) for n in _scenes_that('finite'))}")
 
 
 def _check_budget(run: Run, where: str) -> None:

@@ -61,13 +61,12 @@ import ufl
 from fem.elasticity import Lame, sigma
 from fem.methods import ContactMethod, create, method_names
 from fem.methods.base import positive_part
+from vocabulary import KINEMATICS, TRACTIONS
 
 __all__ = ["ContactForms", "ContactKinematics", "positive_part", "contact_kinematics", "build_contact_forms",
            "METHODS", "KINEMATICS", "TRACTIONS"]
 
-METHODS = method_names()  # ("nitsche", "penalty", "augmented_lagrangian"): the registry of fem.methods
-KINEMATICS = ("small", "convective", "finite")
-TRACTIONS = ("obstacle", "halfplane")
+METHODS = method_names()  # the registry of fem.methods (vocabulary.METHODS)
 
 
 class ContactForms(NamedTuple):

@@ -20,28 +20,26 @@ from dataclasses import MISSING, dataclass, fields
 
 import numpy as np
 
-from fem.linear_solver import LINEAR_SOLVERS
+from vocabulary import (
+    ACTIVE_SET_UPDATES,
+    ACTIVE_SETS,
+    CONTROLS,
+    FINITE,
+    FINITE_METHODS,
+    FORMULATIONS,
+    HYPERELASTIC_MODELS,
+    LINEAR_SOLVERS,
+    MATERIAL_MODELS,
+    PREDICTORS,
+    SUPPORT_KINDS,
+    model_conflict,
+)
 
 __all__ = ["ContactOptions", "SUPPORT_KINDS", "FORMULATIONS", "CONTROLS", "PREDICTORS", "ACTIVE_SETS",
            "ACTIVE_SET_UPDATES", "MIN_FACETS_ACROSS", "LINEAR_SOLVERS", "MATERIAL_MODELS", "HYPERELASTIC_MODELS",
            "FINITE_METHODS", "NU_DISPLACEMENT_MAX", "check_options"]
 
-SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free", "halfplane")  # halfplane: fem/far_field.py
-FORMULATIONS = ("displacement", "mixed")
-CONTROLS = ("displacement", "force")
-PREDICTORS = ("auto", "hertz", "extrapolate", "hertz_zone")
-ACTIVE_SETS = ("extrapolate", "geometry")
-# How the prescribed active set of a solve is updated before the true law (fem/stepping.py, fem/active_set_update.py):
-# "newton": one prescribed iteration, then semismooth Newton; "edge_fit": prescribed iterations with the edges
-# extrapolated from the pressure until the set repeats, then semismooth Newton.
-ACTIVE_SET_UPDATES = ("newton", "edge_fit")
-# Bulk material models (:mod:`fem.hyperelastic`): "linear" is small-strain Hooke (kinematics small or convective);
-# the hyperelastic ones are the finite-strain models and go with kinematics="finite" only (and it needs one).
-MATERIAL_MODELS = ("linear", "saint_venant_kirchhoff", "neo_hookean")
-HYPERELASTIC_MODELS = ("saint_venant_kirchhoff", "neo_hookean")
-# Contact methods with a finite-strain form (current-configuration pressure, surface Jacobian ds/dS; the
-# Nitsche terms use the current normal traction n_c . P N / (ds/dS), :mod:`fem.contact_forms`).
-FINITE_METHODS = ("penalty", "nitsche", "augmented_lagrangian")
+# The vocabularies (the allowed words of every choice) are the bottom layer's, written once (vocabulary).
 # A patch spanning fewer contact facets than this is reported "contact unresolved" (ContactResult.warnings):
 # with P2 and 2 Gauss points per facet the edge-location error is about one Gauss spacing, so < 8 facets
 # across the patch means a half-width error above ~ 1/16 and a peak that depends on where the nodes fall.
@@ -274,20 +272,23 @@ def check_options(opts: ContactOptions, *, mesh_data, obstacle) -> None:
 
 def check_model(opts: ContactOptions, *, obstacle=None) -> None:
     """The model combination (ValueError naming the option): the material model against the kinematics, and
-    what finite strain supports (traction='obstacle', the displacement formulation, :data:`FINITE_METHODS`)."""
+    what finite strain supports (traction='obstacle', the displacement formulation, :data:`FINITE_METHODS`); the
+    rule is :func:`vocabulary.model_conflict`, the same the case files are checked with."""
     if opts.material_model not in MATERIAL_MODELS:
         raise ValueError(f"material_model must be one of {MATERIAL_MODELS}, got {opts.material_model!r}")
-    finite = opts.kinematics == "finite"
-    if finite and opts.material_model not in HYPERELASTIC_MODELS:
+    bad = model_conflict(kinematics=opts.kinematics, material_model=opts.material_model, traction=opts.traction,
+                         formulation=opts.formulation, method=opts.method)
+    if bad is None:
+        return
+    if bad.name == "material_model" and opts.kinematics == FINITE:
         raise ValueError(f"kinematics='finite' needs a hyperelastic material_model {HYPERELASTIC_MODELS}, got "
                          f"{opts.material_model!r}")
-    if not finite and opts.material_model != "linear":
+    if bad.name == "material_model":
         raise ValueError(f"material_model={opts.material_model!r} needs kinematics='finite' (got "
                          f"{opts.kinematics!r}); small and convective kinematics use material_model='linear'")
-    if finite and opts.traction != "obstacle":
+    if bad.name == "traction":
         raise ValueError(f"kinematics='finite' needs traction='obstacle' (the traction along the obstacle's normal "
                          f"in the current configuration), got traction={opts.traction!r}")
-    if finite and opts.mixed:
+    if bad.name == "formulation":
         raise ValueError("kinematics='finite' supports formulation='displacement' only, got formulation='mixed'")
-    if finite and opts.method not in FINITE_METHODS:
-        raise ValueError(f"kinematics='finite' supports method in {FINITE_METHODS}, got {opts.method!r}")
+    raise ValueError(f"kinematics='finite' supports method in {FINITE_METHODS}, got {opts.method!r}")

@@ -54,6 +54,7 @@ from fem.errors import ContactSolveError, snes_reason_name
 from fem.postprocess import Patch, SurfaceSamples, find_patches
 from fem.predictor import HertzPredictor
 from fem.problem import MAX_ZONES, ContactProblem
+from vocabulary import FINITE
 
 __all__ = ["LoadStepper", "ConvergedState", "Snapshot"]
 
@@ -175,7 +176,7 @@ class LoadStepper:
         # hertz_zone: the Hertz zone from the unloaded state and the tangent of that prescribed-set solve (no
         # stiffness solve); where the tangent does not apply, the Hertz predictor.
         self.zone_start = opts.predictor == "hertz_zone" and self.tangent_ok
-        self.finite = opts.kinematics == "finite"
+        self.finite = opts.kinematics == FINITE
         if self.finite and "snes_linesearch_type" not in (opts.petsc_options or {}):
             pb.snes.getLineSearch().setType(FINITE_LINESEARCH)
         use_hertz = opts.predictor in ("hertz", "hertz_zone") or (opts.predictor == "auto" and hertz_ok)

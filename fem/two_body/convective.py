@@ -50,10 +50,11 @@ import scipy.sparse as sp
 
 from fem.two_body.geometry import FACING_COS, PairedPoints, SurfaceGeometry, gauss_legendre_01, multiplier_basis
 from fem.two_body.weighted_gap import CellData, WeightedGap, reference_coordinates
+from vocabulary import TWO_BODY_TRACTIONS
 
 __all__ = ["ConvectiveGap", "MasterCells", "NEWTON_R_TOL", "TRACTIONS"]
 
-TRACTIONS = ("halfplane", "master_normal")
+TRACTIONS = TWO_BODY_TRACTIONS
 NEWTON_R_TOL = 1e-14  # the pairing's Newton iteration in the facet parameter r
 _MAX_R_ITERATIONS = 30
 

@@ -65,13 +65,10 @@ from fem.two_body.geometry import exact_master_gaps, mortar_points, node_points
 from fem.two_body.laws import law_for
 from fem.two_body.surfaces import cell_data, surface_of_group, tabulate2
 from fem.two_body.weighted_gap import WeightedGap, assemble_weighted_gap
+from vocabulary import CONVECTIONS, CONVECTIVE, PAIRINGS, TWO_BODY_KINEMATICS, TWO_BODY_TRACTIONS
 
 __all__ = ["Body", "MeshedPartner", "TwoBodyProblem", "CONVECTIONS", "PAIRINGS", "TWO_BODY_TRACTIONS"]
 
-PAIRINGS = ("mortar", "node_to_segment")
-TWO_BODY_TRACTIONS = ("halfplane", "master_normal")  # fem.two_body.convective.TRACTIONS
-# convective kinematics: what moves with the particles (MeshedPartner.convection)
-CONVECTIONS = ("pairing", "profile")
 # convective kinematics: a slave point's partner may move this many master facets from its reference partner
 # before the Jacobian needs an entry outside the preallocated pattern (then PETSc allocates it, counted)
 CONVECTIVE_WINDOW = 3
@@ -241,14 +238,14 @@ class TwoBodyProblem(NewtonControls):
         if self.gap.nodes.size == 0:
             raise ValueError(f"the contact surfaces {st.slave!r} and {st.master!r} do not face each other")
         self.conv = None
-        if opts.kinematics == "convective" and st.convection == "profile":
+        if opts.kinematics == CONVECTIVE and st.convection == "profile":
             from fem.two_body.profile_convection import ProfileConvection
 
             self.conv = ProfileConvection(pts, self.gap, slave=self.slave_geom,
                                           slave_cells=cell_data(self.V, self.slave_geom),
                                           master_cells=cell_data(self.V, self.master_geom),
                                           surface=st.master_surface, degree=opts.degree, n_dofs=self.n_u)
-        elif opts.kinematics == "convective":
+        elif opts.kinematics == CONVECTIVE:
             from fem.two_body.convective import ConvectiveGap, MasterCells
 
             self.conv = ConvectiveGap(pts, self.gap, slave=self.slave_geom,
@@ -533,7 +530,7 @@ def _check(setup: MeshedPartner, opts: ContactOptions, mesh_data) -> None:
     if mesh_data.mesh.comm.size > 1:
         raise ValueError("two-body contact runs on one process (the pairing needs both surfaces there); "
                          "run it without mpiexec")
-    if opts.kinematics not in ("small", "convective"):
+    if opts.kinematics not in TWO_BODY_KINEMATICS:
         raise ValueError(f"kinematics={opts.kinematics!r} is not available for two elastic bodies; allowed: 'small' "
                          "(pairing fixed in the reference configuration) or 'convective' (pairing follows the "
                          "relative tangential displacement)")

@@ -18,6 +18,19 @@ from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
+from vocabulary import (
+    ACTIVE_SET_UPDATES,
+    ACTIVE_SETS,
+    CONVECTIVE,
+    FINITE,
+    HALFPLANE,
+    HYPERELASTIC_MODELS,
+    LINEAR_SOLVERS,
+    NITSCHE,
+    OBSTACLE,
+    PENALTY,
+    SMALL,
+)
 from workbench.paths import default_paths
 from workbench.studies.rates import N_FINEST
 
@@ -74,7 +87,7 @@ class ConvergenceConfig:
     ideal_levels: tuple[float, ...] = (0.4, 0.2, 0.1, 0.05, 0.025)
     growth_per_h: float = 2.0
     growth_range: tuple[float, float] = (1.05, 2.0)
-    methods: tuple[str, ...] = ("penalty", "nitsche")
+    methods: tuple[str, ...] = (PENALTY, NITSCHE)
     degrees: tuple[int, ...] = (1, 2)
     n_finest: int = N_FINEST
     rms_target: float = 0.005
@@ -275,9 +288,6 @@ def _solver_variants() -> dict:
 
 
 BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free", "two_body", "startup")
-ACTIVE_SETS = ("extrapolate", "geometry")  # fem.options.ACTIVE_SETS (a study config imports no fem)
-ACTIVE_SET_UPDATES = ("newton", "edge_fit")  # fem.options.ACTIVE_SET_UPDATES
-LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg", "auto")  # fem.linear_solver.LINEAR_SOLVERS
 SCALE_PREDICTORS = ("auto", "hertz_zone")  # the force-control predictors of the cost-growth rows
 SCALE_FAMILIES = ("graded", "uniform")
 
@@ -341,7 +351,7 @@ class BenchConfig:
     baseline_force_rtol: float = 1e-3
     baseline_ladder: tuple[tuple[float, float], ...] = ((20.0, 0.2), (20.0, 0.1), (20.0, 0.05))
     our_levels: tuple[float, ...] = (0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.0015625)
-    our_methods: tuple[str, ...] = ("nitsche", "penalty")
+    our_methods: tuple[str, ...] = (NITSCHE, PENALTY)
     our_degrees: tuple[int, ...] = (1, 2)
     scale: dict = field(default_factory=lambda: {"graded": (0.05, 0.0125, 0.003125, 0.00078125, 0.000390625),
                                                  "uniform": (0.2, 0.1, 1.0 / 15.0, 0.05, 0.04)})
@@ -452,9 +462,9 @@ class ConvectiveTableConfig:
 # --- validity -----------------------------------------------------------------------------------------
 
 # (traction, kinematics) of the model hierarchy, least to most complete (docs/models.md)
-VALIDITY_MODELS = (("halfplane", "small"), ("halfplane", "convective"), ("obstacle", "small"),
-                   ("obstacle", "convective"), ("obstacle", "finite"))
-_HYPERELASTIC = ("saint_venant_kirchhoff", "neo_hookean")
+VALIDITY_MODELS = ((HALFPLANE, SMALL), (HALFPLANE, CONVECTIVE), (OBSTACLE, SMALL), (OBSTACLE, CONVECTIVE),
+                   (OBSTACLE, FINITE))
+_HYPERELASTIC = HYPERELASTIC_MODELS
 
 
 def _bad(name: str, value: Any, allowed: str) -> ValueError:
