@@ -28,8 +28,8 @@ Contact methods (:mod:`fem.methods`, one module each, registered by name) turn t
 argument ``q``, the pressure ``p = [q]_+`` and the contact residual ``F_c``; the residual is
 ``F(u; v) = a(u, v) + F_c(u; v)``:
 
-* ``penalty`` (:mod:`fem.methods.penalty`): ``p = kappa [-g]_+``, ``kappa = kappa0 E / h`` (h = cell diameter),
-  ``F_c = int_Gc p (n_c . v) ds`` (= first variation of ``int kappa/2 [-g]_+^2``).
+* ``penalty`` (:mod:`fem.methods.penalty`): ``p = kappa [-g]_+``, ``kappa = kappa0 E* / h`` (E* = E/(1 - nu^2),
+  h = cell diameter), ``F_c = int_Gc p (n_c . v) ds`` (= first variation of ``int kappa/2 [-g]_+^2``).
 * ``nitsche`` (:mod:`fem.methods.nitsche`, Chouly-Hild, frictionless), ``gamma = gamma0 E / h``,
   ``sigma_n(w) = n_c . sigma(w) n_b``, ``P_gamma(u) = sigma_n(u) + gamma g(u)``,
   ``P_theta(v) = theta sigma_n(v) - gamma (n_c . v)``:

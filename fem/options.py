@@ -20,6 +20,7 @@ from dataclasses import MISSING, dataclass, fields
 
 import numpy as np
 
+from analytic.materials import plane_strain_modulus
 from vocabulary import (
     ACTIVE_SET_UPDATES,
     ACTIVE_SETS,
@@ -69,8 +70,10 @@ class ContactOptions:
         traction: ``"obstacle"`` (gap and traction along the rigid curve's normal; the default of a bare solve,
             right for any geometry and the only one finite kinematics supports) or ``"halfplane"`` (vertical gap
             and traction, as half-plane theory assumes; the case files' default, :mod:`cases.schema`).
-        kappa0: penalty stiffness factor (kappa = kappa0 E / h), also the augmentation stiffness of the
-            augmented Lagrangian.
+        kappa0: penalty stiffness factor, dimensionless: ``kappa = kappa0 E* / h`` (MPa/mm) with E* the plane-strain
+            modulus of the contact pair (``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``; against a rigid obstacle
+            ``E* = E/(1 - nu^2)``; :func:`fem.methods.base.penalty_stiffness`, the same on both partners), also
+            the augmentation stiffness of the augmented Lagrangian.
         gamma0: Nitsche factor (gamma = gamma0 E / h).
         theta: Nitsche variant: 1 (symmetric), 0 (skew-less), -1 (skew-symmetric).
         control: ``"displacement"`` (target = d, mm) or ``"force"`` (target = P, N/mm; full body).
@@ -194,8 +197,8 @@ class ContactOptions:
 
     def method_params(self) -> dict:
         """The keywords a contact method's constructor receives (:func:`fem.methods.create`)."""
-        return dict(E=self.E, kappa0=self.kappa0, gamma0=self.gamma0, theta=self.theta,
-                    uzawa_rtol=self.uzawa_rtol, uzawa_max_it=self.uzawa_max_it)
+        return dict(E=self.E, E_star=plane_strain_modulus(self.E, self.nu), kappa0=self.kappa0, gamma0=self.gamma0,
+                    theta=self.theta, uzawa_rtol=self.uzawa_rtol, uzawa_max_it=self.uzawa_max_it)
 
     @classmethod
     def field_names(cls) -> tuple[str, ...]:

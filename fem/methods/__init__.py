@@ -42,3 +42,4 @@ __all__ = ["REGISTRY", "register", "method_names", "get_method", "create", "Cont
 # The registry lines: one module per method (each registers its class on import).
 from fem.methods import nitsche, penalty  # noqa: E402,F401,I001
 from fem.methods import augmented_lagrangian  # noqa: E402,F401
+from fem.two_body import laws  # noqa: E402,F401  (the same methods between two meshed bodies)

@@ -255,9 +255,9 @@ class TwoBodyProblem(NewtonControls):
                                                          tabulate2(self.V), st.master_surface),
                                       degree=opts.degree, n_dofs=self.n_u, traction=st.traction)
         h = float(np.min(self.slave_geom.length))
-        kappa = opts.kappa0 * self.E_star / h
-        self.method = law_for(opts.method)(kappa=kappa, n_nodes=self.gap.nodes.size, X1=self.gap.X[:, 0],
-                                           uzawa_rtol=opts.uzawa_rtol, uzawa_max_it=opts.uzawa_max_it)
+        self.method = law_for(opts.method)(kappa0=opts.kappa0, E_star=self.E_star, h=h, n_nodes=self.gap.nodes.size,
+                                           X1=self.gap.X[:, 0], uzawa_rtol=opts.uzawa_rtol,
+                                           uzawa_max_it=opts.uzawa_max_it)
         self.method.bind(gap=lambda: self.weighted_gaps(self.u.x.array),
                          scale=lambda: float(np.max(np.abs(self.u.x.array), initial=0.0)))
 
