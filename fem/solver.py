@@ -40,8 +40,8 @@ from typing import Any
 
 from fem.errors import ContactSolveError, snes_reason_name
 from fem.options import FORMULATIONS, MIN_FACETS_ACROSS, SUPPORT_KINDS, ContactOptions
+from fem.partner_problem import PartnerProblem
 from fem.postprocess import Patch, SurfaceSamples, find_patches
-from fem.problem import ContactProblem
 from fem.stepping import LoadStepper, Snapshot
 
 __all__ = ["ContactSolveError", "ContactResult", "ContactOptions", "Snapshot", "solve_contact", "solve_problem",
@@ -122,8 +122,9 @@ def solve_contact(mesh_data, obstacle, options: ContactOptions | None = None, **
     return solve_problem(contact_problem(mesh_data, obstacle, opts))
 
 
-def solve_problem(problem: ContactProblem, *, step_callbacks: Sequence[Callable[[dict], None]] = ()) -> ContactResult:
-    """Drive a built :class:`ContactProblem` through its load path (:class:`LoadStepper`) and collect the result.
+def solve_problem(problem: PartnerProblem, *, step_callbacks: Sequence[Callable[[dict], None]] = ()) -> ContactResult:
+    """Drive a built contact problem (:class:`fem.partner_problem.PartnerProblem`) through its load path
+    (:class:`LoadStepper`) and collect the result.
 
     ``step_callbacks`` are called after every converged solve with its record, after ``options.on_step``, while
     the problem holds that state (e.g. :class:`fem.output.FrameRecorder` copies it for a VTK time series);
@@ -136,7 +137,7 @@ def solve_problem(problem: ContactProblem, *, step_callbacks: Sequence[Callable[
     return _result(problem, stepper)
 
 
-def _result(problem: ContactProblem, stepper: LoadStepper) -> ContactResult:
+def _result(problem: PartnerProblem, stepper: LoadStepper) -> ContactResult:
     """The ContactResult of the final converged state."""
     opts = problem.options
     samples = problem.sample()
@@ -155,4 +156,4 @@ def _result(problem: ContactProblem, stepper: LoadStepper) -> ContactResult:
                          d=float(stepper.states[-1].d), P=float(P), P_pressure=float(Pp), samples=samples,
                          patches=patches, u=problem.u, options=options, half=opts.symmetric_half,
                          forms=problem.forms, lame=problem.lame, snapshots=stepper.snapshots, warnings=warns,
-                         pressure_field=problem.ph)
+                         pressure_field=problem.pressure_field)

@@ -61,6 +61,7 @@ from fem.linear_solver import snes_options
 from fem.newton_controls import NewtonControls
 from fem.options import ContactOptions
 from fem.postprocess import LOCKING_NU, SurfaceSamples, contact_edges, oscillation_warnings, resolution_warnings
+from fem.supports import COMPONENTS, group_facets, resolve_supports
 from fem.two_body.geometry import exact_master_gaps, mortar_points, node_points
 from fem.two_body.laws import law_for
 from fem.two_body.surfaces import cell_data, surface_of_group, tabulate2
@@ -72,7 +73,6 @@ __all__ = ["Body", "MeshedPartner", "TwoBodyProblem", "CONVECTIONS", "PAIRINGS",
 # convective kinematics: a slave point's partner may move this many master facets from its reference partner
 # before the Jacobian needs an entry outside the preallocated pattern (then PETSc allocates it, counted)
 CONVECTIVE_WINDOW = 3
-_COMPONENTS = {"clamped": (0, 1), "roller_x": (0,), "roller_y": (1,), "free": ()}
 _counter = itertools.count()
 
 
@@ -137,21 +137,13 @@ class MeshedPartner:
 
 
 class TwoBodyForms(NamedTuple):
-    """The load stepper's view of the forms (no gap data to refresh per iteration) and the bodies for the output:
-    ``body_index`` (DG0: the index of each cell's body in ``body_names``), ``E`` (MPa) and ``nu`` (DG0)."""
+    """The bodies for the output: ``body_index`` (DG0: the index of each cell's body in ``body_names``), ``E`` (MPa)
+    and ``nu`` (DG0)."""
 
-    update: None = None
     body_index: object = None
     body_names: tuple[str, ...] = ()
     E: object = None
     nu: object = None
-
-
-class NoFarField:
-    """No ``halfplane`` supports (refused for two bodies): the load stepper's per-level update does nothing."""
-
-    def set_load(self, P: float) -> None:
-        return None
 
 
 class _Value:
@@ -162,7 +154,7 @@ class _Value:
 
 
 class TwoBodyProblem(NewtonControls):
-    """Two elastic bodies in frictionless contact (module docstring).
+    """Two elastic bodies in frictionless contact (module docstring): a :class:`fem.partner_problem.PartnerProblem`.
 
     Attributes (main ones):
         u: displacement Function of both bodies (mm).  d: the driven displacement (``d.value``, mm).
@@ -176,15 +168,11 @@ class TwoBodyProblem(NewtonControls):
         self.mesh_data, self.mesh = mesh_data, mesh_data.mesh
         self.comm = self.mesh.comm
         _check(setup, opts, mesh_data)
-        self.obstacle = setup  # the partner, as the load stepper reads it (a direction, no Hertz predictor)
-        self.far_field = NoFarField()
-        self.ph = None
         self.E_star = setup.combined_modulus()
         self.mult = 2.0 if opts.symmetric_half else 1.0
         self.d = _Value(0.0)
         self.prefix = opts.petsc_prefix or f"fem_two_body_{next(_counter)}_"
-        self.method_rule = None
-        self.qdeg = self.sdeg = opts.degree
+        self.qdeg = self.sdeg = opts.degree  # the law holds at the slave nodes: degree points per facet
         self._build_space()
         self.forms = TwoBodyForms(body_index=self.body_id, E=self.E_fun, nu=self.nu_fun,
                                   body_names=tuple(b.label or b.name for b in self.setup.bodies))
@@ -264,14 +252,11 @@ class TwoBodyProblem(NewtonControls):
     def _build_supports(self) -> None:
         """Supports (unrolled dof indices, prescribed value per unit d) and the driven group."""
         opts, st, fdim = self.options, self.setup, self.mesh.topology.dim - 1
-        supports = dict(opts.supports) if opts.supports is not None else {"clamped": "clamped"}
-        if opts.supports is None and opts.symmetric_half:
-            supports["symmetry"] = "roller_x"
-        self.supports = supports
+        self.supports = supports = resolve_supports(self.mesh_data, opts.supports, opts.symmetric_half)
         dofs, per_d = [], []
         for name, kind in list(supports.items()) + [(st.driven, "driven")]:
-            facets = self.mesh_data.facet_tags.find(self.mesh_data.physical_groups[name].tag)
-            comps = st.driven_components if kind == "driven" else _COMPONENTS[kind]
+            facets = group_facets(self.mesh_data, name)
+            comps = st.driven_components if kind == "driven" else COMPONENTS[kind]
             for c in comps:
                 nodes = dolfinx.fem.locate_dofs_topological(self.V, fdim, facets)
                 dofs.append(2 * nodes + c)
@@ -399,6 +384,34 @@ class TwoBodyProblem(NewtonControls):
         J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, self.conv is None)
         _add_csr(J, Jc)
         J.assemble()
+
+    # -- the partner protocol (fem.partner_problem.PartnerProblem) ----------------------------------------------
+    @property
+    def tangent_applies(self) -> bool:
+        """The tangent correction applies unless the law has an outer multiplier loop (small and convective
+        kinematics, the displacement formulation: the residual is a function of u and d)."""
+        return self.method.supports_tangent
+
+    @property
+    def pressure_field(self):
+        """None: two bodies have no mixed pressure."""
+        return None
+
+    def set_load_level(self, P: float) -> None:
+        """Force control's load level: nothing to update (the supports hold no far field; ``halfplane`` is
+        refused)."""
+
+    @property
+    def hertz_applicable(self) -> bool:
+        """False: the Hertz predictor needs a rigid circle or parabola."""
+        return False
+
+    def hertz_predictor(self):
+        raise ValueError("the Hertz predictor needs a rigid circle or parabola obstacle, not a meshed partner")
+
+    def law_samples(self) -> SurfaceSamples:
+        """The samples at the slave contact nodes, where the nodal law holds (:meth:`sample`)."""
+        return self.sample()
 
     # -- state ----------------------------------------------------------------------------------------------
     @property
