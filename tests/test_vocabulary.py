@@ -77,7 +77,8 @@ def test_the_layers_use_the_vocabulary():
     from workbench.studies import config
 
     assert _CHOICES[("solver", "method")] is V.METHODS and _CHOICES[("solver", "kinematics")] is V.KINEMATICS
-    assert _CHOICES[("material", "model")] is V.MATERIAL_MODELS and _CHOICES[("solver", "linear_solver")] is V.LINEAR_SOLVERS
+    assert _CHOICES[("material", "model")] is V.MATERIAL_MODELS
+    assert _CHOICES[("solver", "linear_solver")] is V.LINEAR_SOLVERS
     assert method_names() == METHODS == V.METHODS and method_names("meshed") == V.TWO_BODY_METHODS
     assert (KINEMATICS, TRACTIONS, LINEAR_SOLVERS) == (V.KINEMATICS, V.TRACTIONS, V.LINEAR_SOLVERS)
     assert (FORMULATIONS, MATERIAL_MODELS) == (V.FORMULATIONS, V.MATERIAL_MODELS)

@@ -21,7 +21,7 @@ __all__ = [
     "DISPLACEMENT", "MIXED", "AUTO", "FORMULATIONS", "CASE_FORMULATIONS",
     "FORCE", "CONTROLS", "CASE_CONTROLS",
     "LINEAR_SOLVERS", "PREDICTORS", "ACTIVE_SETS", "ACTIVE_SET_UPDATES", "SUPPORT_KINDS",
-    "PAIRINGS", "CONVECTIONS", "Conflict", "model_conflict",
+    "PAIRINGS", "CONVECTIONS", "RIGID", "MESHED", "PARTNER_KINDS", "Conflict", "model_conflict",
 ]
 
 # -- contact methods (fem.methods: one registry, rigid obstacle and two meshed bodies) ----------------------
@@ -75,6 +75,11 @@ ACTIVE_SETS = ("extrapolate", "geometry")
 # extrapolated from the pressure until the set repeats, then semismooth Newton (fem.active_set_update)
 ACTIVE_SET_UPDATES = ("newton", "edge_fit")
 SUPPORT_KINDS = ("clamped", "roller_x", "roller_y", "free", "halfplane")  # halfplane: fem/far_field.py
+
+# -- contact partners (fem.partners): a rigid analytic curve, or a second meshed elastic body ----------------
+RIGID = "rigid"
+MESHED = "meshed"
+PARTNER_KINDS = (RIGID, MESHED)
 
 # -- two meshed bodies (fem.two_body) -----------------------------------------------------------------------
 PAIRINGS = ("mortar", "node_to_segment")
