@@ -94,10 +94,10 @@ def test_the_model_rule_is_one_function(kinematics, model, refused, monkeypatch)
     bad = V.model_conflict(kinematics=kinematics, material_model=model)
     assert (bad.name if bad else None) == refused
     # both layers apply it: a rule changed here changes what cases and the solver refuse
-    import cases.schema
+    import cases.checks
     import fem.options
 
-    assert cases.schema.model_conflict is V.model_conflict and fem.options.model_conflict is V.model_conflict
+    assert cases.checks.model_conflict is V.model_conflict and fem.options.model_conflict is V.model_conflict
     monkeypatch.setattr(fem.options, "model_conflict", lambda **kw: None)
     fem.options.check_model(fem.options.ContactOptions(E=1.0, nu=0.3, target=1.0, kinematics="finite",
                                                        material_model="linear"))
