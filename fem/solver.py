@@ -102,8 +102,10 @@ def solve_contact(mesh_data, obstacle, options: ContactOptions | None = None, **
         obstacle: the partner: a rigid obstacle from :mod:`fem.obstacles`, or a second meshed elastic body in the
             same mesh (:class:`fem.two_body.problem.MeshedPartner`).
         options: the solve's :class:`ContactOptions` (every field, its units and default are documented there).
-        **fields: instead of ``options``, its fields as keywords (``E``, ``nu`` and ``target`` required); the
-            accepted names are :meth:`ContactOptions.field_names`, nothing else.
+        **fields: instead of ``options``, its fields as flat keywords, sorted into its records
+            (:meth:`ContactOptions.from_fields`: ``target`` required; ``E`` and ``nu`` for a rigid obstacle, none
+            of the body's keywords for a meshed partner); the accepted names are
+            :meth:`ContactOptions.field_names`, nothing else.
 
     Raises:
         TypeError: an unknown keyword, a missing required one, or ``options`` together with keywords.
@@ -144,12 +146,14 @@ def _result(problem: PartnerProblem, stepper: LoadStepper) -> ContactResult:
     patches = find_patches(samples, half=opts.symmetric_half)
     warns = problem.quality_warnings(samples, stepper.states[-1].d)
     P, Pp = problem.measure()
-    options = dict(E=opts.E, nu=opts.nu, degree=opts.degree, method=opts.method, kinematics=opts.kinematics,
-                   traction=opts.traction, kappa0=opts.kappa0, gamma0=opts.gamma0, theta=opts.theta,
+    body = {} if opts.body is None else dict(E=opts.E, nu=opts.nu, traction=opts.traction,
+                                             formulation=opts.formulation, material_model=opts.material_model)
+    options = dict(**body, degree=opts.degree, method=opts.method, kinematics=opts.kinematics,
+                   kappa0=opts.kappa0, gamma0=opts.gamma0, theta=opts.theta,
                    control=opts.control, target=opts.target, n_steps=opts.n_steps, symmetric_half=opts.symmetric_half,
                    supports=problem.supports, quadrature_degree=problem.qdeg, sample_degree=problem.sdeg,
                    prefix=problem.prefix, predictor="hertz" if stepper.hertz is not None else "extrapolate",
-                   formulation=opts.formulation, material_model=opts.material_model, **problem.method.options())
+                   **problem.method.options())
     records = stepper.records
     return ContactResult(ndofs=problem.ndofs, wall_time_s=stepper.wall_time_s,
                          newton_iterations=[r["iterations"] for r in records], load_steps=records,

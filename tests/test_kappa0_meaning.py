@@ -23,7 +23,7 @@ E1, NU1, NU2, H, KAPPA0 = 210000.0, 0.3, 0.25, 0.0125, 1e3
 
 def _rigid_kappa(method: str, *, E: float, nu: float, kappa0: float, h: float) -> float:
     """The stiffness the rigid path computes: the method built from the options' parameters."""
-    params = ContactOptions(E=E, nu=nu, target=1.0, method=method, kappa0=kappa0).method_params()
+    params = ContactOptions.of(E=E, nu=nu, target=1.0, method=method, kappa0=kappa0).method_params()
     law = get_method(method)(**params)
     return penalty_stiffness(law.kappa0, law.E_star, h)
 
@@ -48,7 +48,7 @@ def test_rigid_limit_of_the_two_body_law_is_the_rigid_law(method):
 
 
 def test_rigid_penalty_method_reports_the_same_stiffness():
-    params = ContactOptions(E=E1, nu=NU1, target=1.0, method=PENALTY, kappa0=KAPPA0).method_params()
+    params = ContactOptions.of(E=E1, nu=NU1, target=1.0, method=PENALTY, kappa0=KAPPA0).method_params()
     assert get_method(PENALTY)(**params).stiffness(H) == _rigid_kappa(PENALTY, E=E1, nu=NU1, kappa0=KAPPA0, h=H)
 
 

@@ -59,7 +59,7 @@ def _two_body(md, method="penalty"):
     partner = MeshedPartner(bodies=(Body(name="lower", E=200.0, nu=0.3), Body(name="upper", E=70.0, nu=0.25)),
                             slave="contact_upper", master="contact_lower", driven="driven", driven_body="upper",
                             driven_components=(1,))
-    opts = ContactOptions(E=200.0, nu=0.3, target=1e-3, degree=2, method=method, control="displacement", n_steps=2,
+    opts = ContactOptions.of(target=1e-3, degree=2, method=method, control="displacement", n_steps=2,
                           supports={"clamped": "roller_y", "symmetry": "roller_x"})
     return TwoBodyProblem(md, partner, opts)
 
@@ -80,7 +80,7 @@ def test_both_problems_define_every_method_of_the_protocol(cls):
 
 def test_the_stepper_uses_the_protocol_only_rigid():
     ref = fem.solve_contact(structured_block(), PlaneObstacle(), **RIGID_KW)
-    pb = ContactProblem(structured_block(), PlaneObstacle(), ContactOptions(**RIGID_KW))
+    pb = ContactProblem(structured_block(), PlaneObstacle(), ContactOptions.of(**RIGID_KW))
     assert isinstance(pb, PartnerProblem)
     stepper = LoadStepper(ProtocolOnly(pb))
     stepper.run()

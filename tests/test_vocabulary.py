@@ -99,5 +99,5 @@ def test_the_model_rule_is_one_function(kinematics, model, refused, monkeypatch)
 
     assert cases.checks.model_conflict is V.model_conflict and fem.options.model_conflict is V.model_conflict
     monkeypatch.setattr(fem.options, "model_conflict", lambda **kw: None)
-    fem.options.check_model(fem.options.ContactOptions(E=1.0, nu=0.3, target=1.0, kinematics="finite",
+    fem.options.check_model(fem.options.ContactOptions.of(E=1.0, nu=0.3, target=1.0, kinematics="finite",
                                                        material_model="linear"))

@@ -549,11 +549,13 @@ def _check(setup: MeshedPartner, opts: ContactOptions, mesh_data) -> None:
                          "relative tangential displacement)")
     if opts.degree not in (1, 2):
         raise ValueError(f"degree must be 1 or 2 for two elastic bodies, got {opts.degree}")
-    if opts.mixed:
-        raise ValueError("formulation='mixed' is not available for two elastic bodies; use 'displacement'")
-    if opts.material_model != "linear":
-        raise ValueError(f"material_model={opts.material_model!r} needs kinematics='finite', which two elastic "
-                         "bodies do not support yet")
+    if opts.body is not None:
+        raise ValueError("two elastic bodies take their materials from MeshedPartner.bodies (linear, displacement "
+                         "formulation): give the options no body (E, nu, material_model, formulation, traction, "
+                         "contact_group, quadrature_degree, sample_degree: ContactOptions.body must be None)")
+    if not opts.split_jacobian:
+        raise ValueError("split_jacobian=False is not available for two elastic bodies (their elastic stiffness is "
+                         "always assembled once, the contact terms per Newton iteration)")
     if setup.traction not in TWO_BODY_TRACTIONS:
         raise ValueError(f"traction must be one of {TWO_BODY_TRACTIONS}, got {setup.traction!r}")
     if setup.traction == "master_normal" and opts.kinematics != "convective":
