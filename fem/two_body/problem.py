@@ -128,8 +128,6 @@ class MeshedPartner:
     convection: str = "pairing"
     cut_kinks: bool = True
 
-    analytic = False  # the load stepper's test for an analytic (Hertz-predictable) rigid obstacle
-
     def combined_modulus(self) -> float:
         """E* (MPa): ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` (:mod:`analytic.materials`)."""
         b1, b2 = self.bodies
