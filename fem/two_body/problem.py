@@ -66,7 +66,15 @@ from fem.two_body.geometry import exact_master_gaps, mortar_points, node_points
 from fem.two_body.laws import law_for
 from fem.two_body.surfaces import cell_data, surface_of_group, tabulate2
 from fem.two_body.weighted_gap import WeightedGap, assemble_weighted_gap
-from vocabulary import CONVECTIONS, CONVECTIVE, PAIRINGS, TWO_BODY_KINEMATICS, TWO_BODY_TRACTIONS
+from vocabulary import (
+    CONVECTIONS,
+    CONVECTIVE,
+    HALFPLANE,
+    MASTER_NORMAL,
+    PAIRINGS,
+    TWO_BODY_KINEMATICS,
+    TWO_BODY_TRACTIONS,
+)
 
 __all__ = ["Body", "MeshedPartner", "TwoBodyProblem", "CONVECTIONS", "PAIRINGS", "TWO_BODY_TRACTIONS"]
 
@@ -556,12 +564,12 @@ def _check(setup: MeshedPartner, opts: ContactOptions, mesh_data) -> None:
                          "always assembled once, the contact terms per Newton iteration)")
     if setup.traction not in TWO_BODY_TRACTIONS:
         raise ValueError(f"traction must be one of {TWO_BODY_TRACTIONS}, got {setup.traction!r}")
-    if setup.traction == "master_normal" and opts.kinematics != "convective":
+    if setup.traction == MASTER_NORMAL and opts.kinematics != CONVECTIVE:
         raise ValueError("traction='master_normal' needs kinematics='convective' (small kinematics pairs and pushes "
                          "along the slave normal: traction='halfplane')")
     if setup.convection not in CONVECTIONS:
         raise ValueError(f"convection must be one of {CONVECTIONS}, got {setup.convection!r}")
-    if setup.convection == "profile" and (setup.master_surface is None or setup.traction != "halfplane"):
+    if setup.convection == "profile" and (setup.master_surface is None or setup.traction != HALFPLANE):
         raise ValueError("convection='profile' needs master_surface (the master's exact profile) and "
                          "traction='halfplane'")
     if setup.pairing not in PAIRINGS:
