@@ -9,7 +9,7 @@ degree, kinematics, material model, traction), whatever the numbers.
 
 Every number that a case or a study varies goes through here: the Lame parameters (:func:`lame_constants`), the
 rigid obstacle's geometry (:meth:`fem.obstacles.AnalyticObstacle.with_constants`), the contact method's
-parameters (``kappa0 E``, ``gamma0 E``, ``theta``: :mod:`fem.methods`), the load (the obstacle's displacement
+parameters (``kappa0 E*``, ``gamma0 E``, ``theta``: :mod:`fem.methods`), the load (the obstacle's displacement
 ``d``, the Hertz predictor's ``a`` and ``p0``). Structural choices stay Python values: the loading direction,
 the quadrature degree, the method, the kinematics and the material model (each is a different form anyway).
 

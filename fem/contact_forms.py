@@ -28,8 +28,8 @@ Contact methods (:mod:`fem.methods`, one module each, registered by name) turn t
 argument ``q``, the pressure ``p = [q]_+`` and the contact residual ``F_c``; the residual is
 ``F(u; v) = a(u, v) + F_c(u; v)``:
 
-* ``penalty`` (:mod:`fem.methods.penalty`): ``p = kappa [-g]_+``, ``kappa = kappa0 E / h`` (h = cell diameter),
-  ``F_c = int_Gc p (n_c . v) ds`` (= first variation of ``int kappa/2 [-g]_+^2``).
+* ``penalty`` (:mod:`fem.methods.penalty`): ``p = kappa [-g]_+``, ``kappa = kappa0 E* / h`` (E* = E/(1 - nu^2),
+  h = cell diameter), ``F_c = int_Gc p (n_c . v) ds`` (= first variation of ``int kappa/2 [-g]_+^2``).
 * ``nitsche`` (:mod:`fem.methods.nitsche`, Chouly-Hild, frictionless), ``gamma = gamma0 E / h``,
   ``sigma_n(w) = n_c . sigma(w) n_b``, ``P_gamma(u) = sigma_n(u) + gamma g(u)``,
   ``P_theta(v) = theta sigma_n(v) - gamma (n_c . v)``:
@@ -61,13 +61,12 @@ import ufl
 from fem.elasticity import Lame, sigma
 from fem.methods import ContactMethod, create, method_names
 from fem.methods.base import positive_part
+from vocabulary import FINITE, HALFPLANE, KINEMATICS, OBSTACLE, SMALL, TRACTIONS
 
 __all__ = ["ContactForms", "ContactKinematics", "positive_part", "contact_kinematics", "build_contact_forms",
            "METHODS", "KINEMATICS", "TRACTIONS"]
 
-METHODS = method_names()  # ("nitsche", "penalty", "augmented_lagrangian"): the registry of fem.methods
-KINEMATICS = ("small", "convective", "finite")
-TRACTIONS = ("obstacle", "halfplane")
+METHODS = method_names()  # the registry of fem.methods (vocabulary.METHODS)
 
 
 class ContactForms(NamedTuple):
@@ -172,7 +171,7 @@ def _curve_gap(*, u, obstacle, d, contact_facets, kinematics):
 
     def update(u_now):
         dval = float(d.value)
-        if kinematics == "small":
+        if kinematics == SMALL:
             if state["d"] == dval:
                 return
             pts = X
@@ -186,7 +185,7 @@ def _curve_gap(*, u, obstacle, d, contact_facets, kinematics):
         n_arr[dofs, 1] = gp.n2
         state["d"] = dval
 
-    if kinematics == "small":
+    if kinematics == SMALL:
         gap = g_k + ufl.dot(n_k, u)
     else:
         gap = g_k + ufl.dot(n_k, u - u_k)
@@ -211,21 +210,21 @@ def contact_kinematics(*, u, obstacle, d, kinematics: str, traction: str, contac
     h = ufl.CellDiameter(mesh)
     update = None
     ds_scale = None
-    if kinematics == "finite":
-        if traction != "obstacle":
+    if kinematics == FINITE:
+        if traction != OBSTACLE:
             raise ValueError(f"kinematics='finite' needs traction='obstacle', got {traction!r}")
         F = ufl.Identity(2) + ufl.grad(u)
         ds_scale = ufl.det(F) * ufl.sqrt(ufl.dot(ufl.inv(F).T * n_b, ufl.inv(F).T * n_b))
-    if traction == "halfplane":
+    if traction == HALFPLANE:
         if abs(obstacle.direction[0]) > 1e-14 or obstacle.direction[1] > 0:
             raise ValueError(f"traction='halfplane' needs direction (0, -1), got {obstacle.direction}")
         if not obstacle.analytic:
             raise ValueError("traction='halfplane' needs an analytic obstacle (graph y = phi(x))")
-        x1 = X[0] if kinematics == "small" else X[0] + u[0]
+        x1 = X[0] if kinematics == SMALL else X[0] + u[0]
         gap = obstacle.halfplane_gap(x1, X[1] + u[1], d=d, xp=ufl)
         n_c = ufl.as_vector((0.0, 1.0))
     elif obstacle.analytic:
-        if kinematics == "small":
+        if kinematics == SMALL:
             g0 = obstacle.signed_distance(X[0], X[1], d=d, xp=ufl)
             n_o = ufl.as_vector((g0.n1, g0.n2))
             gap = g0.g + ufl.dot(n_o, u)

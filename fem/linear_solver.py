@@ -44,11 +44,12 @@ import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
 import numpy as np
 from petsc4py import PETSc
 
+from vocabulary import LINEAR_SOLVERS
+
 __all__ = ["LINEAR_SOLVERS", "AUTO_GAMG_NDOFS", "AUTO_MUMPS_ORDERING", "resolve",
            "REUSE_KSP_RTOL", "REUSE_MAX_KRYLOV", "GAMG_KSP_RTOL", "snes_options",
            "linear_options", "configure", "rigid_body_modes", "set_near_nullspace"]
 
-LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg", "auto")
 # auto: GAMG above this many unknowns (global), LU below. Chosen by MEMORY, not time: by time MUMPS LU beat GAMG
 # at every size measured (one linear solve, P2, one run each, loaded 2-core machine: GAMG cost 2.0-5.9 LU solves
 # on the graded bench meshes 2.6k-173k dofs, 3.2-4.2 on uniform meshes 41k-362k, about 1.5-2 at 642k), but

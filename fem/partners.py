@@ -9,7 +9,10 @@ Two kinds of partner (units mm, N, MPa):
   same mesh, with its own material, paired across non-matching facets by mortar or node-to-segment; the contact
   terms couple both bodies' dofs (:class:`fem.two_body.problem.TwoBodyProblem`).
 
-Both problems offer the interface :class:`fem.stepping.LoadStepper` drives, so
+The options (:class:`fem.options.ContactOptions`) hold the contact law, the load path and the Newton solve for
+both; a rigid obstacle's body and material are ``options.body`` (:class:`fem.options.RigidBody`), two meshed
+bodies' are the partner's (``options.body`` is None). Both problems implement the protocol
+:class:`fem.partner_problem.PartnerProblem` that :class:`fem.stepping.LoadStepper` drives, so
 :func:`fem.solver.solve_contact` (which builds the problem here) is one Newton (PETSc SNES with the linear solver
 of :mod:`fem.linear_solver`), one load-stepping driver, one active-set logic (the prescribed-active-set predictor
 on runs of X1) and one results contract (:class:`fem.solver.ContactResult`) for every partner.
@@ -18,6 +21,7 @@ on runs of X1) and one results contract (:class:`fem.solver.ContactResult`) for 
 from __future__ import annotations
 
 from fem.options import ContactOptions
+from vocabulary import MESHED, RIGID
 
 __all__ = ["contact_problem", "partner_kind"]
 
@@ -26,15 +30,18 @@ def partner_kind(partner) -> str:
     """``"meshed"`` for a :class:`fem.two_body.problem.MeshedPartner`, ``"rigid"`` for an obstacle."""
     from fem.two_body.problem import MeshedPartner
 
-    return "meshed" if isinstance(partner, MeshedPartner) else "rigid"
+    return MESHED if isinstance(partner, MeshedPartner) else RIGID
 
 
 def contact_problem(mesh_data, partner, options: ContactOptions):
     """The contact problem of ``mesh_data`` against ``partner`` (ValueError naming a bad option)."""
-    if partner_kind(partner) == "meshed":
+    if partner_kind(partner) == MESHED:
         from fem.two_body.problem import TwoBodyProblem
 
         return TwoBodyProblem(mesh_data, partner, options)
+    if options.body is None:
+        raise ValueError("a rigid obstacle needs the body's material: give E and nu (ContactOptions.body, a "
+                         "RigidBody record)")
     from fem.options import check_options
     from fem.problem import ContactProblem
 

@@ -50,7 +50,7 @@ from fem.hyperelastic import bulk_law
 from fem.linear_solver import configure as configure_linear_solver
 from fem.linear_solver import snes_options
 from fem.newton_controls import NewtonControls
-from fem.options import SUPPORT_KINDS, ContactOptions
+from fem.options import ContactOptions
 from fem.postprocess import (
     LOCKING_NU,
     SurfaceSampler,
@@ -60,7 +60,10 @@ from fem.postprocess import (
     penetration_warning,
     resolution_warnings,
 )
+from fem.predictor import HertzPredictor
 from fem.split_jacobian import SplitJacobian
+from fem.supports import COMPONENTS, group_facets, resolve_supports
+from vocabulary import FINITE
 
 __all__ = ["ContactProblem", "MAX_ZONES", "resolve_supports"]
 
@@ -68,26 +71,6 @@ __all__ = ["ContactProblem", "MAX_ZONES", "resolve_supports"]
 MAX_ZONES = 4
 
 _counter = itertools.count()
-_COMPONENTS = {"clamped": (0, 1), "roller_x": (0,), "roller_y": (1,), "free": (), "halfplane": (0, 1)}
-
-
-def resolve_supports(mesh_data, supports: dict | None, symmetric_half: bool) -> dict:
-    """Physical group name -> support kind, with the defaults (clamped ``clamped``; roller_x ``symmetry``)."""
-    groups = mesh_data.physical_groups
-    if supports is None:
-        supports = {"clamped": "clamped"}
-        if symmetric_half:
-            supports["symmetry"] = "roller_x"
-    for name, kind in supports.items():
-        if kind not in SUPPORT_KINDS:
-            raise ValueError(f"supports[{name!r}] must be one of {SUPPORT_KINDS}, got {kind!r}")
-        if name not in groups:
-            raise ValueError(f"supports names unknown physical group {name!r}; known: {sorted(groups)}")
-    return supports
-
-
-def _group_facets(mesh_data, name):
-    return mesh_data.facet_tags.find(mesh_data.physical_groups[name].tag)
 
 
 def _ghost_forward(vec) -> None:
@@ -96,7 +79,8 @@ def _ghost_forward(vec) -> None:
 
 
 class ContactProblem(NewtonControls):
-    """One frictionless contact problem (the body meshed in ``mesh_data``, a rigid ``obstacle``).
+    """One frictionless contact problem (the body meshed in ``mesh_data``, a rigid ``obstacle``): a
+    :class:`fem.partner_problem.PartnerProblem`.
 
     Attributes (main ones):
         u: displacement Function (mm); ph: the mixed formulation's pressure Function (MPa) or None.
@@ -140,7 +124,7 @@ class ContactProblem(NewtonControls):
         self.u = dolfinx.fem.Function(self.V, name="displacement")
         self.d = dolfinx.fem.Constant(mesh, 0.0)
         self.mask = tuple(dolfinx.fem.Constant(mesh, 0.0) for _ in range(1 + 2 * MAX_ZONES))  # (on, lo_k, hi_k)
-        self.contact_facets = _group_facets(self.mesh_data, opts.contact_group)
+        self.contact_facets = group_facets(self.mesh_data, opts.contact_group)
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=self.mesh_data.facet_tags,
                          metadata={"quadrature_degree": self.qdeg})
         self.ds_c = ds(self.mesh_data.physical_groups[opts.contact_group].tag)
@@ -180,8 +164,8 @@ class ContactProblem(NewtonControls):
         w = dolfinx.fem.Function(V)
         direction = self.obstacle.direction
         for name, kind in self.supports.items():
-            facets = _group_facets(self.mesh_data, name)
-            for c in _COMPONENTS[kind]:
+            facets = group_facets(self.mesh_data, name)
+            for c in COMPONENTS[kind]:
                 Vc, _ = V.sub(c).collapse()
                 dofs = dolfinx.fem.locate_dofs_topological((V.sub(c), Vc), fdim, facets)
                 # halfplane: Flamant's field scaled by the load level (fem/far_field.py); else 0
@@ -256,6 +240,41 @@ class ContactProblem(NewtonControls):
         dolfinx.fem.petsc.assemble_residual(snes, x, b, u=self.u, residual=self.problem.F,
                                             jacobian=self.problem.J, bcs=self.bcs)
 
+    # -- the partner protocol (fem.partner_problem.PartnerProblem) ----------------------------------------------
+    @property
+    def tangent_applies(self) -> bool:
+        """The force control's tangent correction applies: the displacement formulation, no gap data to refresh
+        (curve obstacles), a method without an outer loop, small or convective kinematics (P linear in u)."""
+        opts = self.options
+        return (not opts.mixed and self.forms.update is None and self.method.supports_tangent
+                and opts.kinematics != FINITE)
+
+    @property
+    def pressure_field(self):
+        """The mixed formulation's P1 pressure ``p = -lambda div u`` (MPa), or None."""
+        return self.ph
+
+    def set_load_level(self, P: float) -> None:
+        """Force control: ``halfplane`` supports carry Flamant's field of the load level P (N/mm)."""
+        self.far_field.set_load(P)
+
+    @property
+    def hertz_applicable(self) -> bool:
+        """The obstacle has Hertz data (circle, parabola) and moves along (0, -1): the Hertz predictor applies."""
+        ob = self.obstacle
+        return hasattr(ob, "hertz_contact") and abs(ob.direction[0]) < 1e-14 and ob.direction[1] < 0
+
+    def hertz_predictor(self) -> HertzPredictor:
+        """The Hertz predictor of this problem (:mod:`fem.predictor`; needs :attr:`hertz_applicable`)."""
+        return HertzPredictor(u=self.u, obstacle=self.obstacle, lame=self.lame, E_star=self.E_star, bcs=self.bcs,
+                              ds_c=self.ds_c, facets=self.contact_facets, prefix=self.prefix + "hertz_",
+                              linear_solver=self.options.linear_solver)
+
+    def law_samples(self) -> SurfaceSamples:
+        """Samples where the discrete law holds: the method's points (e.g. the augmented Lagrangian's nodes), else
+        the contact quadrature."""
+        return self.sample(rule=self.method_rule) if self.method_rule is not None else self.sample(self.qdeg)
+
     # -- state ----------------------------------------------------------------------------------------------
     @property
     def ndofs(self) -> int:
@@ -317,7 +336,7 @@ class ContactProblem(NewtonControls):
         """The contact runs (lo, hi) in X1 of the current state where the discrete law holds (the contact
         quadrature or the method's points), in order of X1; lo = -inf for a run that starts at the first sample.
         Empty: no contact. With u = 0 these are the runs of the rigid overlap (the gap of the undeformed state)."""
-        smp = self.sample(rule=self.method_rule) if self.method_rule is not None else self.sample(self.qdeg)
+        smp = self.law_samples()
         return tuple(((-np.inf if i == 0 else left), right) for left, right, i, _ in contact_edges(smp.s, smp.q))
 
     def contact_zone(self) -> tuple[float, float] | None:

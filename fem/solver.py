@@ -40,8 +40,8 @@ from typing import Any
 
 from fem.errors import ContactSolveError, snes_reason_name
 from fem.options import FORMULATIONS, MIN_FACETS_ACROSS, SUPPORT_KINDS, ContactOptions
+from fem.partner_problem import PartnerProblem
 from fem.postprocess import Patch, SurfaceSamples, find_patches
-from fem.problem import ContactProblem
 from fem.stepping import LoadStepper, Snapshot
 
 __all__ = ["ContactSolveError", "ContactResult", "ContactOptions", "Snapshot", "solve_contact", "solve_problem",
@@ -102,8 +102,10 @@ def solve_contact(mesh_data, obstacle, options: ContactOptions | None = None, **
         obstacle: the partner: a rigid obstacle from :mod:`fem.obstacles`, or a second meshed elastic body in the
             same mesh (:class:`fem.two_body.problem.MeshedPartner`).
         options: the solve's :class:`ContactOptions` (every field, its units and default are documented there).
-        **fields: instead of ``options``, its fields as keywords (``E``, ``nu`` and ``target`` required); the
-            accepted names are :meth:`ContactOptions.field_names`, nothing else.
+        **fields: instead of ``options``, its fields as flat keywords, sorted into its records
+            (:meth:`ContactOptions.from_fields`: ``target`` required; ``E`` and ``nu`` for a rigid obstacle, none
+            of the body's keywords for a meshed partner); the accepted names are
+            :meth:`ContactOptions.field_names`, nothing else.
 
     Raises:
         TypeError: an unknown keyword, a missing required one, or ``options`` together with keywords.
@@ -122,8 +124,9 @@ def solve_contact(mesh_data, obstacle, options: ContactOptions | None = None, **
     return solve_problem(contact_problem(mesh_data, obstacle, opts))
 
 
-def solve_problem(problem: ContactProblem, *, step_callbacks: Sequence[Callable[[dict], None]] = ()) -> ContactResult:
-    """Drive a built :class:`ContactProblem` through its load path (:class:`LoadStepper`) and collect the result.
+def solve_problem(problem: PartnerProblem, *, step_callbacks: Sequence[Callable[[dict], None]] = ()) -> ContactResult:
+    """Drive a built contact problem (:class:`fem.partner_problem.PartnerProblem`) through its load path
+    (:class:`LoadStepper`) and collect the result.
 
     ``step_callbacks`` are called after every converged solve with its record, after ``options.on_step``, while
     the problem holds that state (e.g. :class:`fem.output.FrameRecorder` copies it for a VTK time series);
@@ -136,23 +139,25 @@ def solve_problem(problem: ContactProblem, *, step_callbacks: Sequence[Callable[
     return _result(problem, stepper)
 
 
-def _result(problem: ContactProblem, stepper: LoadStepper) -> ContactResult:
+def _result(problem: PartnerProblem, stepper: LoadStepper) -> ContactResult:
     """The ContactResult of the final converged state."""
     opts = problem.options
     samples = problem.sample()
     patches = find_patches(samples, half=opts.symmetric_half)
     warns = problem.quality_warnings(samples, stepper.states[-1].d)
     P, Pp = problem.measure()
-    options = dict(E=opts.E, nu=opts.nu, degree=opts.degree, method=opts.method, kinematics=opts.kinematics,
-                   traction=opts.traction, kappa0=opts.kappa0, gamma0=opts.gamma0, theta=opts.theta,
+    body = {} if opts.body is None else dict(E=opts.E, nu=opts.nu, traction=opts.traction,
+                                             formulation=opts.formulation, material_model=opts.material_model)
+    options = dict(**body, degree=opts.degree, method=opts.method, kinematics=opts.kinematics,
+                   kappa0=opts.kappa0, gamma0=opts.gamma0, theta=opts.theta,
                    control=opts.control, target=opts.target, n_steps=opts.n_steps, symmetric_half=opts.symmetric_half,
                    supports=problem.supports, quadrature_degree=problem.qdeg, sample_degree=problem.sdeg,
                    prefix=problem.prefix, predictor="hertz" if stepper.hertz is not None else "extrapolate",
-                   formulation=opts.formulation, material_model=opts.material_model, **problem.method.options())
+                   **problem.method.options())
     records = stepper.records
     return ContactResult(ndofs=problem.ndofs, wall_time_s=stepper.wall_time_s,
                          newton_iterations=[r["iterations"] for r in records], load_steps=records,
                          d=float(stepper.states[-1].d), P=float(P), P_pressure=float(Pp), samples=samples,
                          patches=patches, u=problem.u, options=options, half=opts.symmetric_half,
                          forms=problem.forms, lame=problem.lame, snapshots=stepper.snapshots, warnings=warns,
-                         pressure_field=problem.ph)
+                         pressure_field=problem.pressure_field)

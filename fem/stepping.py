@@ -1,4 +1,8 @@
-"""Load stepping of a :class:`fem.problem.ContactProblem`: steps, cut-backs, force control and predictors.
+"""Load stepping of a contact problem: steps, cut-backs, force control and predictors.
+
+The stepper uses its problem through the declared protocol :class:`fem.partner_problem.PartnerProblem` only, so
+the rigid obstacle's :class:`fem.problem.ContactProblem` and the two bodies'
+:class:`fem.two_body.problem.TwoBodyProblem` are driven by the same code.
 
 Because small-strain frictionless contact is path independent, the cost is all in the active set. Measured on
 the Hertz scene, semismooth Newton started from a predicted u whose active set is decided by the sign of its
@@ -51,9 +55,10 @@ from fem.active_set_update import (
     sign_runs,
 )
 from fem.errors import ContactSolveError, snes_reason_name
+from fem.partner_problem import PartnerProblem
 from fem.postprocess import Patch, SurfaceSamples, find_patches
-from fem.predictor import HertzPredictor
-from fem.problem import MAX_ZONES, ContactProblem
+from fem.problem import MAX_ZONES
+from vocabulary import FINITE
 
 __all__ = ["LoadStepper", "ConvergedState", "Snapshot"]
 
@@ -139,7 +144,7 @@ def _merged(runs: tuple) -> tuple:
 
 
 class LoadStepper:
-    """Drives a :class:`ContactProblem` through the load levels (module docstring).
+    """Drives a :class:`fem.partner_problem.PartnerProblem` through the load levels (module docstring).
 
     Attributes:
         problem: the contact problem.
@@ -152,7 +157,7 @@ class LoadStepper:
         on_step: callbacks ``f(record)`` called after every converged solve (:meth:`add_step_callback`).
     """
 
-    def __init__(self, problem: ContactProblem, *, on_step: Callable | None = None):
+    def __init__(self, problem: PartnerProblem, *, on_step: Callable | None = None):
         self.problem = pb = problem
         self.opts = opts = problem.options
         self.states = [ConvergedState(0.0, 0.0, pb.get_state() * 0.0, None)]
@@ -163,25 +168,20 @@ class LoadStepper:
         self.start_zone = None  # the prescribed runs of the hertz_zone start (hertz_zone_start)
         self.t_start = time.perf_counter()
         self.wall_time_s = 0.0
-        ob = problem.obstacle
-        hertz_ok = (opts.control == "force" and hasattr(ob, "hertz_contact")
-                    and abs(ob.direction[0]) < 1e-14 and ob.direction[1] < 0)
+        hertz_ok = opts.control == "force" and pb.hertz_applicable
         if opts.predictor in ("hertz", "hertz_zone") and not hertz_ok:
             raise ValueError(f"predictor={opts.predictor!r} needs control='force', a circle/parabola obstacle and "
                              "direction (0, -1)")
         # the tangent correction measures dP/dd as P(t), which needs P linear in u: not for finite strain
-        self.tangent_ok = (not opts.mixed and pb.forms.update is None and pb.method.supports_tangent
-                           and opts.kinematics != "finite")
+        self.tangent_ok = pb.tangent_applies
         # hertz_zone: the Hertz zone from the unloaded state and the tangent of that prescribed-set solve (no
         # stiffness solve); where the tangent does not apply, the Hertz predictor.
         self.zone_start = opts.predictor == "hertz_zone" and self.tangent_ok
-        self.finite = opts.kinematics == "finite"
+        self.finite = opts.kinematics == FINITE
         if self.finite and "snes_linesearch_type" not in (opts.petsc_options or {}):
             pb.snes.getLineSearch().setType(FINITE_LINESEARCH)
         use_hertz = opts.predictor in ("hertz", "hertz_zone") or (opts.predictor == "auto" and hertz_ok)
-        self.hertz = (HertzPredictor(u=pb.u, obstacle=ob, lame=pb.lame, E_star=pb.E_star, bcs=pb.bcs, ds_c=pb.ds_c,
-                                     facets=pb.contact_facets, prefix=pb.prefix + "hertz_",
-                                     linear_solver=opts.linear_solver) if use_hertz else None)
+        self.hertz = pb.hertz_predictor() if use_hertz else None
 
     def add_step_callback(self, fn: Callable[[dict], None]) -> None:
         """Call ``fn(record)`` after every converged solve (after the ones already registered)."""
@@ -335,7 +335,7 @@ class LoadStepper:
                 pb.predictor_iteration(zone)
                 pre += 1
             solved = False
-            smp = pb.sample(rule=pb.method_rule) if pb.method_rule is not None else pb.sample(pb.qdeg)
+            smp = pb.law_samples()
             sign = sign_runs(smp.s, smp.q)
             if not sign or same_active_points(smp.s, sign, zone):
                 break  # the iterate's own active set is the prescribed one: the true law accepts it
@@ -472,7 +472,7 @@ class LoadStepper:
         opts, E_star = self.opts, self.problem.E_star
         for k in range(1, opts.n_steps + 1):
             P_goal = opts.target * k / opts.n_steps
-            self.problem.far_field.set_load(P_goal)  # halfplane supports: Flamant's field of this level
+            self.problem.set_load_level(P_goal)  # halfplane supports: Flamant's field of this level
             zone = None
             if self.zone_start and len(self.states) == 1:
                 start = self.hertz_zone_start(P_goal)
@@ -508,7 +508,7 @@ class LoadStepper:
         pb.set_state(self.states[-1].x)
         with pb.prescribed_active_set(zone):
             with pb.max_iterations(1):
-                pb.problem.solve()
+                pb.newton()
             u0 = pb.get_state()
             P0 = pb.measure()[0]
             tan = pb.tangent(u0, d0)

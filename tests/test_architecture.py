@@ -16,7 +16,7 @@ from workbench.scenes import SCENES, register_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 BIN = Path(sys.executable).parent
-PACKAGES = ("analytic", "measures", "cases", "meshes", "fem", "workbench")
+PACKAGES = ("vocabulary", "analytic", "measures", "cases", "meshes", "fem", "workbench")
 SUBCOMMANDS = ("list", "validate", "run", "mesh", "report", "ci", *STUDIES, *EXTERNAL)
 
 

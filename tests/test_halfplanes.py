@@ -52,7 +52,7 @@ def _partner(convection="profile", E_upper=E_UP):
 
 def _options(partner, kinematics):
     P = hertz_load_from_half_width(B0, R, partner.combined_modulus())
-    return ContactOptions(E=E_LOW, nu=0.0, target=P, degree=2, method="augmented_lagrangian", control="force",
+    return ContactOptions.of(target=P, degree=2, method="augmented_lagrangian", control="force",
                           n_steps=3, kinematics=kinematics, predictor="extrapolate", active_set="geometry",
                           active_set_update="edge_fit")
 

@@ -61,7 +61,7 @@ def _solve(md, *, E_low, E_up, b0, kinematics):
     partner = MeshedPartner(bodies=(Body(name="lower", E=E_low, nu=0.0), Body(name="upper", E=E_up, nu=0.0)),
                             slave="contact_lower", master="contact_upper", driven="driven", driven_body="upper",
                             master_surface=ProfileSurface("wedge", M), convection="profile")
-    opts = ContactOptions(E=E_low, nu=0.0, target=wedge.wedge_load_from_half_width(b0, M, bm.E_star), degree=2,
+    opts = ContactOptions.of(target=wedge.wedge_load_from_half_width(b0, M, bm.E_star), degree=2,
                           method="augmented_lagrangian", control="force", n_steps=3, kinematics=kinematics,
                           predictor="extrapolate", active_set="geometry", active_set_update="edge_fit")
     res = solve_contact(md, partner, options=opts)

@@ -95,7 +95,7 @@ def test_finite_case_loads(tmp_path):
     (dict(kinematics="finite", material_model="neo_hookean", formulation="mixed"), "formulation='displacement'"),
 ])
 def test_contact_options_refuse_bad_models(kw, word):
-    opts = ContactOptions(E=1.0, nu=0.3, target=1.0, **({"traction": "obstacle"} | kw))
+    opts = ContactOptions.of(E=1.0, nu=0.3, target=1.0, **({"traction": "obstacle"} | kw))
     with pytest.raises(ValueError, match=word):
         check_model(opts)
 
@@ -105,7 +105,7 @@ def test_contact_options_accept_the_hierarchy():
     one with finite strain; every other pairing of the 3 kinematics and 3 material models is refused."""
     def accepted(kin, model):
         try:
-            check_model(ContactOptions(E=1.0, nu=0.3, target=1.0, kinematics=kin, material_model=model,
+            check_model(ContactOptions.of(E=1.0, nu=0.3, target=1.0, kinematics=kin, material_model=model,
                                        traction="obstacle"))
         except ValueError:
             return False

@@ -137,7 +137,9 @@ def test_the_shipped_scenes_are_registered_in_order():
 
 
 def test_no_registered_scene_is_a_clear_error(monkeypatch):
-    monkeypatch.setattr(schema, "_SCENE_SCHEMAS", {})
+    import cases.scene_schema  # the registry's module (cases.schema re-exports it)
+
+    monkeypatch.setattr(cases.scene_schema, "_SCENE_SCHEMAS", {})
     with pytest.raises(RuntimeError, match="import workbench.scenes"):
         load_case("hertz_cylinder")
 

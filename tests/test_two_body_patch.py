@@ -36,7 +36,7 @@ def _problem(md, *, pairing="mortar", method="penalty", degree=2, slave="contact
     setup = MeshedPartner(bodies=(Body(name="lower", E=200.0, nu=0.3), Body(name="upper", E=70.0, nu=0.25)),
                          slave=slave, master=master, driven="driven", driven_body="upper", driven_components=(1,),
                          pairing=pairing)
-    opts = ContactOptions(E=200.0, nu=0.3, target=1e-3, degree=degree, method=method, control="displacement",
+    opts = ContactOptions.of(target=1e-3, degree=degree, method=method, control="displacement",
                           n_steps=2, supports={"clamped": "roller_y", "symmetry": "roller_x"},
                           active_set_predictor=False, predictor="extrapolate")
     return TwoBodyProblem(md, setup, opts)
@@ -118,8 +118,8 @@ def test_refusals(stacked):
         _problem(stacked, pairing="segment")
     setup = _problem(stacked).setup  # slave: the upper block's bottom, normal (0, -1)
     with pytest.raises(ValueError, match="kinematics"):
-        TwoBodyProblem(stacked, setup, ContactOptions(E=1.0, nu=0.3, target=1.0, method="penalty", kinematics="finite",
-                                                      material_model="neo_hookean"))
+        TwoBodyProblem(stacked, setup, ContactOptions.of(E=1.0, nu=0.3, target=1.0, method="penalty",
+                                                         kinematics="finite", material_model="neo_hookean"))
     with pytest.raises(ValueError, match="flat slave surface with normal"):
-        TwoBodyProblem(stacked, setup, ContactOptions(E=1.0, nu=0.3, target=1.0, method="penalty",
+        TwoBodyProblem(stacked, setup, ContactOptions.of(target=1.0, method="penalty",
                                                       kinematics="convective"))

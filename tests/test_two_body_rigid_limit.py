@@ -40,7 +40,7 @@ def meshes(tmp_path_factory):
 
 def _options(**extra):
     P = hertz_load_from_half_width(A, R, plane_strain_modulus(E, NU))
-    return ContactOptions(E=E, nu=NU, target=P, degree=2, method="augmented_lagrangian", control="force",
+    return ContactOptions.of(target=P, degree=2, method="augmented_lagrangian", control="force",
                           n_steps=1, predictor="extrapolate", active_set="geometry", active_set_update="edge_fit",
                           **extra)
 
@@ -49,7 +49,7 @@ def _options(**extra):
 def rigid(meshes):
     block, _ = meshes
     return solve_contact(block, CircleObstacle(center=(0.0, R), radius=R),
-                 options=_options(traction="halfplane", contact_group="contact_lower"))
+                 options=_options(E=E, nu=NU, traction="halfplane", contact_group="contact_lower"))
 
 
 def test_the_block_is_the_same_mesh(meshes):

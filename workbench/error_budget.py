@@ -29,7 +29,6 @@ named ``"not asymptotic"``; differences within the noise (``|e21|, |e32| <= max(
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from typing import NamedTuple
 
@@ -197,7 +196,7 @@ def tight_resolve(solve, run, outcome, *, progress=print):
     # fem/problem.py measures it
     L = mesh.comm.allreduce(float(np.max(np.ptp(x[:, :2], axis=0))) if x.size else 0.0, op=MPI.MAX) or 1.0
     E = run.material.E
-    d = {f.name: f.default for f in dataclasses.fields(ContactOptions)}
+    d = ContactOptions.defaults()
     last = ""
     for k in (TIGHTENING, 10.0):
         kw = {name: d[name] / k for name in ("snes_rtol", "force_rtol", "uzawa_rtol")}

@@ -1,5 +1,9 @@
 """Registry of the frictionless contact methods, one module each (the asimov-contact ``one_sided/`` layout).
 
+One registry for both partners (:mod:`fem.methods.registry`): a method name maps to its rigid-obstacle class (here)
+and, where it has one, its law between two meshed bodies (:mod:`fem.two_body.laws`, imported by the registry
+lines below); the names are :data:`vocabulary.METHODS`.
+
 A method is a :class:`fem.methods.base.ContactMethod` subclass in its own module, decorated with
 :func:`register`; it is known to the solver once its module is imported by the registry line at the end of
 this file. ``solve_contact(method=name)`` then builds it with :func:`create`.
@@ -14,8 +18,8 @@ Adding a method::
     class MyMethod(ContactMethod):
         name = "my_method"
 
-        def __init__(self, *, E, kappa0=1e3, **params):   # validate what you use (ValueError)
-            super().__init__(E=E)
+        def __init__(self, *, E, E_star, kappa0=1e3, **params):   # validate what you use (ValueError)
+            super().__init__(E=E, E_star=E_star)              # kappa: base.penalty_stiffness(kappa0, E_star, h)
             ...
 
         def terms(self, kin, *, v, stress_u, stress_v, ds_c, mask):
@@ -42,3 +46,4 @@ __all__ = ["REGISTRY", "register", "method_names", "get_method", "create", "Cont
 # The registry lines: one module per method (each registers its class on import).
 from fem.methods import nitsche, penalty  # noqa: E402,F401,I001
 from fem.methods import augmented_lagrangian  # noqa: E402,F401
+from fem.two_body import laws  # noqa: E402,F401  (the same methods between two meshed bodies)

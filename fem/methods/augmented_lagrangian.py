@@ -4,8 +4,9 @@ Units mm, N, MPa. Gap ``g(u)`` (mm, > 0 open), contact direction ``n_c`` (body -
 body ``t = -p n_c`` with the pressure ``p >= 0`` (MPa, compressive), as in :mod:`fem.contact_forms`.
 
 Unknowns: the displacement u and a multiplier ``lambda`` (MPa), a scalar Lagrange function of the displacement
-degree whose nodal values on Gamma_c are the contact pressures (0 elsewhere). With ``kappa = kappa0 E / h``
-(MPa/mm, h = cell diameter) the contact law and the residual are
+degree whose nodal values on Gamma_c are the contact pressures (0 elsewhere). With ``kappa = kappa0 E* / h``
+(MPa/mm, E* = E/(1 - nu^2) the plane-strain modulus, as for two bodies; h = cell diameter) the contact law and
+the residual are
 
     p = [lambda - kappa g(u)]_+ ,        F(u; v) = a(u, v) + int_Gc^nodal p (n_c . v) ds ,
 
@@ -54,7 +55,7 @@ import ufl
 from mpi4py import MPI
 
 from fem.errors import ContactSolveError
-from fem.methods.base import ContactMethod, MethodTerms, SampleRule, contact_law
+from fem.methods.base import ContactMethod, MethodTerms, SampleRule, contact_law, penalty_stiffness
 from fem.methods.registry import register
 
 __all__ = ["AugmentedLagrangian", "nodal_rule"]
@@ -82,8 +83,9 @@ class AugmentedLagrangian(ContactMethod):
     relaxation: float = 1.0
     label: str = "augmented Lagrangian"
 
-    def __init__(self, *, E, kappa0: float = 1e3, uzawa_rtol: float = 1e-10, uzawa_max_it: int = 100, **params):
-        super().__init__(E=E)
+    def __init__(self, *, E, E_star, kappa0: float = 1e3, uzawa_rtol: float = 1e-10, uzawa_max_it: int = 100,
+                 **params):
+        super().__init__(E=E, E_star=E_star)
         if not kappa0 > 0:
             raise ValueError(f"kappa0 must be > 0, got {kappa0}")
         if not uzawa_rtol > 0:
@@ -106,7 +108,7 @@ class AugmentedLagrangian(ContactMethod):
         V = kin.u.function_space
         Q = dolfinx.fem.functionspace(V.mesh, ("Lagrange", V.ufl_element().embedded_superdegree))
         self.multiplier = lam = dolfinx.fem.Function(Q, name="contact_multiplier")
-        kappa = self.constant(kin, self.kappa0 * self.E) / kin.h
+        kappa = self.constant(kin, penalty_stiffness(self.kappa0, self.E_star, 1.0)) / kin.h  # kappa0 E* a Constant
         q = lam - kappa * kin.gap
         p = contact_law(q, kin.X, mask)
         vq = ufl.TestFunction(Q)

@@ -22,7 +22,20 @@ from typing import Any, ClassVar, NamedTuple
 
 import ufl
 
-__all__ = ["ContactMethod", "MethodTerms", "SampleRule", "positive_part", "contact_law"]
+from vocabulary import RIGID
+
+__all__ = ["ContactMethod", "MethodTerms", "SampleRule", "positive_part", "contact_law", "penalty_stiffness"]
+
+
+def penalty_stiffness(kappa0, E_star, h):
+    """The penalty (and augmentation) stiffness ``kappa = kappa0 E* / h`` (MPa/mm), the one meaning of kappa0.
+
+    ``kappa0`` is dimensionless; ``E*`` (MPa) the plane-strain modulus of the contact pair,
+    ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` (:func:`analytic.materials.composite_modulus`), against a rigid
+    obstacle ``E* = E/(1 - nu^2)``; ``h`` (mm) the contact element size (a rigid obstacle's methods: the cell
+    diameter, a UFL expression; two bodies: the shortest slave facet). Works on floats and on UFL expressions.
+    """
+    return kappa0 * E_star / h
 
 
 class MethodTerms(NamedTuple):
@@ -74,23 +87,27 @@ class ContactMethod:
     """Base class of a contact method (one instance per contact problem; it may hold Functions).
 
     Subclasses set ``name`` and implement :meth:`terms`; the constructor receives every method parameter of
-    :func:`fem.solver.solve_contact` as keywords and validates the ones it uses (``ValueError``).
+    :func:`fem.solver.solve_contact` as keywords and validates the ones it uses (``ValueError``): the body's
+    Young's modulus ``E`` (MPa; Nitsche's ``gamma = gamma0 E / h``) and the pair's plane-strain modulus ``E_star``
+    (MPa; ``E/(1 - nu^2)`` against the rigid obstacle: the penalty stiffness :func:`penalty_stiffness`).
 
     Attributes:
         name: registry name (``solve_contact(method=name)``).
+        partner: the partner kind it serves (:mod:`fem.methods.registry`): a rigid obstacle.
         supports_tangent: the force-control tangent correction applies (the residual depends on u and d only;
             a method with an outer multiplier loop sets False).
     """
 
     name: ClassVar[str] = ""
+    partner: ClassVar[str] = RIGID
     supports_tangent: ClassVar[bool] = True
 
-    def __init__(self, *, E: float, **params):
-        self.E = E
+    def __init__(self, *, E: float, E_star: float, **params):
+        self.E, self.E_star = E, E_star
 
     @staticmethod
     def constant(kin, value: float):
-        """``value`` as a dolfinx Constant on the contact mesh: a method's parameters (``kappa0 E``, ``gamma0 E``,
+        """``value`` as a dolfinx Constant on the contact mesh: a method's parameters (``kappa0 E*``, ``gamma0 E``,
         ``theta``) enter its terms this way, so another value reuses the compiled form (:mod:`fem.coefficients`)."""
         from fem.coefficients import scalar
 

@@ -33,8 +33,8 @@ class Nitsche(ContactMethod):
 
     name = "nitsche"
 
-    def __init__(self, *, E, gamma0: float = 10.0, theta: float = 1.0, **params):
-        super().__init__(E=E)
+    def __init__(self, *, E, E_star, gamma0: float = 10.0, theta: float = 1.0, **params):
+        super().__init__(E=E, E_star=E_star)
         if theta not in (-1, 0, 1, -1.0, 0.0, 1.0):
             raise ValueError(f"theta must be one of (1, 0, -1), got {theta!r}")
         if not gamma0 > 0:

@@ -1,4 +1,5 @@
-"""Penalty method: ``p = kappa [-g]_+`` with ``kappa = kappa0 E / h`` (MPa/mm; h = cell diameter, mm).
+"""Penalty method: ``p = kappa [-g]_+`` with ``kappa = kappa0 E* / h`` (MPa/mm; E* = E/(1 - nu^2) the plane-strain
+modulus, as for two bodies, :func:`fem.methods.base.penalty_stiffness`; h = cell diameter, mm).
 
 Residual ``F(u; v) = a(u, v) + int_Gc p (n_c . v) ds`` (= first variation of
 ``1/2 a(u, u) + int kappa/2 [-g]_+^2 ds``). The constraint holds only as ``kappa -> oo``: the body penetrates
@@ -12,7 +13,7 @@ SNES DIVERGED_MAX_IT after 5 cut-backs; the Jacobian's condition number grows li
 ``STIFF_KAPPA0`` the same law is solved the way the augmented Lagrangian is
 (:class:`NodalPenaltyUzawa`): the law is collocated at the contact nodes (the augmented Lagrangian's nodal
 quadrature, P2: Simpson) and reached by relaxed Uzawa updates of a nodal multiplier around a Newton solve of
-moderate stiffness ``kappa_s = kappa_solve E / h`` (``kappa_solve = min(kappa0, 1e4)``)::
+moderate stiffness ``kappa_s = kappa_solve E* / h`` (``kappa_solve = min(kappa0, 1e4)``)::
 
     p = [lambda - kappa_s g]_+ ,      lambda <- (1 - kappa_s / kappa) p      (at every contact node)
 
@@ -35,7 +36,7 @@ from __future__ import annotations
 
 import ufl
 
-from fem.methods.base import ContactMethod, MethodTerms, contact_law
+from fem.methods.base import ContactMethod, MethodTerms, contact_law, penalty_stiffness
 from fem.methods.registry import register
 
 __all__ = ["Penalty", "STIFF_KAPPA0", "KAPPA_SOLVE"]
@@ -51,8 +52,9 @@ class Penalty(ContactMethod):
 
     name = "penalty"
 
-    def __init__(self, *, E, kappa0: float = 1e3, uzawa_rtol: float = 1e-10, uzawa_max_it: int = 100, **params):
-        super().__init__(E=E)
+    def __init__(self, *, E, E_star, kappa0: float = 1e3, uzawa_rtol: float = 1e-10, uzawa_max_it: int = 100,
+                 **params):
+        super().__init__(E=E, E_star=E_star)
         if not kappa0 > 0:
             raise ValueError(f"kappa0 must be > 0, got {kappa0}")
         self.kappa0 = kappa0
@@ -60,17 +62,24 @@ class Penalty(ContactMethod):
         if kappa0 > STIFF_KAPPA0:
             from fem.methods.nodal_penalty import NodalPenaltyUzawa
 
-            self.stiff = NodalPenaltyUzawa(E=E, kappa0=kappa0, kappa_solve=KAPPA_SOLVE, uzawa_rtol=uzawa_rtol,
-                                           uzawa_max_it=uzawa_max_it)
+            self.stiff = NodalPenaltyUzawa(E=E, E_star=E_star, kappa0=kappa0, kappa_solve=KAPPA_SOLVE,
+                                           uzawa_rtol=uzawa_rtol, uzawa_max_it=uzawa_max_it)
             self.supports_tangent = False
 
     def terms(self, kin, *, v, stress_u, stress_v, ds_c, mask) -> MethodTerms:
         if self.stiff is not None:
             return self.stiff.terms(kin, v=v, stress_u=stress_u, stress_v=stress_v, ds_c=ds_c, mask=mask)
-        kappa = self.constant(kin, self.kappa0 * self.E) / kin.h
+        kappa = self.stiffness(kin.h, kin)
         q = -kappa * kin.gap
         p = contact_law(q, kin.X, mask)
         return MethodTerms(argument=q, pressure=kin.current_pressure(p), F_c=p * ufl.dot(kin.n_c, v) * ds_c)
+
+    def stiffness(self, h, kin=None):
+        """``kappa = kappa0 E* / h`` (MPa/mm, :func:`fem.methods.base.penalty_stiffness`): of a float h, or with
+        ``kin`` the UFL expression of the cell diameter ``h = kin.h`` (``kappa0 E*`` a Constant)."""
+        if kin is None:
+            return penalty_stiffness(self.kappa0, self.E_star, h)
+        return self.constant(kin, penalty_stiffness(self.kappa0, self.E_star, 1.0)) / h
 
     # -- the stiff penalty's hooks (the base class's defaults otherwise) -------------------------------------
     def measure_metadata(self, *, degree: int, quadrature_degree: int):

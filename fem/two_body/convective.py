@@ -50,10 +50,11 @@ import scipy.sparse as sp
 
 from fem.two_body.geometry import FACING_COS, PairedPoints, SurfaceGeometry, gauss_legendre_01, multiplier_basis
 from fem.two_body.weighted_gap import CellData, WeightedGap, reference_coordinates
+from vocabulary import HALFPLANE, TWO_BODY_TRACTIONS
 
 __all__ = ["ConvectiveGap", "MasterCells", "NEWTON_R_TOL", "TRACTIONS"]
 
-TRACTIONS = ("halfplane", "master_normal")
+TRACTIONS = TWO_BODY_TRACTIONS
 NEWTON_R_TOL = 1e-14  # the pairing's Newton iteration in the facet parameter r
 _MAX_R_ITERATIONS = 30
 
@@ -282,7 +283,7 @@ class ConvectiveGap:
         D = sp.csr_matrix((vals[valid].ravel(), (ri[valid].ravel(), ci[valid].ravel())), shape=(m, self.n_dofs))
         D.sum_duplicates()
         T = D
-        if self.traction == "halfplane":
+        if self.traction == HALFPLANE:
             tv = wphi[:, :, None] * G_u[:, None, :]
             T = sp.csr_matrix((tv[valid].ravel(), (ri[valid].ravel(), ci[valid].ravel())), shape=(m, self.n_dofs))
             T.sum_duplicates()
@@ -291,7 +292,7 @@ class ConvectiveGap:
             c = hessian_weights(gt)
             c_pt = np.einsum("np,np->n", wphi, np.where(valid, c[np.maximum(rows, 0)], 0.0))
             r_u = -C_u / C_r[:, None]
-            if self.traction == "halfplane":
+            if self.traction == HALFPLANE:
                 hess = G_ur[:, :, None] * r_u[:, None, :]
             else:
                 a = G_ur - s[:, None] * C_ur

@@ -1,19 +1,21 @@
-"""Contact laws on the weighted gaps of two meshed bodies (numpy only), and the registry of two-body methods.
+"""Contact laws on the weighted gaps of two meshed bodies (numpy only), registered with the rigid obstacle's methods.
 
 Units mm, MPa. ``g~_i`` is the weighted gap of contact node i (> 0 open; :mod:`fem.two_body.weighted_gap`),
 ``p_i >= 0`` its pressure (compressive), ``kappa`` (MPa/mm) the penalty stiffness, uniform along the surface:
 ``kappa = kappa0 E* / h`` with ``E*`` the combined plane-strain modulus of the two bodies
-(``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``) and h the shortest slave facet. A uniform kappa keeps a uniform
-penalty overlap under a uniform pressure, which the patch test needs.
+(``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``) and h the shortest slave facet: the stiffness of the rigid
+obstacle's methods, :func:`fem.methods.base.penalty_stiffness` (E* = E/(1 - nu^2) when the partner is rigid).
+A uniform kappa keeps a uniform penalty overlap under a uniform pressure, which the patch test needs.
 
 * ``penalty``: ``p = kappa [-g~]_+`` (one Newton solve per load level; overlap ``p / kappa``);
 * ``augmented_lagrangian``: ``p = [lambda - kappa g~]_+`` with Uzawa updates ``lambda <- p`` after each Newton
   solve, until the discrete contact conditions hold to ``tol = uzawa_rtol max|u|`` (``|g~_i| <= tol`` where
   ``p_i > 0``, ``g~_i >= -tol`` elsewhere): no penalty error.
 
-Which of the rigid-obstacle methods carry over: ``penalty`` and ``augmented_lagrangian`` (above). ``nitsche``
-does not: its terms need the slave traction ``sigma_n(u)`` at the mortar points, i.e. the gradient of the
-slave displacement across the non-matching interface, which is not built here; it is refused in one line.
+Which of the rigid-obstacle methods carry over: ``penalty`` and ``augmented_lagrangian`` (above), registered under
+the same names in the one registry of contact methods (:mod:`fem.methods.registry`, partner kind ``"meshed"``).
+``nitsche`` does not: its terms need the slave traction ``sigma_n(u)`` at the mortar points, i.e. the gradient of
+the slave displacement across the non-matching interface, which is not built here; it is refused in one line.
 
 While the prescribed active set is on (the load stepper's predictor iteration), the law is the linear branch
 ``p = q`` on the nodes whose X1 lies in one of the runs, and 0 elsewhere (as :func:`fem.methods.base.contact_law`).
@@ -27,23 +29,32 @@ from typing import ClassVar
 import numpy as np
 
 from fem.errors import ContactSolveError
+from fem.methods.base import penalty_stiffness
+from fem.methods.registry import get_method, register
+from vocabulary import AUGMENTED_LAGRANGIAN, MESHED, PENALTY
 
-__all__ = ["TwoBodyLaw", "PenaltyLaw", "AugmentedLagrangianLaw", "TWO_BODY_METHODS", "law_for"]
+__all__ = ["TwoBodyLaw", "PenaltyLaw", "AugmentedLagrangianLaw", "law_for"]
 
 
 class TwoBodyLaw:
     """A contact law ``p(g~)`` on the nodal weighted gaps (base class: the penalty law).
+
+    Args:
+        kappa0: penalty stiffness factor (dimensionless).  E_star: the pair's plane-strain modulus (MPa).
+        h: the contact element size (mm): ``kappa = kappa0 E* / h`` (:func:`fem.methods.base.penalty_stiffness`).
 
     Attributes:
         kappa: penalty stiffness (MPa/mm).  lam: nodal multiplier (MPa; zeros for the penalty law).
         zones: the prescribed active set (runs (lo, hi) of X1) or None (the true law).
     """
 
-    name: ClassVar[str] = "penalty"
+    name: ClassVar[str] = PENALTY
+    partner: ClassVar[str] = MESHED
     supports_tangent: ClassVar[bool] = True
 
-    def __init__(self, *, kappa: float, n_nodes: int, X1: np.ndarray, uzawa_rtol: float = 1e-10,
-                 uzawa_max_it: int = 100):
+    def __init__(self, *, kappa0: float, E_star: float, h: float, n_nodes: int, X1: np.ndarray,
+                 uzawa_rtol: float = 1e-10, uzawa_max_it: int = 100):
+        kappa = penalty_stiffness(kappa0, E_star, h)
         if not kappa > 0:
             raise ValueError(f"kappa0 must be > 0, got kappa = {kappa}")
         self.kappa = float(kappa)
@@ -93,14 +104,16 @@ class TwoBodyLaw:
         return {"kappa": self.kappa}
 
 
+@register
 class PenaltyLaw(TwoBodyLaw):
     """``p = kappa [-g~]_+`` (module docstring)."""
 
 
+@register
 class AugmentedLagrangianLaw(TwoBodyLaw):
     """``p = [lambda - kappa g~]_+`` with Uzawa updates (module docstring)."""
 
-    name: ClassVar[str] = "augmented_lagrangian"
+    name: ClassVar[str] = AUGMENTED_LAGRANGIAN
     supports_tangent: ClassVar[bool] = False
 
     def state(self) -> np.ndarray:
@@ -135,17 +148,7 @@ class AugmentedLagrangianLaw(TwoBodyLaw):
         return {"kappa": self.kappa, "uzawa_rtol": self.uzawa_rtol}
 
 
-TWO_BODY_METHODS: dict[str, type[TwoBodyLaw]] = {"penalty": PenaltyLaw,
-                                                  "augmented_lagrangian": AugmentedLagrangianLaw}
-
-
 def law_for(method: str) -> type[TwoBodyLaw]:
-    """The law class of a two-body method name (ValueError naming the allowed ones)."""
-    if method == "nitsche":
-        raise ValueError("method='nitsche' is not available for two elastic bodies (its terms need the slave "
-                         "traction across the non-matching interface); use 'penalty' or 'augmented_lagrangian'")
-    try:
-        return TWO_BODY_METHODS[method]
-    except KeyError:
-        raise ValueError(f"method must be one of {tuple(TWO_BODY_METHODS)} for two elastic bodies, "
-                         f"got {method!r}") from None
+    """The law class of a two-body method name (the registry's, :func:`fem.methods.registry.get_method`;
+    ValueError naming the allowed ones)."""
+    return get_method(method, MESHED)

@@ -61,21 +61,26 @@ from fem.linear_solver import snes_options
 from fem.newton_controls import NewtonControls
 from fem.options import ContactOptions
 from fem.postprocess import LOCKING_NU, SurfaceSamples, contact_edges, oscillation_warnings, resolution_warnings
+from fem.supports import COMPONENTS, group_facets, resolve_supports
 from fem.two_body.geometry import exact_master_gaps, mortar_points, node_points
 from fem.two_body.laws import law_for
 from fem.two_body.surfaces import cell_data, surface_of_group, tabulate2
 from fem.two_body.weighted_gap import WeightedGap, assemble_weighted_gap
+from vocabulary import (
+    CONVECTIONS,
+    CONVECTIVE,
+    HALFPLANE,
+    MASTER_NORMAL,
+    PAIRINGS,
+    TWO_BODY_KINEMATICS,
+    TWO_BODY_TRACTIONS,
+)
 
 __all__ = ["Body", "MeshedPartner", "TwoBodyProblem", "CONVECTIONS", "PAIRINGS", "TWO_BODY_TRACTIONS"]
 
-PAIRINGS = ("mortar", "node_to_segment")
-TWO_BODY_TRACTIONS = ("halfplane", "master_normal")  # fem.two_body.convective.TRACTIONS
-# convective kinematics: what moves with the particles (MeshedPartner.convection)
-CONVECTIONS = ("pairing", "profile")
 # convective kinematics: a slave point's partner may move this many master facets from its reference partner
 # before the Jacobian needs an entry outside the preallocated pattern (then PETSc allocates it, counted)
 CONVECTIVE_WINDOW = 3
-_COMPONENTS = {"clamped": (0, 1), "roller_x": (0,), "roller_y": (1,), "free": ()}
 _counter = itertools.count()
 
 
@@ -131,8 +136,6 @@ class MeshedPartner:
     convection: str = "pairing"
     cut_kinks: bool = True
 
-    analytic = False  # the load stepper's test for an analytic (Hertz-predictable) rigid obstacle
-
     def combined_modulus(self) -> float:
         """E* (MPa): ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` (:mod:`analytic.materials`)."""
         b1, b2 = self.bodies
@@ -140,21 +143,13 @@ class MeshedPartner:
 
 
 class TwoBodyForms(NamedTuple):
-    """The load stepper's view of the forms (no gap data to refresh per iteration) and the bodies for the output:
-    ``body_index`` (DG0: the index of each cell's body in ``body_names``), ``E`` (MPa) and ``nu`` (DG0)."""
+    """The bodies for the output: ``body_index`` (DG0: the index of each cell's body in ``body_names``), ``E`` (MPa)
+    and ``nu`` (DG0)."""
 
-    update: None = None
     body_index: object = None
     body_names: tuple[str, ...] = ()
     E: object = None
     nu: object = None
-
-
-class NoFarField:
-    """No ``halfplane`` supports (refused for two bodies): the load stepper's per-level update does nothing."""
-
-    def set_load(self, P: float) -> None:
-        return None
 
 
 class _Value:
@@ -165,7 +160,7 @@ class _Value:
 
 
 class TwoBodyProblem(NewtonControls):
-    """Two elastic bodies in frictionless contact (module docstring).
+    """Two elastic bodies in frictionless contact (module docstring): a :class:`fem.partner_problem.PartnerProblem`.
 
     Attributes (main ones):
         u: displacement Function of both bodies (mm).  d: the driven displacement (``d.value``, mm).
@@ -179,15 +174,11 @@ class TwoBodyProblem(NewtonControls):
         self.mesh_data, self.mesh = mesh_data, mesh_data.mesh
         self.comm = self.mesh.comm
         _check(setup, opts, mesh_data)
-        self.obstacle = setup  # the partner, as the load stepper reads it (a direction, no Hertz predictor)
-        self.far_field = NoFarField()
-        self.ph = None
         self.E_star = setup.combined_modulus()
         self.mult = 2.0 if opts.symmetric_half else 1.0
         self.d = _Value(0.0)
         self.prefix = opts.petsc_prefix or f"fem_two_body_{next(_counter)}_"
-        self.method_rule = None
-        self.qdeg = self.sdeg = opts.degree
+        self.qdeg = self.sdeg = opts.degree  # the law holds at the slave nodes: degree points per facet
         self._build_space()
         self.forms = TwoBodyForms(body_index=self.body_id, E=self.E_fun, nu=self.nu_fun,
                                   body_names=tuple(b.label or b.name for b in self.setup.bodies))
@@ -241,14 +232,14 @@ class TwoBodyProblem(NewtonControls):
         if self.gap.nodes.size == 0:
             raise ValueError(f"the contact surfaces {st.slave!r} and {st.master!r} do not face each other")
         self.conv = None
-        if opts.kinematics == "convective" and st.convection == "profile":
+        if opts.kinematics == CONVECTIVE and st.convection == "profile":
             from fem.two_body.profile_convection import ProfileConvection
 
             self.conv = ProfileConvection(pts, self.gap, slave=self.slave_geom,
                                           slave_cells=cell_data(self.V, self.slave_geom),
                                           master_cells=cell_data(self.V, self.master_geom),
                                           surface=st.master_surface, degree=opts.degree, n_dofs=self.n_u)
-        elif opts.kinematics == "convective":
+        elif opts.kinematics == CONVECTIVE:
             from fem.two_body.convective import ConvectiveGap, MasterCells
 
             self.conv = ConvectiveGap(pts, self.gap, slave=self.slave_geom,
@@ -258,23 +249,20 @@ class TwoBodyProblem(NewtonControls):
                                                          tabulate2(self.V), st.master_surface),
                                       degree=opts.degree, n_dofs=self.n_u, traction=st.traction)
         h = float(np.min(self.slave_geom.length))
-        kappa = opts.kappa0 * self.E_star / h
-        self.method = law_for(opts.method)(kappa=kappa, n_nodes=self.gap.nodes.size, X1=self.gap.X[:, 0],
-                                           uzawa_rtol=opts.uzawa_rtol, uzawa_max_it=opts.uzawa_max_it)
+        self.method = law_for(opts.method)(kappa0=opts.kappa0, E_star=self.E_star, h=h, n_nodes=self.gap.nodes.size,
+                                           X1=self.gap.X[:, 0], uzawa_rtol=opts.uzawa_rtol,
+                                           uzawa_max_it=opts.uzawa_max_it)
         self.method.bind(gap=lambda: self.weighted_gaps(self.u.x.array),
                          scale=lambda: float(np.max(np.abs(self.u.x.array), initial=0.0)))
 
     def _build_supports(self) -> None:
         """Supports (unrolled dof indices, prescribed value per unit d) and the driven group."""
         opts, st, fdim = self.options, self.setup, self.mesh.topology.dim - 1
-        supports = dict(opts.supports) if opts.supports is not None else {"clamped": "clamped"}
-        if opts.supports is None and opts.symmetric_half:
-            supports["symmetry"] = "roller_x"
-        self.supports = supports
+        self.supports = supports = resolve_supports(self.mesh_data, opts.supports, opts.symmetric_half)
         dofs, per_d = [], []
         for name, kind in list(supports.items()) + [(st.driven, "driven")]:
-            facets = self.mesh_data.facet_tags.find(self.mesh_data.physical_groups[name].tag)
-            comps = st.driven_components if kind == "driven" else _COMPONENTS[kind]
+            facets = group_facets(self.mesh_data, name)
+            comps = st.driven_components if kind == "driven" else COMPONENTS[kind]
             for c in comps:
                 nodes = dolfinx.fem.locate_dofs_topological(self.V, fdim, facets)
                 dofs.append(2 * nodes + c)
@@ -402,6 +390,34 @@ class TwoBodyProblem(NewtonControls):
         J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, self.conv is None)
         _add_csr(J, Jc)
         J.assemble()
+
+    # -- the partner protocol (fem.partner_problem.PartnerProblem) ----------------------------------------------
+    @property
+    def tangent_applies(self) -> bool:
+        """The tangent correction applies unless the law has an outer multiplier loop (small and convective
+        kinematics, the displacement formulation: the residual is a function of u and d)."""
+        return self.method.supports_tangent
+
+    @property
+    def pressure_field(self):
+        """None: two bodies have no mixed pressure."""
+        return None
+
+    def set_load_level(self, P: float) -> None:
+        """Force control's load level: nothing to update (the supports hold no far field; ``halfplane`` is
+        refused)."""
+
+    @property
+    def hertz_applicable(self) -> bool:
+        """False: the Hertz predictor needs a rigid circle or parabola."""
+        return False
+
+    def hertz_predictor(self):
+        raise ValueError("the Hertz predictor needs a rigid circle or parabola obstacle, not a meshed partner")
+
+    def law_samples(self) -> SurfaceSamples:
+        """The samples at the slave contact nodes, where the nodal law holds (:meth:`sample`)."""
+        return self.sample()
 
     # -- state ----------------------------------------------------------------------------------------------
     @property
@@ -533,25 +549,27 @@ def _check(setup: MeshedPartner, opts: ContactOptions, mesh_data) -> None:
     if mesh_data.mesh.comm.size > 1:
         raise ValueError("two-body contact runs on one process (the pairing needs both surfaces there); "
                          "run it without mpiexec")
-    if opts.kinematics not in ("small", "convective"):
+    if opts.kinematics not in TWO_BODY_KINEMATICS:
         raise ValueError(f"kinematics={opts.kinematics!r} is not available for two elastic bodies; allowed: 'small' "
                          "(pairing fixed in the reference configuration) or 'convective' (pairing follows the "
                          "relative tangential displacement)")
     if opts.degree not in (1, 2):
         raise ValueError(f"degree must be 1 or 2 for two elastic bodies, got {opts.degree}")
-    if opts.mixed:
-        raise ValueError("formulation='mixed' is not available for two elastic bodies; use 'displacement'")
-    if opts.material_model != "linear":
-        raise ValueError(f"material_model={opts.material_model!r} needs kinematics='finite', which two elastic "
-                         "bodies do not support yet")
+    if opts.body is not None:
+        raise ValueError("two elastic bodies take their materials from MeshedPartner.bodies (linear, displacement "
+                         "formulation): give the options no body (E, nu, material_model, formulation, traction, "
+                         "contact_group, quadrature_degree, sample_degree: ContactOptions.body must be None)")
+    if not opts.split_jacobian:
+        raise ValueError("split_jacobian=False is not available for two elastic bodies (their elastic stiffness is "
+                         "always assembled once, the contact terms per Newton iteration)")
     if setup.traction not in TWO_BODY_TRACTIONS:
         raise ValueError(f"traction must be one of {TWO_BODY_TRACTIONS}, got {setup.traction!r}")
-    if setup.traction == "master_normal" and opts.kinematics != "convective":
+    if setup.traction == MASTER_NORMAL and opts.kinematics != CONVECTIVE:
         raise ValueError("traction='master_normal' needs kinematics='convective' (small kinematics pairs and pushes "
                          "along the slave normal: traction='halfplane')")
     if setup.convection not in CONVECTIONS:
         raise ValueError(f"convection must be one of {CONVECTIONS}, got {setup.convection!r}")
-    if setup.convection == "profile" and (setup.master_surface is None or setup.traction != "halfplane"):
+    if setup.convection == "profile" and (setup.master_surface is None or setup.traction != HALFPLANE):
         raise ValueError("convection='profile' needs master_surface (the master's exact profile) and "
                          "traction='halfplane'")
     if setup.pairing not in PAIRINGS:

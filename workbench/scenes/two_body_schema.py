@@ -12,17 +12,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from cases.schema import CaseError, Geometry, Run, SceneSchema
+from vocabulary import PAIRINGS, TWO_BODY_METHODS
 
 __all__ = ["BODY_ROLES", "TWO_BODY_SCHEMA", "TwoBodyGeometry", "PAIRINGS", "PAIR_RANGES", "TWO_BODY_METHODS",
            "check_method_and_models"]
 
-PAIRINGS = ("mortar", "node_to_segment")  # fem.two_body.problem.PAIRINGS (the scene layer may not import fem)
 # the geometry ranges both two-body scenes share (the meshed bodies' size ratio, a radius, the blocks over the contact)
 PAIR_RANGES = {"size_ratio": (0.2, 5.0, False, False, "0.2 < size_ratio < 5, not 1"),
                "radius": (0.0, 1e8, False, True, "0 < radius <= 1e8 (mm)"),
                "width_factor": (10.0, 1e6, True, True, "10 <= width_factor <= 1e6"),
                "height_factor": (10.0, 1e6, True, True, "10 <= height_factor <= 1e6")}
-TWO_BODY_METHODS = ("penalty", "augmented_lagrangian")  # fem.two_body.laws.TWO_BODY_METHODS
 # [[body]] order: the lower body carries the slave surface (the gap is integrated on it), the upper one is driven.
 BODY_ROLES = ("first: the lower body (the block, slave surface, held at its bottom)",
               "second: the upper body (the half disk or upper block, master surface, driven through its top)")

@@ -2,7 +2,10 @@
 
 Every caller (the case pipeline, the studies) goes through :func:`solver_options` and :func:`solve_run`. The
 options are derived from the record by field name: a new field of :class:`cases.schema.Solver` that is a
-ContactOptions field of the same name passes through with no line here (any other is a TypeError).
+ContactOptions field of the same name passes through with no line here (any other is a TypeError); the flat
+names are sorted into the options' records by :meth:`fem.options.ContactOptions.from_fields`. Against a meshed
+partner the run's body fields (E, nu, model, formulation, traction: :class:`fem.options.RigidBody`) are not
+passed: the partner's bodies carry their materials.
 """
 
 from __future__ import annotations
@@ -13,13 +16,15 @@ from dataclasses import fields
 from cases.schema import Run, effective_formulation
 from fem.far_field import far_field_supports
 from fem.options import ContactOptions
+from vocabulary import RIGID
 from workbench.scenes.base import LoadPath
 
 __all__ = ["solver_options", "solve_run", "step_printer"]
 
 
-def solver_options(run: Run, load: LoadPath, **overrides) -> ContactOptions:
-    """The solver options of ``run`` driven along ``load`` (``overrides``: any other ContactOptions field).
+def solver_options(run: Run, load: LoadPath, *, rigid: bool = True, **overrides) -> ContactOptions:
+    """The solver options of ``run`` driven along ``load`` (``overrides``: any other ContactOptions field;
+    ``rigid``: the partner is a rigid obstacle, so the options carry the run's body, :class:`fem.options.RigidBody`).
 
     Derived from the record, not written out: every field of the run's :class:`cases.schema.Solver` is the
     :class:`fem.options.ContactOptions` field of the same name (the bulk formulation's ``"auto"`` resolved by nu,
@@ -42,6 +47,8 @@ def solver_options(run: Run, load: LoadPath, **overrides) -> ContactOptions:
                                      symmetric_half=load.symmetric_half)))
     if load.record_at is not None:
         opts["record_at"] = load.record_at
+    if not rigid:  # a meshed partner's bodies carry their materials: no field the two-body solve would ignore
+        opts = {k: v for k, v in opts.items() if ContactOptions.section_of(k) != "body"}
     return ContactOptions.from_fields(opts | (load.solver or {}) | overrides, caller="solver_options")
 
 
@@ -51,9 +58,11 @@ def solve_run(run: Run, mesh_data, obstacle, load: LoadPath, *, case: str, on_st
     :func:`fem.solver.solve_contact`): :func:`solver_options` plus any study-specific ``overrides``
     (e.g. ``petsc_options``, ``predictor``, ``formulation``). ``frames``: a list that receives the converged
     state of every step (:class:`fem.output.Frame`, for the VTK time series); the result is the same."""
+    from fem.partners import partner_kind
     from fem.solver import solve_contact
 
-    options = solver_options(run, load, on_step=on_step, case=case, **overrides)
+    options = solver_options(run, load, rigid=partner_kind(obstacle) == RIGID, on_step=on_step, case=case,
+                             **overrides)
     if frames is None:
         return solve_contact(mesh_data, obstacle, options=options)
     from fem.output import solve_recording

@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from vocabulary import ACTIVE_SET_UPDATES, ACTIVE_SETS, LINEAR_SOLVERS, NITSCHE, PENALTY
 from workbench.paths import default_paths
 from workbench.studies.config import folder, is_decreasing
 
@@ -29,9 +30,6 @@ def _solver_variants() -> dict:
 
 
 BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free", "two_body", "startup")
-ACTIVE_SETS = ("extrapolate", "geometry")  # fem.options.ACTIVE_SETS (a study config imports no fem)
-ACTIVE_SET_UPDATES = ("newton", "edge_fit")  # fem.options.ACTIVE_SET_UPDATES
-LINEAR_SOLVERS = ("lu", "lu_reuse", "gamg", "auto")  # fem.linear_solver.LINEAR_SOLVERS
 SCALE_PREDICTORS = ("auto", "hertz_zone")  # the force-control predictors of the cost-growth rows
 SCALE_FAMILIES = ("graded", "uniform")
 
@@ -95,7 +93,7 @@ class BenchConfig:
     baseline_force_rtol: float = 1e-3
     baseline_ladder: tuple[tuple[float, float], ...] = ((20.0, 0.2), (20.0, 0.1), (20.0, 0.05))
     our_levels: tuple[float, ...] = (0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.0015625)
-    our_methods: tuple[str, ...] = ("nitsche", "penalty")
+    our_methods: tuple[str, ...] = (NITSCHE, PENALTY)
     our_degrees: tuple[int, ...] = (1, 2)
     scale: dict = field(default_factory=lambda: {"graded": (0.05, 0.0125, 0.003125, 0.00078125, 0.000390625),
                                                  "uniform": (0.2, 0.1, 1.0 / 15.0, 0.05, 0.04)})

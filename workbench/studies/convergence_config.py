@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from vocabulary import NITSCHE, PENALTY
 from workbench.paths import default_paths
 from workbench.studies.config import folder, is_decreasing
 from workbench.studies.rates import N_FINEST
@@ -52,7 +53,7 @@ class ConvergenceConfig:
     ideal_levels: tuple[float, ...] = (0.4, 0.2, 0.1, 0.05, 0.025)
     growth_per_h: float = 2.0
     growth_range: tuple[float, float] = (1.05, 2.0)
-    methods: tuple[str, ...] = ("penalty", "nitsche")
+    methods: tuple[str, ...] = (PENALTY, NITSCHE)
     degrees: tuple[int, ...] = (1, 2)
     n_finest: int = N_FINEST
     rms_target: float = 0.005

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from vocabulary import CONVECTIVE, FINITE, HALFPLANE, HYPERELASTIC_MODELS, OBSTACLE, SMALL
 from workbench.paths import default_paths
 from workbench.studies.config import folder
 
@@ -16,9 +17,9 @@ __all__ = ["VALIDITY_MODELS", "ValidityConfig"]
 
 
 # (traction, kinematics) of the model hierarchy, least to most complete (docs/models.md)
-VALIDITY_MODELS = (("halfplane", "small"), ("halfplane", "convective"), ("obstacle", "small"),
-                   ("obstacle", "convective"), ("obstacle", "finite"))
-_HYPERELASTIC = ("saint_venant_kirchhoff", "neo_hookean")
+VALIDITY_MODELS = ((HALFPLANE, SMALL), (HALFPLANE, CONVECTIVE), (OBSTACLE, SMALL), (OBSTACLE, CONVECTIVE),
+                   (OBSTACLE, FINITE))
+_HYPERELASTIC = HYPERELASTIC_MODELS
 
 
 def _bad(name: str, value: Any, allowed: str) -> ValueError:
