@@ -74,7 +74,7 @@ def test_the_layers_use_the_vocabulary():
     from fem.methods import method_names
     from fem.options import FORMULATIONS, MATERIAL_MODELS
     from workbench.scenes.two_body_schema import PAIRINGS, TWO_BODY_METHODS
-    from workbench.studies import config
+    from workbench.studies import bench_config as config
 
     assert _CHOICES[("solver", "method")] is V.METHODS and _CHOICES[("solver", "kinematics")] is V.KINEMATICS
     assert _CHOICES[("material", "model")] is V.MATERIAL_MODELS
