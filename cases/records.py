@@ -25,8 +25,8 @@ CASE_NAME_RE = re.compile(r"[A-Za-z0-9_-]{1,64}")
 # take one (its results folder would replace them). Compared case-insensitively.
 RESERVED_NAMES = ("mesh_cache", "analytic", "logs", "ci", "ci_report", "convergence", "stability", "bench",
                   "validity", "report", "results", "faults", "vtk")
-# The folders of ``workbench score``, ``export``, ``external`` and ``forcelaw`` are ``<prefix><name>``: no case may start
-# with one (a case named ``score_x`` would replace the score of case x). Compared case-insensitively.
+# The folders of ``workbench score``, ``export``, ``external`` and ``forcelaw`` are ``<prefix><name>``: no case
+# may start with one (a case named ``score_x`` would replace the score of case x). Compared case-insensitively.
 COMMAND_PREFIXES = ("score_", "export_", "external_", "forcelaw_")
 MAX_LABEL = 64  # characters of a [[variant]] label (it names files: cut in file names, refused beyond)
 MAX_ECHO = 60  # characters of a value or key echoed in an error message

@@ -268,8 +268,8 @@ def load_case(path: str | Path) -> Case:
     if name.lower().startswith(COMMAND_PREFIXES):
         field_ = "[case] name" if "name" in head else "[case] name (the file name)"
         raise CaseError(f"{where}: {field_} = {_r(name)} starts with a reserved prefix (the folders of workbench "
-                        f"score, export, external and forcelaw under --out: {', '.join(p + '<case>' for p in COMMAND_PREFIXES)})"
-                        "; allowed: any other name")
+                        f"score, export, external and forcelaw under --out: "
+                        f"{', '.join(p + '<case>' for p in COMMAND_PREFIXES)}); allowed: any other name")
     for sec in _REQUIRED_SECTIONS:
         if sec not in raw:
             raise CaseError(f"{where}: [{sec}] is a required section and is missing")
