@@ -34,8 +34,62 @@ from typing import Any, NamedTuple, Protocol, runtime_checkable
 
 from cases.schema import Case, Run, SceneSchema, register_scene_schema
 
-__all__ = ["CaseComparison", "LoadPath", "Outcome", "Scene", "SceneBudget", "SceneMesh", "Series", "SCENES",
-           "register_scene", "scene_for"]
+__all__ = ["CaseComparison", "LoadPath", "Outcome", "Scene", "SceneBudget", "SceneMesh", "Series", "SolveMetrics",
+           "SCENES", "register_scene", "run_keys", "scene_for"]
+
+
+class SolveMetrics(NamedTuple):
+    """The keys every scene takes from a :class:`fem.solver.ContactResult` into its run's ``metrics.json`` entry,
+    written once here (:meth:`of`, :meth:`as_dict`) instead of by hand in each scene.
+
+    Attributes:
+        ndofs: Degrees of freedom of the solve.
+        wall_time_s: Wall time of the solve (s; never a key number).
+        newton_iterations: Newton iterations of each converged solve.
+        load_steps: The load steps' records.
+        d: Final displacement of the partner (mm).
+        P: Final load by virtual work (N/mm, full body).
+        P_pressure: Final load as the integral of the contact pressure (N/mm).
+        patches: The contact patches (``center``, ``half_width``, ``p_max``, ``P``: mm, MPa, N/mm).
+        warnings: The solve's warnings (one line each).
+    """
+
+    ndofs: int
+    wall_time_s: float
+    newton_iterations: list
+    load_steps: Any
+    d: float
+    P: float
+    P_pressure: float
+    patches: list
+    warnings: list
+
+    @classmethod
+    def of(cls, result, *, patches: list | None = None, warnings: list | None = None) -> SolveMetrics:
+        """The record of ``result``; ``patches`` and ``warnings`` replace the result's where a scene reports its
+        own (a concave case: the last step's patches and every step's warnings)."""
+        return cls(result.ndofs, result.wall_time_s, list(result.newton_iterations), result.load_steps, result.d,
+                   result.P, result.P_pressure,
+                   [pt._asdict() for pt in result.patches] if patches is None else patches,
+                   list(result.warnings) if warnings is None else list(warnings))
+
+    def as_dict(self) -> dict:
+        """The JSON form (the record's field names are the ``metrics.json`` keys)."""
+        return self._asdict()
+
+    def solve_errors(self) -> dict:
+        """``load_balance`` (``|P - P_pressure| / |P|``, round-off: both loads are measured, not imposed) and the
+        largest Newton iteration count of a solve, as the two-body scenes' ``errors`` open."""
+        return {"load_balance": abs(self.P - self.P_pressure) / abs(self.P),
+                "newton_iterations": float(max(self.newton_iterations, default=0))}
+
+
+def run_keys(run: Run, scene: str) -> dict:
+    """The keys every scene takes from its run (``label``, ``scene``, ``method``, ``kinematics``, ``nu``,
+    ``degree``, ``h_contact``: the contact element size as the case gives it, a fraction of the scene's contact
+    size)."""
+    return {"label": run.label, "scene": scene, "method": run.solver.method, "kinematics": run.solver.kinematics,
+            "nu": run.material.nu, "degree": run.discretisation.degree, "h_contact": run.discretisation.h_contact}
 
 
 class Series(NamedTuple):

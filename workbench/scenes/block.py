@@ -15,7 +15,7 @@ import numpy as np
 
 from analytic.circle import circle_pressure
 from cases.schema import Case, Run
-from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
+from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series, SolveMetrics, run_keys
 from workbench.scenes.block_schema import BLOCK_SCHEMA
 from workbench.scenes.block_theory import BlockTheory, block_theory, compare_block, exact_circle, rms_error
 
@@ -131,7 +131,7 @@ def block_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path |
 
 def _run_metrics(run: Run, result, cmp: BlockComparison, files) -> dict:
     """The run's JSON entry of ``metrics.json["runs"]``."""
-    sol, disc, theory = run.solver, run.discretisation, cmp.theory
+    sol, theory = run.solver, cmp.theory
     errors = cmp.errors
     if sol.kinematics == "convective":
         # The classical theory ignores the convective effect this run measures: its errors are kept for
@@ -141,15 +141,9 @@ def _run_metrics(run: Run, result, cmp: BlockComparison, files) -> dict:
     if sol.kinematics == "finite":  # compared in the current configuration; the material half-width too
         main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
         extra["patch_half_width_material"] = main.half_width if main else math.nan
-    return extra | {
-        "label": run.label, "scene": "block", "nu": run.material.nu, "method": sol.method,
-        "kinematics": sol.kinematics, "traction": sol.traction, "material_model": run.material.model,
-        "degree": disc.degree,
-        "h_contact": disc.h_contact, "ndofs": result.ndofs, "wall_time_s": result.wall_time_s,
-        "newton_iterations": list(result.newton_iterations), "load_steps": result.load_steps, "d": result.d,
-        "P": result.P, "P_pressure": result.P_pressure, "patches": [pt._asdict() for pt in result.patches],
-        "warnings": list(result.warnings), "patch_half_width": cmp.half_width, "p_max": cmp.p_max,
-        "mesh": files.stats,
+    return extra | run_keys(run, "block") | {
+        "traction": sol.traction, "material_model": run.material.model, **SolveMetrics.of(result).as_dict(),
+        "patch_half_width": cmp.half_width, "p_max": cmp.p_max, "mesh": files.stats,
         "analytic": {
             "kind": theory.kind, "P": theory.P, "E_star": theory.E_star, "half_width": theory.half_width,
             "p_ref": theory.p_ref, "R": theory.R, "m": theory.m,

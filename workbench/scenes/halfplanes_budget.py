@@ -37,8 +37,9 @@ _THEORY_N_PLOT = 64001
 
 
 def _classical_ratios(o) -> dict[str, float]:
-    """The small run over the classical solution: half_width, half_width_moment (and p_max: parabola only)."""
-    return {k: 1.0 + v for k, v in o.metrics["analytic"]["signed"].items()}
+    """The small run over the classical solution: half_width, half_width_moment (and p_max: parabola only), from
+    its typed comparison and theory (:class:`workbench.scenes.halfplanes_theory.HalfplanesComparison`)."""
+    return {k: 1.0 + v for k, v in o.comparison.signed(o.theory).items()}
 
 
 def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
