@@ -15,9 +15,8 @@ A *scene* turns a case run (:class:`cases.schema.Run`) into a contact problem an
    returns a :class:`CaseComparison`;
 6. :meth:`Scene.error_budget` (``make run`` only, with ``[discretisation] budget_levels``) solves the case
    again on the budget's grids through the pipeline's ``solve(run) -> Outcome`` and returns a
-   :class:`SceneBudget` (``metrics.json["error_budget"]``). ``None`` means: the pipeline's block budget
-   (three grids x three block sizes, :mod:`workbench.pipeline.budget`), which sits in the pipeline layer and so
-   cannot be called from a scene (the import contract: pipeline above scenes).
+   :class:`SceneBudget` (``metrics.json["error_budget"]``; the block scenes': :mod:`workbench.scenes.block_budget`),
+   or ``None`` for a scene without one (no rows).
 
 The pipeline (:mod:`workbench.pipeline.run_case`) does the rest, the same way for every scene: read the mesh,
 call the solver with :func:`workbench.scenes.wiring.solver_options`, write the outputs. A new scene is one
@@ -85,11 +84,13 @@ class SolveMetrics(NamedTuple):
 
 
 def run_keys(run: Run, scene: str) -> dict:
-    """The keys every scene takes from its run (``label``, ``scene``, ``method``, ``kinematics``, ``nu``,
-    ``degree``, ``h_contact``: the contact element size as the case gives it, a fraction of the scene's contact
-    size)."""
+    """The keys every scene takes from its run, which the case report's table of runs reads (``label``,
+    ``scene``, ``method``, ``kinematics``, ``traction``: the case's ``[solver] traction``, which a scene whose
+    partner fixes it overrides, ``nu``, ``degree``, ``h_contact``: the contact element size as the case gives it,
+    a fraction of the scene's contact size)."""
     return {"label": run.label, "scene": scene, "method": run.solver.method, "kinematics": run.solver.kinematics,
-            "nu": run.material.nu, "degree": run.discretisation.degree, "h_contact": run.discretisation.h_contact}
+            "traction": run.solver.traction, "nu": run.material.nu, "degree": run.discretisation.degree,
+            "h_contact": run.discretisation.h_contact}
 
 
 class Series(NamedTuple):

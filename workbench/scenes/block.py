@@ -142,7 +142,7 @@ def _run_metrics(run: Run, result, cmp: BlockComparison, files) -> dict:
         main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
         extra["patch_half_width_material"] = main.half_width if main else math.nan
     return extra | run_keys(run, "block") | {
-        "traction": sol.traction, "material_model": run.material.model, **SolveMetrics.of(result).as_dict(),
+        "material_model": run.material.model, **SolveMetrics.of(result).as_dict(),
         "patch_half_width": cmp.half_width, "p_max": cmp.p_max, "mesh": files.stats,
         "analytic": {
             "kind": theory.kind, "P": theory.P, "E_star": theory.E_star, "half_width": theory.half_width,
@@ -217,10 +217,11 @@ class BlockScene:
             return exact_circle_verdict(case, outcomes)
         return CaseComparison({}, {}, "", {})
 
-    def error_budget(self, case: Case, *, solve, progress) -> None:
-        """None: the block budget (three grids x three block sizes) is :mod:`workbench.pipeline.budget`'s, in
-        the pipeline layer, which a scene may not import."""
-        return None
+    def error_budget(self, case: Case, *, solve, progress):
+        """Three grids x three block sizes, the Hertz interior and axis (:mod:`workbench.scenes.block_budget`)."""
+        from workbench.scenes.block_budget import block_error_budget
+
+        return block_error_budget(case, solve=solve, progress=progress)
 
 
 # A circle indenter is checked against the theory of its own profile, the exact circle (analytic/circle.py):

@@ -2,7 +2,7 @@
 truncation study in 1/W, the iterative error and round-off, against a theory and an alternative.
 
 Used by :mod:`workbench.scenes.two_body_budget` and :mod:`workbench.scenes.halfplanes_budget` (the block scenes'
-budget is :mod:`workbench.pipeline.budget`'s). Every term is relative; ``uncertainty`` is their sum
+budget is :mod:`workbench.scenes.block_budget`'s). Every term is relative; ``uncertainty`` is their sum
 (:func:`workbench.error_budget.uncertainty`).
 """
 

@@ -239,14 +239,13 @@ def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path
 
 def _run_metrics(run: Run, result, mesh: ConcaveMesh, steps: list[dict]) -> dict:
     """The run's JSON entry of ``metrics.json["runs"]``."""
-    sol = run.solver
     last = steps[-1]
     E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
     solved = SolveMetrics.of(result, patches=[{k: e[k] for k in ("center", "half_width", "p_max", "P")}
                                               for e in last["patches"]],
                              warnings=[w for s in steps for w in s["warnings"]])
     return run_keys(run, "concave") | {
-        "design": mesh.design.name, "traction": sol.traction, "material_model": run.material.model,
+        "design": mesh.design.name, "material_model": run.material.model,
         "h_contact_mm": mesh.h_contact, **solved.as_dict(), "mesh": mesh.files.stats, "steps": steps,
         "analytic": {"E_star": E_star, "lcp": [s["lcp_pairs"] for s in steps]},
         "errors": {"load_balance": max(abs(s["P"] - s["P_pressure"]) / abs(s["P"]) for s in steps if s["P"] > 0)},
