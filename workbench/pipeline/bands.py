@@ -29,7 +29,11 @@ from __future__ import annotations
 import re
 from typing import NamedTuple
 
+from workbench.scenes.numbers import VERDICT, declare
+
 __all__ = ["BandCheck", "band_checks", "band_halfwidth", "band_rows"]
+
+declare("band_checks", __name__, **{"*": VERDICT})  # a band check's verdict (workbench.scenes.numbers)
 
 
 class BandCheck(NamedTuple):

@@ -32,6 +32,19 @@ from pathlib import Path
 from typing import Any, NamedTuple, Protocol, runtime_checkable
 
 from cases.schema import Case, Run, SceneSchema, register_scene_schema
+from workbench.scenes.numbers import (
+    DISPLACEMENT,
+    ERROR,
+    ITERATIONS,
+    LOAD,
+    MESH,
+    PEAK,
+    ROUNDOFF,
+    THEORY,
+    WIDTH,
+    Number,
+    declare,
+)
 
 __all__ = ["CaseComparison", "LoadPath", "Outcome", "Scene", "SceneBudget", "SceneMesh", "Series", "SolveMetrics",
            "SCENES", "register_scene", "run_keys", "scene_for"]
@@ -81,6 +94,20 @@ class SolveMetrics(NamedTuple):
         largest Newton iteration count of a solve, as the two-body scenes' ``errors`` open."""
         return {"load_balance": abs(self.P - self.P_pressure) / abs(self.P),
                 "newton_iterations": float(max(self.newton_iterations, default=0))}
+
+
+# The number classes of what SolveMetrics writes (workbench.scenes.numbers), and of the main patch's peak and
+# half-width every scene reports beside it: loads, peaks, widths relative to themselves; a patch's centre on its
+# half-width (0 for a symmetric case), its load and peak on the run's.
+declare("run", __name__, P=LOAD, P_pressure=LOAD, d=DISPLACEMENT, ndofs=MESH, newton_iterations=ITERATIONS,
+        p_max=PEAK, patch_half_width=WIDTH)
+declare("patch", __name__, center=Number("physics", "position", "contact_size"), half_width=WIDTH,
+        p_max=Number("physics", "peak", "run_peak"), P=Number("physics", "load", "run_load"),
+        P_pressure=Number("physics", "load", "run_load"))
+# errors: fractions of their reference quantity, unless declared; the load balance holds to round-off
+declare("run_errors", __name__, load_balance=ROUNDOFF, newton_iterations=ITERATIONS, **{"*": ERROR})
+# a judge's case-level analytic values (CaseComparison.analytic) are theory, unless the judge declares otherwise
+declare("analytic", __name__, **{"*": THEORY})
 
 
 def run_keys(run: Run, scene: str) -> dict:

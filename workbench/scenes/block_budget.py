@@ -79,6 +79,14 @@ from workbench.error_budget import (
 from workbench.scenes.base import SceneBudget
 from workbench.scenes.block_theory import exact_circle
 from workbench.scenes.budget_theory import circle_moment_half_width, curve_moment_half_width, moment_half_width
+from workbench.scenes.numbers import ERROR, ESTIMATE, PEAK, VERDICT, WIDTH, declare
+
+# A row's values (fine, extrapolated, theory, alt_value) by its quantity: the interior stress error is a fraction
+# (RMS / p0, theory 0); the others relative to themselves. Its estimates and band verdicts as every row's.
+declare("budget", __name__, p_max=PEAK, half_width=WIDTH, half_width_moment=WIDTH, b_over_b0=WIDTH,
+        b_over_b0_moment=WIDTH, interior_stress_l2=ERROR, vm_max=PEAK)
+declare("budget_fields", __name__, observed_order=ESTIMATE, gci=ESTIMATE, truncation=ESTIMATE,
+        theory_in_band=VERDICT, alt_in_band=VERDICT)
 
 __all__ = ["BUDGET_FAR_FIELD", "SUBSURFACE_DEPTH", "SUBSURFACE_POINTS", "block_error_budget"]
 

@@ -13,6 +13,11 @@ import math
 
 from cases.schema import Run
 from workbench.error_budget import ROUNDOFF_FLOOR, grid_study, iterative_error, uncertainty
+from workbench.scenes.numbers import ESTIMATE, VERDICT, declare
+
+# a row's uncertainty estimates describe the noise of its value; its band verdicts are compared exactly
+declare("budget_fields", __name__, observed_order=ESTIMATE, gci=ESTIMATE, truncation=ESTIMATE,
+        theory_in_band=VERDICT, alt_in_band=VERDICT)
 
 __all__ = ["budget_row", "with_grid"]
 

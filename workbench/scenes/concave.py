@@ -41,7 +41,18 @@ from workbench.scenes.base import (
     run_keys,
 )
 from workbench.scenes.budget_theory import moment_half_width
+from workbench.scenes.concave_budget import concave_error_budget
 from workbench.scenes.concave_schema import CONCAVE_SCHEMA
+from workbench.scenes.numbers import DISPLACEMENT, MESH_SENSITIVE, VERDICT, Number, declare
+
+# What step_measures writes per step (the intermediate steps' first touches span ~5 facets: their own foreign-mesh
+# kinds), and the case-level Hertz checks concave_case_comparison writes (the elliptical fit's RMS and eq. (4)
+# against eq. (5) move by percents with the mesh; the best superposition is an optimiser's result).
+declare("step", __name__, d=DISPLACEMENT, P=Number("physics", "step_load"), P_pressure=Number("physics", "step_load"),
+        p_max=Number("physics", "step_peak"), n_patches=VERDICT,
+        superposition_independent_rms_over_p0=Number("error", "step_error", "unit"),
+        superposition_best_rms_over_p0=MESH_SENSITIVE)
+declare("case_errors", __name__, fit_rms=MESH_SENSITIVE, patch_size=MESH_SENSITIVE)
 
 __all__ = ["ConcaveMesh", "ConcaveScene", "concave_mesh", "concave_case_comparison", "step_measures", "lcp_at"]
 _SAMPLES_LCP = 300
@@ -335,8 +346,6 @@ class ConcaveScene:
     def error_budget(self, case: Case, *, solve, progress) -> SceneBudget:
         """Every step's P, peak and patch widths over the three budget levels
         (:func:`workbench.scenes.concave_budget.concave_error_budget`)."""
-        from workbench.scenes.concave_budget import concave_error_budget
-
         return concave_error_budget(case, solve=solve, progress=progress)
 
 

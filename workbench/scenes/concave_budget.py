@@ -45,6 +45,14 @@ from analytic import hertz, materials
 from cases.schema import Case, Run
 from workbench.error_budget import ROUNDOFF_FLOOR, grid_study, iterative_error, tight_resolve, uncertainty
 from workbench.scenes.base import SceneBudget
+from workbench.scenes.numbers import ESTIMATE, LOAD, PEAK, VERDICT, WIDTH, declare
+
+# A row's values (fine, extrapolated, theory, alt_value) by its quantity; a row's theory is evaluated at the load the
+# FEM carries (the superposition of the FEM's patch loads), so it moves with the run: physics, not theory
+declare("budget", __name__, P=LOAD, patch_P=LOAD, load_symmetry=LOAD, p_max=PEAK, width_fem=WIDTH,
+        width_moment=WIDTH, first_contact_width=WIDTH)
+declare("budget_fields", __name__, observed_order=ESTIMATE, gci=ESTIMATE, truncation=ESTIMATE,
+        theory_in_band=VERDICT, alt_in_band=VERDICT)
 
 __all__ = ["ROUNDOFF_BAND", "SYMMETRY_RTOL", "concave_error_budget", "json_number",
            "refined_run", "step_rows", "symmetry_row"]

@@ -49,6 +49,7 @@ from cases.schema import Case, Run
 from measures.contact import moment_half_width, rms_error
 from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series, SolveMetrics, run_keys
 from workbench.scenes.budget_theory import curve_moment_half_width
+from workbench.scenes.halfplanes_budget import halfplanes_error_budget
 from workbench.scenes.halfplanes_schema import HALFPLANES_SCHEMA
 from workbench.scenes.halfplanes_theory import (
     HalfplanesComparison,
@@ -58,8 +59,15 @@ from workbench.scenes.halfplanes_theory import (
     convective_theory,
     profile_size,
 )
+from workbench.scenes.numbers import FRACTION_THEORY, MESH_SENSITIVE, WIDTH, declare
 from workbench.scenes.partners import meshed_partner
 from workbench.scenes.two_body import SOLVER_DEFAULTS
+
+# the judge's Dundurs parameters (0 for equal materials) are fractions; the FEM's b/b0 is a measured width ratio;
+# rms_convective moves by percents with the mesh
+declare("analytic", __name__, alpha=FRACTION_THEORY, beta=FRACTION_THEORY, b_over_b0_fem=WIDTH,
+        b_over_b0_moment_fem=WIDTH)
+declare("case_errors", __name__, rms_convective=MESH_SENSITIVE)
 
 APEX_FACTOR = 0.25  # a wedge's apex: element size over the contact size (as the block scene's apex_factor)
 
@@ -234,6 +242,4 @@ class HalfplanesScene:
 
     def error_budget(self, case: Case, *, solve, progress):
         """Three grids, three block sizes and the solver tolerance (:mod:`workbench.scenes.halfplanes_budget`)."""
-        from workbench.scenes.halfplanes_budget import halfplanes_error_budget
-
         return halfplanes_error_budget(case, solve=solve, progress=progress)

@@ -29,6 +29,10 @@ from workbench.scenes.base import SceneBudget
 from workbench.scenes.budget_rows import budget_row, with_grid
 from workbench.scenes.budget_theory import curve_moment_half_width
 from workbench.scenes.halfplanes_theory import convective_theory
+from workbench.scenes.numbers import PEAK, WIDTH, declare
+
+declare("budget", __name__, p_max=PEAK, half_width=WIDTH, half_width_moment=WIDTH, b_over_b0=WIDTH,
+        b_over_b0_moment=WIDTH)
 
 __all__ = ["halfplanes_error_budget"]
 

@@ -26,6 +26,9 @@ from cases.schema import Case
 from workbench.error_budget import tight_resolve
 from workbench.scenes.base import SceneBudget
 from workbench.scenes.budget_rows import budget_row, with_grid
+from workbench.scenes.numbers import PEAK, WIDTH, declare
+
+declare("budget", __name__, p_max=PEAK, half_width=WIDTH, half_width_moment=WIDTH)
 
 __all__ = ["two_body_error_budget", "QUANTITIES"]
 
