@@ -19,11 +19,15 @@ A *scene* turns a case run (:class:`cases.schema.Run`) into a contact problem an
    or ``None`` for a scene without one (no rows).
 
 The pipeline (:mod:`workbench.pipeline.run_case`) does the rest, the same way for every scene: read the mesh,
-call the solver with :func:`workbench.scenes.wiring.solver_options`, write the outputs. A new scene is one
-module with a class implementing this protocol, its case schema (``schema``: a :class:`cases.schema.SceneSchema`
-with the scene's geometry record, indenters, predictions, controls and checks; e.g.
-:mod:`workbench.scenes.block_schema`) and one line ``register_scene(MyScene())`` (:mod:`workbench.scenes`), which
-registers both; ``[geometry] scene = "<name>"`` in a case file selects it.
+call the solver with :func:`workbench.scenes.wiring.solver_options`, write the outputs. Every scene's run entry of
+``metrics.json`` opens with the same keys, written once here: :func:`run_keys` (from the run) and
+:class:`SolveMetrics` (from the :class:`fem.solver.ContactResult`); their number classes are declared here too
+(:mod:`workbench.scenes.numbers`). A new scene is one module with a class implementing this protocol, its case
+schema (``schema``: a :class:`cases.schema.SceneSchema` with the scene's geometry record, indenters, predictions,
+controls and checks; e.g. :mod:`workbench.scenes.block_schema`), its theory, and one call
+``register_scene(MyScene())`` (a line in :mod:`workbench.scenes`, or the caller's own for a scene outside the
+package: ``tests/test_minimal_scene.py``), which registers both; ``[geometry] scene = "<name>"`` in a case file
+selects it (``docs/architecture.md``, "How to add ... a scene").
 """
 
 from __future__ import annotations

@@ -201,7 +201,7 @@ def block_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
     for run in case.runs():
         for h, W in grid:
             o = solve(_with(run, h=h, W=W, h_coarse=levels[-1]))
-            progress(f"[budget {run.label}] h_c = {h:g} a, W = {W:g} a: {o.metrics['ndofs']} dofs")
+            progress(f"[budget {run.label}] h_c = {h:g} a, W = {W:g} a: {o.result.ndofs} dofs")
             meas.setdefault(run.label, {})[(h, W)] = _measures(o)
             outcomes.setdefault(run.label, {})[(h, W)] = o
         # the iterative error: the finest level once more at tolerances / TIGHTENING

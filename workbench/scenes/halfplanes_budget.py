@@ -59,7 +59,7 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
         k = run.solver.kinematics
         for h, W in grid:
             o = solve(with_grid(run, h=h, W=W, h_coarse=levels[-1]))
-            progress(f"[budget {run.label}] h_c = {h:g} b0, W = {W:g} b0: {o.metrics['ndofs']} dofs")
+            progress(f"[budget {run.label}] h_c = {h:g} b0, W = {W:g} b0: {o.result.ndofs} dofs")
             out.setdefault(k, {})[(h, W)] = o
         o_t, how = tight_resolve(solve, with_grid(run, h=h_fine, W=W_max, h_coarse=levels[-1]),
                                  out[k][(h_fine, W_max)], progress=progress)

@@ -63,13 +63,13 @@ def two_body_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
         for h in levels:
             r = with_grid(run, h=h, W=W_max, h_coarse=levels[-1])
             o = solve(r)
-            progress(f"[budget {run.label}] h_c = {h:g} a, W = {W_max:g} a: {o.metrics['ndofs']} dofs")
+            progress(f"[budget {run.label}] h_c = {h:g} a, W = {W_max:g} a: {o.result.ndofs} dofs")
             by_h.append(_ratios(o))
             fine = fine or (r, o)
         by_W[W_max] = by_h[0]
         for W in widths[:-1]:
             o = solve(with_grid(run, h=h_fine, W=W, h_coarse=levels[-1]))
-            progress(f"[budget {run.label}] h_c = {h_fine:g} a, W = {W:g} a: {o.metrics['ndofs']} dofs")
+            progress(f"[budget {run.label}] h_c = {h_fine:g} a, W = {W:g} a: {o.result.ndofs} dofs")
             by_W[W] = _ratios(o)
         o_t, how = tight_resolve(solve, fine[0], fine[1], progress=progress)
         tight = None if o_t is None else _ratios(o_t)
