@@ -105,6 +105,13 @@ def derived(run: Run) -> HalfplanesRun:
     return HalfplanesRun(bm, size, ld.P, classical_theory(run, ld.P).half_width)
 
 
+def _estimate(run: Run) -> tuple[float, float]:
+    """(P target in N/mm, classical half-width b0 in mm) of :func:`derived` (the external benchmarks and scorers
+    size their meshes from it)."""
+    dr = derived(run)
+    return dr.P, dr.half_width
+
+
 class HalfplanesScene:
     """Two elastic half-planes with a parabolic or wedge gap profile (module docstring)."""
 
