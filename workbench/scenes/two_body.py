@@ -187,9 +187,8 @@ class TwoBodyScene:
         smp = result.samples
         solved = SolveMetrics.of(result, warnings=[w for w in result.warnings
                                                    if g.indenter != "stacked" or not w.startswith(_WHOLE_SURFACE)])
-        keys = run_keys(run, "two_body")
-        metrics = {
-            **keys, "indenter": g.indenter, "pairing": g.pairing, "traction": "halfplane",
+        metrics = {  # run_keys' traction is the case's; the two-body partner's is the half-plane's, always
+            **run_keys(run, "two_body"), "indenter": g.indenter, "pairing": g.pairing, "traction": "halfplane",
             "bodies": {b.name: {"role": role, "E": b.E, "nu": b.nu, "model": b.model}
                        for b, role in zip(run.bodies, ("lower", "upper"), strict=True)},
             "E_star": combined_modulus(run), **_dundurs(run), **solved.as_dict(), "mesh": mesh.files.stats,
