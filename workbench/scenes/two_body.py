@@ -20,6 +20,7 @@ meshed contact partner (:class:`fem.two_body.problem.MeshedPartner`) -> the solv
 
 from __future__ import annotations
 
+import functools
 import math
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -113,8 +114,10 @@ class CylinderComparison(NamedTuple):
                 "half_width_moment": self.moment / self.moment_theory - 1.0}
 
 
+@functools.lru_cache(maxsize=256)
 def _estimate(run: Run) -> tuple[float, float]:
-    """(P target in N/mm, Hertz half-width a0 in mm) of a cylinder run."""
+    """(P target in N/mm, Hertz half-width a0 in mm) of a cylinder run (computed once per run: the size model and
+    the mesh both read it)."""
     g, ld = run.geometry, run.loading
     E_star = combined_modulus(run)
     if ld.half_width is not None:
