@@ -1,5 +1,5 @@
 """Issue 22, point 3: the band arithmetic on sequences that converge, cross the limit, oscillate, stall at a
-tolerance floor or sit at round-off (workbench/error_budget.py, the rows of workbench/pipeline/budget.py and
+tolerance floor or sit at round-off (workbench/error_budget.py, the rows of workbench/scenes/block_budget.py and
 workbench/scenes/concave_budget.py). Synthetic sequences and measured ones; no FEM.
 """
 
@@ -18,7 +18,7 @@ from workbench.error_budget import (
     iterative_error,
     uncertainty,
 )
-from workbench.pipeline.budget import _study
+from workbench.scenes.block_budget import _study
 from workbench.scenes.concave_budget import _row, symmetry_row
 
 H = (0.0125, 0.025, 0.05)  # the budget levels (fine first)

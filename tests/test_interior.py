@@ -24,7 +24,7 @@ from fem.interior import interior_stress_error
 from fem.obstacles import CircleObstacle
 from fem.solver import solve_contact
 from meshes.block import build_block_mesh
-from workbench.pipeline.budget import _exact_hertz_field, _vm_max_exact
+from workbench.scenes.block_budget import _exact_hertz_field, _vm_max_exact
 
 R, E, NU = 10.0, 200e3, 0.3
 A = 0.05 * R

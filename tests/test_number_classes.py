@@ -49,6 +49,28 @@ def test_classes_of_typical_keys():
     assert classify("hertz_cylinder/something_new") == ("physics", "unknown")
 
 
+def test_a_class_is_declared_by_the_code_that_writes_the_metric():
+    """Issue 37: no table of patterns; the writer declares (workbench.scenes.numbers), two writers cannot disagree,
+    and the classifier only parses a key into its section and name."""
+    from workbench.pipeline import number_classes
+    from workbench.scenes import base, numbers
+
+    classify("any/P")  # the writers are imported
+    assert numbers.declared("run", "P") == numbers.LOAD and numbers.DECLARED["run"]["ndofs"] == numbers.MESH
+    assert set(base.SolveMetrics._fields) - {"wall_time_s", "load_steps", "patches", "warnings"} <= set(
+        numbers.DECLARED["run"])
+    assert not hasattr(number_classes, "_RULES")
+    with pytest.raises(ValueError, match="already as"):
+        numbers.declare("run", "a test", P=numbers.THEORY)
+    numbers.declare("run", "a test", P=numbers.LOAD)  # the same class again is no conflict
+    with pytest.raises(ValueError, match="not one of"):
+        numbers.declare("nowhere", "a test", x=numbers.LOAD)
+    # a run label may hold slashes; a budget row's quantity is its name's last word without its [suffix]
+    assert classify("wedge/runs/theta=pi/20/patches/1/center") == ("physics", "position")
+    assert classify("c/error_budget/step2 (d = 0.47 mm) patch_P[1]/fine") == ("physics", "load")
+    assert classify("c/runs/base/wall_time_s")[0] == "excluded"
+
+
 def _by_key(moves):
     return {m.key: m for m in moves}
 

@@ -2,7 +2,7 @@
 
 A budget row (``metrics.json["error_budget"][quantity]``) has the extrapolated value ``x`` and the band
 half-width ``uncertainty |fine|``, ``uncertainty`` = gci + truncation + iterative + roundoff (+ the theory's own
-uncertainty where the row has one) (:mod:`workbench.pipeline.budget`, :mod:`workbench.scenes.concave_budget`;
+uncertainty where the row has one) (:mod:`workbench.scenes.block_budget`, :mod:`workbench.scenes.concave_budget`;
 a row written before issue 22 has no ``uncertainty``: gci + truncation). Three kinds of check
 (``cases.schema.BAND_KINDS``):
 
@@ -29,7 +29,11 @@ from __future__ import annotations
 import re
 from typing import NamedTuple
 
+from workbench.scenes.numbers import VERDICT, declare
+
 __all__ = ["BandCheck", "band_checks", "band_halfwidth", "band_rows"]
+
+declare("band_checks", __name__, **{"*": VERDICT})  # a band check's verdict (workbench.scenes.numbers)
 
 
 class BandCheck(NamedTuple):

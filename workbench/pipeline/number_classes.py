@@ -108,7 +108,14 @@ Where the numbers come from (``docs/regression.md`` has the measurements):
   optimiser's result) moved 1.6e-3 relative between two runs, and 1.12e-2 under numpy's baseline SIMD (make
   emulate, issue 34: close_to_conformal step 5), hence 3 x 1.12e-2 = 3.4e-2.
 * unknown keys get ``physics`` of kind ``unknown``, compared at the tightest foreign tolerance (``load``):
-  never loosely by accident. ``tests/test_number_classes.py`` asserts that every saved key matches a rule.
+  never loosely by accident. ``tests/test_number_classes.py`` asserts that every saved key has a declared class.
+
+**Where a class comes from** (issue 37): the code that writes a metric declares its class, kind and scale beside it
+(:func:`workbench.scenes.numbers.declare`, by the section of ``metrics.json`` and the name: ``SolveMetrics``'s
+loads, displacement, dofs and iterations in :mod:`workbench.scenes.base`, a concave step's in
+:mod:`workbench.scenes.concave`, a budget's quantities in its budget module, the case's verdict and mesh
+fingerprint in :mod:`workbench.pipeline.run_case` ...). This module only parses a key into its section and name
+(:func:`_section`); the one rule not declared is that a key naming a time is ``excluded``.
 """
 
 from __future__ import annotations
@@ -116,6 +123,8 @@ from __future__ import annotations
 import math
 import re
 from typing import NamedTuple
+
+from workbench.scenes.numbers import declared
 
 __all__ = ["CLASSES", "FOREIGN", "FOREIGN_MEASURED", "MEASURED_SAME_MESH", "SAFETY", "SCALES", "Move", "classify",
            "explicit_class", "compare_portable", "same_mesh_cases", "scale_kind", "scale_of", "worst_by_class"]
@@ -187,68 +196,82 @@ RUN_LOAD = "run_load"           # the run's load P (N/mm): a patch's share of it
 RUN_PEAK = "run_peak"           # the run's p_max (MPa), its p0: a patch's peak
 SCALES = (SELF, UNIT, CONTACT_SIZE, RUN_LOAD, RUN_PEAK)
 
-# (pattern on the field path after "case/", class, kind, scale); first match wins
-_RULES: tuple[tuple[str, str, str, str], ...] = (
-    (r"(^|/)[^/]*time[^/]*$", "excluded", "", SELF),
-    (r"^pass$", "verdict", "", SELF),
-    (r"^band_checks/", "verdict", "", SELF),
-    (r"/(theory|alt)_in_band$", "verdict", "", SELF),
-    (r"/n_patches$", "verdict", "", SELF),
-    (r"(^|/)errors/load_balance$", "roundoff", "", UNIT),
-    # mortar's contact patch test: the uniform pressure holds to round-off (measured 3e-12), a ceiling as the balance
-    (r"(^|/)errors/patch_uniformity$", "roundoff", "", UNIT),
-    (r"(^|/)errors/newton_iterations$", "iterations", "", UNIT),   # a count: compared within a margin
-    (r"/newton_iterations/\d+$", "iterations", "", UNIT),
-    (r"/ndofs$", "mesh", "", SELF),
-    # the perturbation amplitude is the emulation's own setting (make emulate sets it), not a result
-    (r"/mesh_fingerprint/perturb$", "excluded", "", SELF),
-    (r"/mesh_fingerprint/", "mesh", "", SELF),
-    (r"^errors/(fit_rms|patch_size|rms_convective)$", "mesh_sensitive", "", SELF),
-    (r"/superposition_best_rms_over_p0$", "mesh_sensitive", "", SELF),
-    (r"^error_budget/.*/(observed_order|gci|truncation)$", "estimate", "", SELF),
-    # the interior stress error (RMS / p0, a fraction; its theory is 0) on the budget's finest grid
-    (r"^error_budget/.*interior_stress_l2/(fine|extrapolated|theory|alt_value)$", "error", "error", UNIT),
-    # a budget row's theory is evaluated at the load the FEM carries (concave steps: the superposition of the
-    # FEM's patch loads), so it moves with the run: physics, not theory (measured 1.6e-8 under numpy's baseline)
-    (r"^error_budget/.*(P|patch_P\[\d+\])/(fine|extrapolated|theory|alt_value)$", "physics", "load", SELF),
-    (r"^error_budget/.*(p_max|vm_max)/(fine|extrapolated|theory|alt_value)$", "physics", "peak", SELF),
-    (r"^error_budget/.*load_symmetry/(fine|extrapolated|theory|alt_value)$", "physics", "load", SELF),
-    (r"^error_budget/.*(width|b_over_b0).*/(fine|extrapolated|theory|alt_value)$", "physics", "width", SELF),
-    (r"^analytic/b_over_b0(_moment)?_fem$", "physics", "width", SELF),
-    # Dundurs' parameters (0 for equal materials) and the relative difference of two theories: fractions
-    (r"^analytic/(alpha|beta|hertz_vs_[a-z_0-9]+)$", "theory", "", UNIT),
-    (r"^analytic/", "theory", "", SELF),
-    (r"(^|/)errors/", "error", "error", UNIT),
-    (r"/superposition_independent_rms_over_p0$", "error", "step_error", UNIT),
-    (r"/steps/\d+/(P|P_pressure)$", "physics", "step_load", SELF),
-    (r"/steps/\d+/p_max$", "physics", "step_peak", SELF),
-    (r"/patches/\d+/(P|P_pressure)$", "physics", "load", RUN_LOAD),
-    (r"/patches/\d+/p_max$", "physics", "peak", RUN_PEAK),
-    (r"(^|/)(P|P_pressure)$", "physics", "load", SELF),
-    (r"/p_max$", "physics", "peak", SELF),
-    (r"/(patch_half_width|half_width)$", "physics", "width", SELF),
-    (r"/center$", "physics", "position", CONTACT_SIZE),
-    (r"/d$", "physics", "displacement", SELF),
-)
-_COMPILED = tuple((re.compile(p), c, k, sc) for p, c, k, sc in _RULES)
+# Every metric's class is declared by the code that writes it (workbench.scenes.numbers.declare: the scenes, their
+# budgets, the pipeline's case_metrics and bands); here a key is only parsed into its section and name. Importing
+# the writers registers their declarations.
+_TIME = re.compile(r"time")           # a key naming a time is never a key number (key_numbers leaves them out)
+_RUN = re.compile(r"^runs/.+?/(?:(patches|steps)/\d+/([^/]+)|(newton_iterations)/\d+|mesh_fingerprint/([^/]+)(?:/.*)?"
+                  r"|errors/([^/]+)|([^/]+))$")
+_ROW_SUFFIX = re.compile(r"\[[^\]]*\]$")
+_BUDGET_VALUES = ("fine", "extrapolated", "theory", "alt_value")   # a row's values: the class of its quantity
+
+
+_IMPORTED: list[bool] = []
+
+
+def _writers() -> None:
+    """Import the modules that write metrics, once (their declarations register on import)."""
+    if not _IMPORTED:
+        import workbench.pipeline.bands  # noqa: F401
+        import workbench.pipeline.run_case  # noqa: F401
+        import workbench.scenes  # noqa: F401
+
+        _IMPORTED.append(True)
+
+
+def _section(field: str) -> tuple[str, str] | None:
+    """``(section, name)`` of a field path (after ``"case/"``; :data:`workbench.scenes.numbers.SECTIONS`)."""
+    head, _, rest = field.partition("/")
+    if not rest:
+        return "case", field
+    if head in ("errors", "analytic", "band_checks") and "/" not in rest:
+        return {"errors": "case_errors"}.get(head, head), rest
+    if head == "band_checks":
+        return "band_checks", rest
+    if head == "error_budget" and "/" in rest:
+        row, name = rest.rsplit("/", 1)
+        if name in _BUDGET_VALUES:  # the row's quantity: its name's last word, without a [k] or [run] suffix
+            return "budget", _ROW_SUFFIX.sub("", row).rsplit(" ", 1)[-1]
+        return "budget_fields", name
+    m = _RUN.match(field)
+    if head != "runs" or m is None:
+        return None
+    group, in_group, iterations, fingerprint, error, own = m.groups()
+    if group:
+        return {"patches": "patch", "steps": "step"}[group], in_group
+    if iterations:
+        return "run", iterations
+    if fingerprint:
+        return "fingerprint", fingerprint
+    if error:
+        return "run_errors", error
+    return "run", own
 
 
 def _rule(key: str) -> tuple[str, str, str] | None:
     field = key.split("/", 1)[1] if "/" in key else key
-    for pat, cls, kind, scale in _COMPILED:
-        if pat.search(field):
-            return cls, kind, scale
-    return None
+    if _TIME.search(field.rsplit("/", 1)[-1]):
+        return "excluded", "", SELF
+    where = _section(field)
+    if where is None:
+        return None
+    _writers()
+    section, name = where
+    number = declared(section, name)
+    if number is None and section == "case_errors":  # the worst over the runs: the runs' errors' class
+        number = declared("run_errors", name)
+    return None if number is None else (number.cls, number.kind, number.scale)
 
 
 def explicit_class(key: str) -> tuple[str, str] | None:
-    """``(class, kind)`` of the first rule matching ``key`` (``"case/field..."``), ``None`` if no rule does."""
+    """``(class, kind)`` declared for ``key`` (``"case/field..."``; :mod:`workbench.scenes.numbers`), ``None`` if its
+    writer declared none."""
     rule = _rule(key)
     return None if rule is None else rule[:2]
 
 
 def classify(key: str) -> tuple[str, str]:
-    """``(class, kind)`` of ``key``; a key no rule knows is ``physics`` of kind ``unknown`` (compared at the
+    """``(class, kind)`` of ``key``; a key without a declared class is ``physics`` of kind ``unknown`` (compared at the
     tightest foreign-mesh tolerance, never loosely by accident)."""
     return explicit_class(key) or ("physics", "unknown")
 

@@ -29,9 +29,17 @@ from workbench.atomic import atomic_dir, write_json, write_text
 from workbench.owned import ensure_dir, mark
 from workbench.paths import OutputError, OutputPaths
 from workbench.scenes import Outcome, scene_for
+from workbench.scenes.numbers import EXCLUDED, LOAD, MESH, VERDICT, declare
 from workbench.scenes.wiring import solve_run, step_printer
 
 __all__ = ["run_case", "run_one", "case_metrics"]
+
+# The number classes of what case_metrics writes (workbench.scenes.numbers): the case's load (its first run's), its
+# verdict, and each run's mesh fingerprint (its identity: counts and hashes; the perturbation amplitude is the
+# emulation's own setting, make emulate sets it, not a result). The errors are the runs' and the judge's, declared
+# where those are written.
+declare("case", __name__, P=LOAD, P_pressure=LOAD, **{"pass": VERDICT})
+declare("fingerprint", __name__, perturb=EXCLUDED, **{"*": MESH})
 
 
 def _progress_printer(comm, log: list[str]):

@@ -1,8 +1,9 @@
 """Scenes: how a case run is meshed, what its rigid obstacle is, how it is loaded, compared and judged.
 
 The registry :data:`SCENES` maps the ``[geometry] scene`` value of a case file to a :class:`Scene`. Adding a
-scene: write one module with a class implementing :class:`workbench.scenes.base.Scene` and add one line
-below.
+scene: its case schema, its theory and a class implementing :class:`workbench.scenes.base.Scene`, each in a new
+module, and one line below (``docs/architecture.md``, "How to add ... a scene"; ``tests/test_minimal_scene.py``
+adds one from files of its own).
 """
 
 from workbench.scenes.base import (

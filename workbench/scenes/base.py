@@ -15,16 +15,19 @@ A *scene* turns a case run (:class:`cases.schema.Run`) into a contact problem an
    returns a :class:`CaseComparison`;
 6. :meth:`Scene.error_budget` (``make run`` only, with ``[discretisation] budget_levels``) solves the case
    again on the budget's grids through the pipeline's ``solve(run) -> Outcome`` and returns a
-   :class:`SceneBudget` (``metrics.json["error_budget"]``). ``None`` means: the pipeline's block budget
-   (three grids x three block sizes, :mod:`workbench.pipeline.budget`), which sits in the pipeline layer and so
-   cannot be called from a scene (the import contract: pipeline above scenes).
+   :class:`SceneBudget` (``metrics.json["error_budget"]``; the block scenes': :mod:`workbench.scenes.block_budget`),
+   or ``None`` for a scene without one (no rows).
 
 The pipeline (:mod:`workbench.pipeline.run_case`) does the rest, the same way for every scene: read the mesh,
-call the solver with :func:`workbench.scenes.wiring.solver_options`, write the outputs. A new scene is one
-module with a class implementing this protocol, its case schema (``schema``: a :class:`cases.schema.SceneSchema`
-with the scene's geometry record, indenters, predictions, controls and checks; e.g.
-:mod:`workbench.scenes.block_schema`) and one line ``register_scene(MyScene())`` (:mod:`workbench.scenes`), which
-registers both; ``[geometry] scene = "<name>"`` in a case file selects it.
+call the solver with :func:`workbench.scenes.wiring.solver_options`, write the outputs. Every scene's run entry of
+``metrics.json`` opens with the same keys, written once here: :func:`run_keys` (from the run) and
+:class:`SolveMetrics` (from the :class:`fem.solver.ContactResult`); their number classes are declared here too
+(:mod:`workbench.scenes.numbers`). A new scene is one module with a class implementing this protocol, its case
+schema (``schema``: a :class:`cases.schema.SceneSchema` with the scene's geometry record, indenters, predictions,
+controls and checks; e.g. :mod:`workbench.scenes.block_schema`), its theory, and one call
+``register_scene(MyScene())`` (a line in :mod:`workbench.scenes`, or the caller's own for a scene outside the
+package: ``tests/test_minimal_scene.py``), which registers both; ``[geometry] scene = "<name>"`` in a case file
+selects it (``docs/architecture.md``, "How to add ... a scene").
 """
 
 from __future__ import annotations
@@ -33,9 +36,92 @@ from pathlib import Path
 from typing import Any, NamedTuple, Protocol, runtime_checkable
 
 from cases.schema import Case, Run, SceneSchema, register_scene_schema
+from workbench.scenes.numbers import (
+    DISPLACEMENT,
+    ERROR,
+    ITERATIONS,
+    LOAD,
+    MESH,
+    PEAK,
+    ROUNDOFF,
+    THEORY,
+    WIDTH,
+    Number,
+    declare,
+)
 
-__all__ = ["CaseComparison", "LoadPath", "Outcome", "Scene", "SceneBudget", "SceneMesh", "Series", "SCENES",
-           "register_scene", "scene_for"]
+__all__ = ["CaseComparison", "LoadPath", "Outcome", "Scene", "SceneBudget", "SceneMesh", "Series", "SolveMetrics",
+           "SCENES", "register_scene", "run_keys", "scene_for"]
+
+
+class SolveMetrics(NamedTuple):
+    """The keys every scene takes from a :class:`fem.solver.ContactResult` into its run's ``metrics.json`` entry,
+    written once here (:meth:`of`, :meth:`as_dict`) instead of by hand in each scene.
+
+    Attributes:
+        ndofs: Degrees of freedom of the solve.
+        wall_time_s: Wall time of the solve (s; never a key number).
+        newton_iterations: Newton iterations of each converged solve.
+        load_steps: The load steps' records.
+        d: Final displacement of the partner (mm).
+        P: Final load by virtual work (N/mm, full body).
+        P_pressure: Final load as the integral of the contact pressure (N/mm).
+        patches: The contact patches (``center``, ``half_width``, ``p_max``, ``P``: mm, MPa, N/mm).
+        warnings: The solve's warnings (one line each).
+    """
+
+    ndofs: int
+    wall_time_s: float
+    newton_iterations: list
+    load_steps: Any
+    d: float
+    P: float
+    P_pressure: float
+    patches: list
+    warnings: list
+
+    @classmethod
+    def of(cls, result, *, patches: list | None = None, warnings: list | None = None) -> SolveMetrics:
+        """The record of ``result``; ``patches`` and ``warnings`` replace the result's where a scene reports its
+        own (a concave case: the last step's patches and every step's warnings)."""
+        return cls(result.ndofs, result.wall_time_s, list(result.newton_iterations), result.load_steps, result.d,
+                   result.P, result.P_pressure,
+                   [pt._asdict() for pt in result.patches] if patches is None else patches,
+                   list(result.warnings) if warnings is None else list(warnings))
+
+    def as_dict(self) -> dict:
+        """The JSON form (the record's field names are the ``metrics.json`` keys)."""
+        return self._asdict()
+
+    def solve_errors(self) -> dict:
+        """``load_balance`` (``|P - P_pressure| / |P|``, round-off: both loads are measured, not imposed) and the
+        largest Newton iteration count of a solve, as the two-body scenes' ``errors`` open."""
+        return {"load_balance": abs(self.P - self.P_pressure) / abs(self.P),
+                "newton_iterations": float(max(self.newton_iterations, default=0))}
+
+
+# The number classes of what SolveMetrics writes (workbench.scenes.numbers), and of the main patch's peak and
+# half-width every scene reports beside it: loads, peaks, widths relative to themselves; a patch's centre on its
+# half-width (0 for a symmetric case), its load and peak on the run's.
+declare("run", __name__, P=LOAD, P_pressure=LOAD, d=DISPLACEMENT, ndofs=MESH, newton_iterations=ITERATIONS,
+        p_max=PEAK, patch_half_width=WIDTH)
+declare("patch", __name__, center=Number("physics", "position", "contact_size"), half_width=WIDTH,
+        p_max=Number("physics", "peak", "run_peak"), P=Number("physics", "load", "run_load"),
+        P_pressure=Number("physics", "load", "run_load"))
+# errors: fractions of their reference quantity, unless declared; the load balance holds to round-off
+declare("run_errors", __name__, load_balance=ROUNDOFF, newton_iterations=ITERATIONS, **{"*": ERROR})
+# a judge's case-level analytic values (CaseComparison.analytic) are theory, unless the judge declares otherwise
+declare("analytic", __name__, **{"*": THEORY})
+
+
+def run_keys(run: Run, scene: str) -> dict:
+    """The keys every scene takes from its run, which the case report's table of runs reads (``label``,
+    ``scene``, ``method``, ``kinematics``, ``traction``: the case's ``[solver] traction``, which a scene whose
+    partner fixes it overrides, ``nu``, ``degree``, ``h_contact``: the contact element size as the case gives it,
+    a fraction of the scene's contact size)."""
+    return {"label": run.label, "scene": scene, "method": run.solver.method, "kinematics": run.solver.kinematics,
+            "traction": run.solver.traction, "nu": run.material.nu, "degree": run.discretisation.degree,
+            "h_contact": run.discretisation.h_contact}
 
 
 class Series(NamedTuple):

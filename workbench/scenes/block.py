@@ -15,9 +15,11 @@ import numpy as np
 
 from analytic.circle import circle_pressure
 from cases.schema import Case, Run
-from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
+from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series, SolveMetrics, run_keys
+from workbench.scenes.block_budget import block_error_budget
 from workbench.scenes.block_schema import BLOCK_SCHEMA
 from workbench.scenes.block_theory import BlockTheory, block_theory, compare_block, exact_circle, rms_error
+from workbench.scenes.numbers import FRACTION_THEORY, declare
 
 __all__ = ["BlockComparison", "BlockScene", "block_mesh", "compare_result", "obstacle_for", "stress_based_errors"]
 
@@ -131,7 +133,7 @@ def block_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path |
 
 def _run_metrics(run: Run, result, cmp: BlockComparison, files) -> dict:
     """The run's JSON entry of ``metrics.json["runs"]``."""
-    sol, disc, theory = run.solver, run.discretisation, cmp.theory
+    sol, theory = run.solver, cmp.theory
     errors = cmp.errors
     if sol.kinematics == "convective":
         # The classical theory ignores the convective effect this run measures: its errors are kept for
@@ -141,15 +143,9 @@ def _run_metrics(run: Run, result, cmp: BlockComparison, files) -> dict:
     if sol.kinematics == "finite":  # compared in the current configuration; the material half-width too
         main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
         extra["patch_half_width_material"] = main.half_width if main else math.nan
-    return extra | {
-        "label": run.label, "scene": "block", "nu": run.material.nu, "method": sol.method,
-        "kinematics": sol.kinematics, "traction": sol.traction, "material_model": run.material.model,
-        "degree": disc.degree,
-        "h_contact": disc.h_contact, "ndofs": result.ndofs, "wall_time_s": result.wall_time_s,
-        "newton_iterations": list(result.newton_iterations), "load_steps": result.load_steps, "d": result.d,
-        "P": result.P, "P_pressure": result.P_pressure, "patches": [pt._asdict() for pt in result.patches],
-        "warnings": list(result.warnings), "patch_half_width": cmp.half_width, "p_max": cmp.p_max,
-        "mesh": files.stats,
+    return extra | run_keys(run, "block") | {
+        "material_model": run.material.model, **SolveMetrics.of(result).as_dict(),
+        "patch_half_width": cmp.half_width, "p_max": cmp.p_max, "mesh": files.stats,
         "analytic": {
             "kind": theory.kind, "P": theory.P, "E_star": theory.E_star, "half_width": theory.half_width,
             "p_ref": theory.p_ref, "R": theory.R, "m": theory.m,
@@ -223,15 +219,17 @@ class BlockScene:
             return exact_circle_verdict(case, outcomes)
         return CaseComparison({}, {}, "", {})
 
-    def error_budget(self, case: Case, *, solve, progress) -> None:
-        """None: the block budget (three grids x three block sizes) is :mod:`workbench.pipeline.budget`'s, in
-        the pipeline layer, which a scene may not import."""
-        return None
+    def error_budget(self, case: Case, *, solve, progress):
+        """Three grids x three block sizes, the Hertz interior and axis (:mod:`workbench.scenes.block_budget`)."""
+        return block_error_budget(case, solve=solve, progress=progress)
 
 
 # A circle indenter is checked against the theory of its own profile, the exact circle (analytic/circle.py):
 # Hertz is its parabolic approximation, off by about 3 (a/R)^2 / 16 in the half-width (0.55 % at a/R = 0.17),
 # so a wide contact would FAIL against Hertz for a reason that is not the solver's.
+# Hertz against the exact circle: a relative difference of two theories, a fraction
+declare("analytic", __name__, hertz_vs_exact_circle_half_width=FRACTION_THEORY,
+        hertz_vs_exact_circle_p0=FRACTION_THEORY)
 EXACT_CIRCLE_CHECKS = {"p_max": "p_max_vs_exact_circle", "half_width": "half_width_vs_exact_circle",
                        "rms": "rms_vs_exact_circle"}
 

@@ -2,7 +2,7 @@
 truncation study in 1/W, the iterative error and round-off, against a theory and an alternative.
 
 Used by :mod:`workbench.scenes.two_body_budget` and :mod:`workbench.scenes.halfplanes_budget` (the block scenes'
-budget is :mod:`workbench.pipeline.budget`'s). Every term is relative; ``uncertainty`` is their sum
+budget is :mod:`workbench.scenes.block_budget`'s). Every term is relative; ``uncertainty`` is their sum
 (:func:`workbench.error_budget.uncertainty`).
 """
 
@@ -13,6 +13,11 @@ import math
 
 from cases.schema import Run
 from workbench.error_budget import ROUNDOFF_FLOOR, grid_study, iterative_error, uncertainty
+from workbench.scenes.numbers import ESTIMATE, VERDICT, declare
+
+# a row's uncertainty estimates describe the noise of its value; its band verdicts are compared exactly
+declare("budget_fields", __name__, observed_order=ESTIMATE, gci=ESTIMATE, truncation=ESTIMATE,
+        theory_in_band=VERDICT, alt_in_band=VERDICT)
 
 __all__ = ["budget_row", "with_grid"]
 

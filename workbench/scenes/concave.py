@@ -30,9 +30,29 @@ from analytic.superposition import ContactPair as HertzPair
 from analytic.superposition import superpose
 from cases.schema import Case, Run
 from measures.contact import find_patches
-from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneBudget, SceneMesh, Series
+from workbench.scenes.base import (
+    CaseComparison,
+    LoadPath,
+    Outcome,
+    SceneBudget,
+    SceneMesh,
+    Series,
+    SolveMetrics,
+    run_keys,
+)
 from workbench.scenes.budget_theory import moment_half_width
+from workbench.scenes.concave_budget import concave_error_budget
 from workbench.scenes.concave_schema import CONCAVE_SCHEMA
+from workbench.scenes.numbers import DISPLACEMENT, MESH_SENSITIVE, VERDICT, Number, declare
+
+# What step_measures writes per step (the intermediate steps' first touches span ~5 facets: their own foreign-mesh
+# kinds), and the case-level Hertz checks concave_case_comparison writes (the elliptical fit's RMS and eq. (4)
+# against eq. (5) move by percents with the mesh; the best superposition is an optimiser's result).
+declare("step", __name__, d=DISPLACEMENT, P=Number("physics", "step_load"), P_pressure=Number("physics", "step_load"),
+        p_max=Number("physics", "step_peak"), n_patches=VERDICT,
+        superposition_independent_rms_over_p0=Number("error", "step_error", "unit"),
+        superposition_best_rms_over_p0=MESH_SENSITIVE)
+declare("case_errors", __name__, fit_rms=MESH_SENSITIVE, patch_size=MESH_SENSITIVE)
 
 __all__ = ["ConcaveMesh", "ConcaveScene", "concave_mesh", "concave_case_comparison", "step_measures", "lcp_at"]
 _SAMPLES_LCP = 300
@@ -230,18 +250,14 @@ def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path
 
 def _run_metrics(run: Run, result, mesh: ConcaveMesh, steps: list[dict]) -> dict:
     """The run's JSON entry of ``metrics.json["runs"]``."""
-    disc, sol = run.discretisation, run.solver
     last = steps[-1]
     E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
-    return {
-        "label": run.label, "scene": "concave", "design": mesh.design.name, "nu": run.material.nu,
-        "method": sol.method, "kinematics": sol.kinematics, "traction": sol.traction,
-        "material_model": run.material.model, "degree": disc.degree,
-        "h_contact": disc.h_contact, "h_contact_mm": mesh.h_contact, "ndofs": result.ndofs,
-        "wall_time_s": result.wall_time_s, "newton_iterations": list(result.newton_iterations),
-        "load_steps": result.load_steps, "d": result.d, "P": result.P, "P_pressure": result.P_pressure,
-        "patches": [{k: e[k] for k in ("center", "half_width", "p_max", "P")} for e in last["patches"]],
-        "mesh": mesh.files.stats, "steps": steps, "warnings": [w for s in steps for w in s["warnings"]],
+    solved = SolveMetrics.of(result, patches=[{k: e[k] for k in ("center", "half_width", "p_max", "P")}
+                                              for e in last["patches"]],
+                             warnings=[w for s in steps for w in s["warnings"]])
+    return run_keys(run, "concave") | {
+        "design": mesh.design.name, "material_model": run.material.model,
+        "h_contact_mm": mesh.h_contact, **solved.as_dict(), "mesh": mesh.files.stats, "steps": steps,
         "analytic": {"E_star": E_star, "lcp": [s["lcp_pairs"] for s in steps]},
         "errors": {"load_balance": max(abs(s["P"] - s["P_pressure"]) / abs(s["P"]) for s in steps if s["P"] > 0)},
     }
@@ -330,8 +346,6 @@ class ConcaveScene:
     def error_budget(self, case: Case, *, solve, progress) -> SceneBudget:
         """Every step's P, peak and patch widths over the three budget levels
         (:func:`workbench.scenes.concave_budget.concave_error_budget`)."""
-        from workbench.scenes.concave_budget import concave_error_budget
-
         return concave_error_budget(case, solve=solve, progress=progress)
 
 

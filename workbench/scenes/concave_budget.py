@@ -45,6 +45,14 @@ from analytic import hertz, materials
 from cases.schema import Case, Run
 from workbench.error_budget import ROUNDOFF_FLOOR, grid_study, iterative_error, tight_resolve, uncertainty
 from workbench.scenes.base import SceneBudget
+from workbench.scenes.numbers import ESTIMATE, LOAD, PEAK, VERDICT, WIDTH, declare
+
+# A row's values (fine, extrapolated, theory, alt_value) by its quantity; a row's theory is evaluated at the load the
+# FEM carries (the superposition of the FEM's patch loads), so it moves with the run: physics, not theory
+declare("budget", __name__, P=LOAD, patch_P=LOAD, load_symmetry=LOAD, p_max=PEAK, width_fem=WIDTH,
+        width_moment=WIDTH, first_contact_width=WIDTH)
+declare("budget_fields", __name__, observed_order=ESTIMATE, gci=ESTIMATE, truncation=ESTIMATE,
+        theory_in_band=VERDICT, alt_in_band=VERDICT)
 
 __all__ = ["ROUNDOFF_BAND", "SYMMETRY_RTOL", "concave_error_budget", "json_number",
            "refined_run", "step_rows", "symmetry_row"]
@@ -87,8 +95,8 @@ def concave_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
         for h in levels:
             r_h = refined_run(run, h=h, h_coarse=levels[-1])
             o = solve(r_h)
-            progress(f"[budget {run.label}] h_c = {h:g} a: {o.metrics['ndofs']} dofs")
-            steps.append(o.metrics.get("steps", []))
+            progress(f"[budget {run.label}] h_c = {h:g} a: {o.result.ndofs} dofs")
+            steps.append(o.comparison)  # the scene's per-step measures (concave.step_measures)
             fine = fine or (r_h, o)
         o_t, how = tight_resolve(solve, fine[0], fine[1], progress=progress)
         if o_t is not None:
@@ -97,7 +105,7 @@ def concave_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
         E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
         pre = "" if len(case.runs()) == 1 else f"{run.label}/"
         budget |= _run_rows(levels, steps, E_star=E_star, pre=pre,
-                            tight=None if o_t is None else o_t.metrics.get("steps", []),
+                            tight=None if o_t is None else o_t.comparison,
                             tight_note="" if o_t is not None else how)
     return SceneBudget(budget, title=_TITLE, runs=runs)
 

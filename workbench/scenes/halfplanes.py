@@ -36,8 +36,10 @@ above its flat face, ``y = X1^2 / (2 R)`` or the wedge ``y = m |X1|``: :class:`f
 
 from __future__ import annotations
 
+import functools
 import math
 from pathlib import Path
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -45,8 +47,9 @@ from analytic import wedge
 from analytic.hertz import hertz_load_from_half_width
 from cases.schema import Case, Run
 from measures.contact import moment_half_width, rms_error
-from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series
+from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series, SolveMetrics, run_keys
 from workbench.scenes.budget_theory import curve_moment_half_width
+from workbench.scenes.halfplanes_budget import halfplanes_error_budget
 from workbench.scenes.halfplanes_schema import HALFPLANES_SCHEMA
 from workbench.scenes.halfplanes_theory import (
     HalfplanesComparison,
@@ -56,23 +59,57 @@ from workbench.scenes.halfplanes_theory import (
     convective_theory,
     profile_size,
 )
+from workbench.scenes.numbers import FRACTION_THEORY, MESH_SENSITIVE, WIDTH, declare
+from workbench.scenes.partners import meshed_partner
 from workbench.scenes.two_body import SOLVER_DEFAULTS
+
+# the judge's Dundurs parameters (0 for equal materials) are fractions; the FEM's b/b0 is a measured width ratio;
+# rms_convective moves by percents with the mesh
+declare("analytic", __name__, alpha=FRACTION_THEORY, beta=FRACTION_THEORY, b_over_b0_fem=WIDTH,
+        b_over_b0_moment_fem=WIDTH)
+declare("case_errors", __name__, rms_convective=MESH_SENSITIVE)
 
 APEX_FACTOR = 0.25  # a wedge's apex: element size over the contact size (as the block scene's apex_factor)
 
-__all__ = ["HalfplanesScene", "HalfplanesTheory", "bimaterial_of", "classical_theory", "convective_theory",
-           "profile_size"]
+__all__ = ["HalfplanesRun", "HalfplanesScene", "HalfplanesTheory", "bimaterial_of", "classical_theory",
+           "convective_theory", "derived", "profile_size"]
+
+
+class HalfplanesRun(NamedTuple):
+    """What a run of the scene derives from its case inputs, computed once per run (:func:`derived`) and read by
+    every hook (the size model, the mesh, the partner, the comparison).
+
+    Attributes:
+        bimaterial: Dundurs' alpha, beta and E* (MPa) of the bodies (body 1 the upper one).
+        profile_size: The profile's R (mm) or the wedge's slope m.
+        P: The target load (N/mm).
+        half_width: The classical half-width b0 at the target load (mm).
+    """
+
+    bimaterial: Any
+    profile_size: float
+    P: float
+    half_width: float
+
+
+@functools.lru_cache(maxsize=256)
+def derived(run: Run) -> HalfplanesRun:
+    """The run's derived quantities (:class:`HalfplanesRun`; a run is a frozen record, so this is computed once)."""
+    g, ld = run.geometry, run.loading
+    bm, size = bimaterial_of(run), profile_size(run)
+    if ld.half_width is not None:
+        if g.indenter == "wedge":
+            return HalfplanesRun(bm, size, wedge.wedge_load_from_half_width(ld.half_width, size, bm.E_star),
+                                 ld.half_width)
+        return HalfplanesRun(bm, size, hertz_load_from_half_width(ld.half_width, size, bm.E_star), ld.half_width)
+    return HalfplanesRun(bm, size, ld.P, classical_theory(run, ld.P).half_width)
 
 
 def _estimate(run: Run) -> tuple[float, float]:
-    """(P target in N/mm, classical half-width b0 in mm)."""
-    g, ld = run.geometry, run.loading
-    E_star, size = bimaterial_of(run).E_star, profile_size(run)
-    if ld.half_width is not None:
-        if g.indenter == "wedge":
-            return wedge.wedge_load_from_half_width(ld.half_width, size, E_star), ld.half_width
-        return hertz_load_from_half_width(ld.half_width, size, E_star), ld.half_width
-    return ld.P, classical_theory(run, ld.P).half_width
+    """(P target in N/mm, classical half-width b0 in mm) of :func:`derived` (the external benchmarks and scorers
+    size their meshes from it)."""
+    dr = derived(run)
+    return dr.P, dr.half_width
 
 
 class HalfplanesScene:
@@ -89,7 +126,7 @@ class HalfplanesScene:
         from meshes.sizing import graded_triangles
 
         g, disc = run.geometry, run.discretisation
-        _, a0 = _estimate(run)
+        a0 = derived(run).half_width
         W, H, h0 = g.width_factor * a0, g.height_factor * a0, 0.9 * disc.h_contact * a0
         return sum(graded_triangles(L=3 * a0, h0=r * h0, h_far=W / 10, growth=disc.growth, area=W * H, c=math.pi)
                    for r in (1.0, g.size_ratio))
@@ -99,14 +136,15 @@ class HalfplanesScene:
 
         g, disc = run.geometry, run.discretisation
         stem = f"{name}_{run.label}".replace("/", "_").replace("=", "_")
-        P, a0 = _estimate(run)
+        dr = derived(run)
+        P, a0 = dr.P, dr.half_width
         apex = APEX_FACTOR if g.indenter == "wedge" and g.apex == "refined" else None
         shaped = g.indenter == "wedge" and g.wedge_body == "shaped"
         if shaped and apex is None:  # the shaped wedge's apex is a corner: a node of both contact lines
             apex = 1.0
         files = build_profile_blocks(width=g.width_factor * a0, height=g.height_factor * a0, contact_half_width=a0,
                                      h_contact=disc.h_contact * a0, size_ratio=g.size_ratio, growth=disc.growth,
-                                     apex_factor=apex, wedge_slope=profile_size(run) if shaped else None,
+                                     apex_factor=apex, wedge_slope=dr.profile_size if shaped else None,
                                      out_dir=mesh_cache, name=stem, stats_dir=stats_dir, comm=comm)
         cells = files.stats.get("cells", "?")
         return SceneMesh(files, {"P": P, "half_width": a0},
@@ -116,15 +154,11 @@ class HalfplanesScene:
     def obstacle(self, run: Run, mesh: SceneMesh):
         """The upper block as the meshed partner, carrying the profile (module docstring)."""
         from fem.two_body.geometry import ProfileSurface
-        from fem.two_body.problem import Body, MeshedPartner
 
-        g, (lower, upper) = run.geometry, run.bodies
-        return MeshedPartner(bodies=(Body(name="lower", E=lower.E, nu=lower.nu, label=lower.name),
-                                     Body(name="upper", E=upper.E, nu=upper.nu, label=upper.name)),
-                             slave="contact_lower", master="contact_upper", driven="driven", driven_body="upper",
-                             driven_components=(0, 1), pairing=g.pairing, traction="halfplane", convection=g.convection,
-                             master_surface=ProfileSurface(g.indenter, profile_size(run)),
-                             cut_kinks=g.indenter != "wedge" or g.apex != "none")
+        g = run.geometry
+        return meshed_partner(run, master_surface=ProfileSurface(g.indenter, derived(run).profile_size),
+                              traction="halfplane", convection=g.convection,
+                              cut_kinks=g.indenter != "wedge" or g.apex != "none")
 
     def load_path(self, run: Run, mesh: SceneMesh) -> LoadPath:
         return LoadPath("force", mesh.estimate["P"], run.loading.steps, supports={"clamped": "clamped"},
@@ -132,36 +166,28 @@ class HalfplanesScene:
 
     def compare(self, run: Run, result, mesh: SceneMesh, *, progress) -> Outcome:
         g, smp = run.geometry, result.samples
-        bm = bimaterial_of(run)
+        bm = derived(run).bimaterial
         th = classical_theory(run, result.P)
         main = max(result.patches, key=lambda pt: pt.P) if result.patches else None
         cmp = HalfplanesComparison(main.half_width if main else math.nan,
                                    moment_half_width(smp.s, smp.p, smp.weight, center=0.0) if main else math.nan,
                                    main.p_max if main else math.nan)
         p_th = th.pressure(smp.s)
-        signed = {"half_width": cmp.half_width / th.half_width - 1.0,
-                  "half_width_moment": 2.0 * cmp.moment / th.moment - 1.0}
-        if th.kind == "parabola":  # the wedge's peak is log-singular: no p_max
-            signed = {"p_max": cmp.p_max / th.p_ref - 1.0} | signed
+        signed = cmp.signed(th)
         vs_classical = {k: abs(v) for k, v in signed.items()} | {
             "rms": rms_error(smp.s, smp.p, p_th, center=0.0,
                              half_width=max(th.half_width, cmp.half_width if main else 0.0), p_ref=th.p_ref)}
         if run.solver.kinematics == "convective":  # the classical solution ignores what this run measures: info only
             vs_classical = {f"{k}_vs_classical": v for k, v in vs_classical.items()}
-        errors = {"load_balance": abs(result.P - result.P_pressure) / abs(result.P),
-                  "newton_iterations": float(max(result.newton_iterations, default=0))} | vs_classical
+        solved = SolveMetrics.of(result)
+        errors = solved.solve_errors() | vs_classical
         profile = {"b0_over_R": th.half_width / th.R} if th.kind == "parabola" else {"m": th.m}
         metrics = {
-            "label": run.label, "scene": "halfplanes", "indenter": g.indenter, "pairing": g.pairing,
-            "method": run.solver.method, "kinematics": run.solver.kinematics, "traction": "halfplane",
+            **run_keys(run, "halfplanes"), "indenter": g.indenter, "pairing": g.pairing, "traction": "halfplane",
             "convection": g.convection if run.solver.kinematics == "convective" else None,
-            "nu": run.material.nu, "bodies": {b.name: {"role": role, "E": b.E, "nu": b.nu, "model": b.model}
-                                              for b, role in zip(run.bodies, ("lower", "upper"), strict=True)},
-            "alpha": bm.alpha, "beta": bm.beta, **profile, "E_star": bm.E_star,
-            "degree": run.discretisation.degree, "h_contact": run.discretisation.h_contact, "ndofs": result.ndofs,
-            "wall_time_s": result.wall_time_s, "newton_iterations": list(result.newton_iterations),
-            "load_steps": result.load_steps, "d": result.d, "P": result.P, "P_pressure": result.P_pressure,
-            "patches": [pt._asdict() for pt in result.patches], "warnings": list(result.warnings),
+            "bodies": {b.name: {"role": role, "E": b.E, "nu": b.nu, "model": b.model}
+                       for b, role in zip(run.bodies, ("lower", "upper"), strict=True)},
+            "alpha": bm.alpha, "beta": bm.beta, **profile, "E_star": bm.E_star, **solved.as_dict(),
             "p_max": cmp.p_max, "patch_half_width": cmp.half_width, "half_width_moment": 2.0 * cmp.moment,
             "analytic": {"kind": "hertz" if th.kind == "parabola" else "wedge", "P": result.P, "E_star": bm.E_star,
                          "beta": bm.beta, "half_width": th.half_width, "half_width_moment": th.moment,
@@ -223,6 +249,4 @@ class HalfplanesScene:
 
     def error_budget(self, case: Case, *, solve, progress):
         """Three grids, three block sizes and the solver tolerance (:mod:`workbench.scenes.halfplanes_budget`)."""
-        from workbench.scenes.halfplanes_budget import halfplanes_error_budget
-
         return halfplanes_error_budget(case, solve=solve, progress=progress)

@@ -29,6 +29,10 @@ from workbench.scenes.base import SceneBudget
 from workbench.scenes.budget_rows import budget_row, with_grid
 from workbench.scenes.budget_theory import curve_moment_half_width
 from workbench.scenes.halfplanes_theory import convective_theory
+from workbench.scenes.numbers import PEAK, WIDTH, declare
+
+declare("budget", __name__, p_max=PEAK, half_width=WIDTH, half_width_moment=WIDTH, b_over_b0=WIDTH,
+        b_over_b0_moment=WIDTH)
 
 __all__ = ["halfplanes_error_budget"]
 
@@ -37,8 +41,9 @@ _THEORY_N_PLOT = 64001
 
 
 def _classical_ratios(o) -> dict[str, float]:
-    """The small run over the classical solution: half_width, half_width_moment (and p_max: parabola only)."""
-    return {k: 1.0 + v for k, v in o.metrics["analytic"]["signed"].items()}
+    """The small run over the classical solution: half_width, half_width_moment (and p_max: parabola only), from
+    its typed comparison and theory (:class:`workbench.scenes.halfplanes_theory.HalfplanesComparison`)."""
+    return {k: 1.0 + v for k, v in o.comparison.signed(o.theory).items()}
 
 
 def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
@@ -54,7 +59,7 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
         k = run.solver.kinematics
         for h, W in grid:
             o = solve(with_grid(run, h=h, W=W, h_coarse=levels[-1]))
-            progress(f"[budget {run.label}] h_c = {h:g} b0, W = {W:g} b0: {o.metrics['ndofs']} dofs")
+            progress(f"[budget {run.label}] h_c = {h:g} b0, W = {W:g} b0: {o.result.ndofs} dofs")
             out.setdefault(k, {})[(h, W)] = o
         o_t, how = tight_resolve(solve, with_grid(run, h=h_fine, W=W_max, h_coarse=levels[-1]),
                                  out[k][(h_fine, W_max)], progress=progress)

@@ -82,6 +82,15 @@ class HalfplanesComparison(NamedTuple):
     moment: float
     p_max: float
 
+    def signed(self, theory: HalfplanesTheory) -> dict:
+        """FEM over the classical ``theory`` minus 1: ``p_max`` (parabola only: the wedge's peak is log-singular),
+        ``half_width`` (the edge) and ``half_width_moment`` (2 sqrt(M2/M0))."""
+        signed = {"half_width": self.half_width / theory.half_width - 1.0,
+                  "half_width_moment": 2.0 * self.moment / theory.moment - 1.0}
+        if theory.kind == "parabola":
+            signed = {"p_max": self.p_max / theory.p_ref - 1.0} | signed
+        return signed
+
 
 def bimaterial_of(run: Run) -> materials.Bimaterial:
     """Dundurs' alpha, beta and E* of a run: body 1 the upper (profile) body, body 2 the lower (flat) one."""

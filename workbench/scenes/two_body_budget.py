@@ -26,6 +26,9 @@ from cases.schema import Case
 from workbench.error_budget import tight_resolve
 from workbench.scenes.base import SceneBudget
 from workbench.scenes.budget_rows import budget_row, with_grid
+from workbench.scenes.numbers import PEAK, WIDTH, declare
+
+declare("budget", __name__, p_max=PEAK, half_width=WIDTH, half_width_moment=WIDTH)
 
 __all__ = ["two_body_error_budget", "QUANTITIES"]
 
@@ -34,13 +37,15 @@ _TITLE = "Error budget (three grids, three block sizes; the half disk as it is)"
 
 
 def _ratios(outcome) -> dict[str, float]:
-    """FEM over the exact circle at the measured load, and Hertz over the exact circle (the alternative)."""
-    an = outcome.metrics["analytic"]
-    hz = hertz(an["P"], an["R"], an["E_star"])
-    return {"p_max": 1.0 + an["signed"]["p_max"], "half_width": 1.0 + an["signed"]["half_width"],
-            "half_width_moment": 1.0 + an["signed"]["half_width_moment"],
-            "alt p_max": hz.p0 / an["p0"], "alt half_width": hz.half_width / an["half_width"],
-            "alt half_width_moment": 0.5 * hz.half_width / an["half_width_moment"]}
+    """FEM over the exact circle at the measured load, and Hertz over the exact circle (the alternative), from the
+    run's typed comparison (:class:`workbench.scenes.two_body.CylinderComparison`)."""
+    cmp = outcome.comparison
+    th, signed = cmp.theory, cmp.signed
+    hz = hertz(th.P, cmp.R, cmp.E_star)
+    return {"p_max": 1.0 + signed["p_max"], "half_width": 1.0 + signed["half_width"],
+            "half_width_moment": 1.0 + signed["half_width_moment"],
+            "alt p_max": hz.p0 / th.p0, "alt half_width": hz.half_width / th.half_width,
+            "alt half_width_moment": 0.5 * hz.half_width / cmp.moment_theory}
 
 
 def two_body_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
@@ -58,13 +63,13 @@ def two_body_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
         for h in levels:
             r = with_grid(run, h=h, W=W_max, h_coarse=levels[-1])
             o = solve(r)
-            progress(f"[budget {run.label}] h_c = {h:g} a, W = {W_max:g} a: {o.metrics['ndofs']} dofs")
+            progress(f"[budget {run.label}] h_c = {h:g} a, W = {W_max:g} a: {o.result.ndofs} dofs")
             by_h.append(_ratios(o))
             fine = fine or (r, o)
         by_W[W_max] = by_h[0]
         for W in widths[:-1]:
             o = solve(with_grid(run, h=h_fine, W=W, h_coarse=levels[-1]))
-            progress(f"[budget {run.label}] h_c = {h_fine:g} a, W = {W:g} a: {o.metrics['ndofs']} dofs")
+            progress(f"[budget {run.label}] h_c = {h_fine:g} a, W = {W:g} a: {o.result.ndofs} dofs")
             by_W[W] = _ratios(o)
         o_t, how = tight_resolve(solve, fine[0], fine[1], progress=progress)
         tight = None if o_t is None else _ratios(o_t)
