@@ -6,10 +6,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import ClassVar
 
 from vocabulary import ACTIVE_SET_UPDATES, ACTIVE_SETS, LINEAR_SOLVERS, NITSCHE, PENALTY
-from workbench.paths import default_paths
-from workbench.studies.config import folder, is_decreasing
+from workbench.studies.config import StudyFolders, is_decreasing
 
 __all__ = ["ACTIVE_SETS", "ACTIVE_SET_UPDATES", "BENCH_SECTIONS", "BenchConfig", "LINEAR_SOLVERS", "SCALE_FAMILIES",
            "SCALE_PREDICTORS"]
@@ -35,7 +35,7 @@ SCALE_FAMILIES = ("graded", "uniform")
 
 
 @dataclass(frozen=True)
-class BenchConfig:
+class BenchConfig(StudyFolders):
     """Performance benchmark (:mod:`workbench.studies.bench`).
 
     Attributes:
@@ -87,6 +87,8 @@ class BenchConfig:
         out: Output folder (default ``<results>/bench``).  mesh_cache: Mesh cache folder.
     """
 
+    study: ClassVar[str] = "bench"
+
     case: str = "hertz_cylinder"
     rms_target: float = 0.005
     baseline_kappa: float = 1e3
@@ -123,16 +125,6 @@ class BenchConfig:
     sections: tuple[str, ...] = BENCH_SECTIONS
     out: Path | None = None
     mesh_cache: Path | None = None
-
-    @property
-    def out_dir(self) -> Path:
-        """The output folder: ``out``, else ``<results>/bench``."""
-        return folder(self.out, default_paths().study("bench"))
-
-    @property
-    def cache_dir(self) -> Path:
-        """The mesh cache: ``mesh_cache``, else ``<results>/mesh_cache``."""
-        return folder(self.mesh_cache, default_paths().mesh_cache)
 
     def __post_init__(self) -> None:
         if int(self.repeats) != self.repeats or self.repeats < 1:

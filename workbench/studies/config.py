@@ -17,9 +17,11 @@ from __future__ import annotations
 
 from dataclasses import fields
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
-__all__ = ["folder", "from_json", "is_decreasing", "to_json"]
+from workbench.paths import default_paths
+
+__all__ = ["StudyFolders", "folder", "from_json", "is_decreasing", "to_json"]
 
 
 def is_decreasing(values) -> bool:
@@ -30,6 +32,24 @@ def is_decreasing(values) -> bool:
 def folder(given: Path | None, default: Path) -> Path:
     """``given`` (absolute), else the workbench default: never the working directory."""
     return Path(given).expanduser().resolve() if given is not None else default
+
+
+class StudyFolders:
+    """The folders of a study's config (a mixin of the frozen config dataclasses, whose fields ``out`` and
+    ``mesh_cache`` it reads): ``out_dir`` is ``out``, else ``<results>/<study>``; ``cache_dir`` is ``mesh_cache``,
+    else ``<results>/mesh_cache``."""
+
+    study: ClassVar[str]
+
+    @property
+    def out_dir(self) -> Path:
+        """The output folder: ``out``, else ``<results>/<study>``."""
+        return folder(self.out, default_paths().study(self.study))
+
+    @property
+    def cache_dir(self) -> Path:
+        """The mesh cache: ``mesh_cache``, else ``<results>/mesh_cache``."""
+        return folder(self.mesh_cache, default_paths().mesh_cache)
 
 
 def to_json(cfg) -> dict[str, Any]:

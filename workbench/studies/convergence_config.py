@@ -6,10 +6,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import ClassVar
 
 from vocabulary import NITSCHE, PENALTY
-from workbench.paths import default_paths
-from workbench.studies.config import folder, is_decreasing
+from workbench.studies.config import StudyFolders, is_decreasing
 from workbench.studies.rates import N_FINEST
 
 __all__ = ["ConvergenceConfig"]
@@ -19,7 +19,7 @@ _BIG = {"width_factor": 640.0, "height_factor": 640.0}
 
 
 @dataclass(frozen=True)
-class ConvergenceConfig:
+class ConvergenceConfig(StudyFolders):
     """Convergence study (:mod:`workbench.studies.convergence`): error against ndofs and warm run time.
 
     Attributes:
@@ -47,6 +47,8 @@ class ConvergenceConfig:
         plot: Write the plots.
         out: Output folder (default ``<results>/convergence``).  mesh_cache: Mesh cache folder.
     """
+
+    study: ClassVar[str] = "convergence"
 
     cases: tuple[str, ...] = ("hertz_cylinder", "wedge_convective")
     levels: tuple[float, ...] = (0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625, 0.003125)
@@ -92,16 +94,6 @@ class ConvergenceConfig:
     plot: bool = True
     out: Path | None = None
     mesh_cache: Path | None = None
-
-    @property
-    def out_dir(self) -> Path:
-        """The output folder: ``out``, else ``<results>/convergence``."""
-        return folder(self.out, default_paths().study("convergence"))
-
-    @property
-    def cache_dir(self) -> Path:
-        """The mesh cache: ``mesh_cache``, else ``<results>/mesh_cache``."""
-        return folder(self.mesh_cache, default_paths().mesh_cache)
 
     def __post_init__(self) -> None:
         for key, lv in (("levels", self.levels), ("ideal_levels", self.ideal_levels)):

@@ -7,9 +7,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import ClassVar
 
-from workbench.paths import default_paths
-from workbench.studies.config import folder
+from workbench.studies.config import StudyFolders
 
 __all__ = ["AL", "STABILITY_STUDIES", "StabilityConfig", "decade"]
 
@@ -34,7 +34,7 @@ def _two_body_pairs() -> tuple[tuple[float, float, float], ...]:
 
 
 @dataclass(frozen=True)
-class StabilityConfig:
+class StabilityConfig(StudyFolders):
     """Stability sweep (:mod:`workbench.studies.stability`): stiff and extreme cases.
 
     Accuracy band: p_max, half-width and RMS/p0 errors <= ``band`` (2 %). At h = a/10 with P2 the edge is
@@ -68,6 +68,8 @@ class StabilityConfig:
         out: Output folder (default ``<results>/stability``).  mesh_cache: Mesh cache folder.
     """
 
+    study: ClassVar[str] = "stability"
+
     studies: tuple[str, ...] = STABILITY_STUDIES
     band: float = 0.02
     band_p1: float = 0.04
@@ -99,16 +101,6 @@ class StabilityConfig:
     two_body_newton: int = 4
     out: Path | None = None
     mesh_cache: Path | None = None
-
-    @property
-    def out_dir(self) -> Path:
-        """The output folder: ``out``, else ``<results>/stability``."""
-        return folder(self.out, default_paths().study("stability"))
-
-    @property
-    def cache_dir(self) -> Path:
-        """The mesh cache: ``mesh_cache``, else ``<results>/mesh_cache``."""
-        return folder(self.mesh_cache, default_paths().mesh_cache)
 
     def __post_init__(self) -> None:
         bad = [s for s in self.studies if s not in STABILITY_STUDIES]

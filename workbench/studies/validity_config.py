@@ -7,11 +7,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 from vocabulary import CONVECTIVE, FINITE, HALFPLANE, HYPERELASTIC_MODELS, OBSTACLE, SMALL
-from workbench.paths import default_paths
-from workbench.studies.config import folder
+from workbench.studies.config import StudyFolders
 
 __all__ = ["VALIDITY_MODELS", "ValidityConfig"]
 
@@ -28,7 +27,7 @@ def _bad(name: str, value: Any, allowed: str) -> ValueError:
 
 
 @dataclass(frozen=True)
-class ValidityConfig:
+class ValidityConfig(StudyFolders):
     """Validity study (:mod:`workbench.studies.validity`): where the half-plane theories hold, model by model.
 
     Every point is a rigid indenter on a clamped block (half model, W = H = ``width_factor`` a, P2 Nitsche), force
@@ -68,6 +67,8 @@ class ValidityConfig:
         elastic_wedge_width, elastic_wedge_width_far: W/b of both bodies on the levels and of the truncation run.
     """
 
+    study: ClassVar[str] = "validity"
+
     cylinder_a_over_R: tuple[float, ...] = (1e-3, 1e-2, 0.05, 0.1, 0.2, 0.4)
     wedge_theta: tuple[float, ...] = (math.pi / 40, math.pi / 20, math.pi / 10, math.pi / 5, math.pi / 4)
     nu: tuple[float, ...] = (0.0, 0.3, 0.499)
@@ -97,16 +98,6 @@ class ValidityConfig:
     elastic_wedge_h_ratios: tuple[float, ...] = (4.0, 8.0, 16.0)
     elastic_wedge_width: float = 40.0
     elastic_wedge_width_far: float = 160.0
-
-    @property
-    def out_dir(self) -> Path:
-        """The output folder: ``out``, else ``<results>/validity``."""
-        return folder(self.out, default_paths().study("validity"))
-
-    @property
-    def cache_dir(self) -> Path:
-        """The mesh cache: ``mesh_cache``, else ``<results>/mesh_cache``."""
-        return folder(self.mesh_cache, default_paths().mesh_cache)
 
     def __post_init__(self) -> None:
         def each(name, ok, allowed):
