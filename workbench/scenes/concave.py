@@ -54,8 +54,29 @@ declare("step", __name__, d=DISPLACEMENT, P=Number("physics", "step_load"), P_pr
         superposition_best_rms_over_p0=MESH_SENSITIVE)
 declare("case_errors", __name__, fit_rms=MESH_SENSITIVE, patch_size=MESH_SENSITIVE)
 
-__all__ = ["ConcaveMesh", "ConcaveScene", "concave_mesh", "concave_case_comparison", "step_measures", "lcp_at"]
+__all__ = ["ConcaveMesh", "ConcaveScene", "concave_mesh", "concave_case_comparison", "step_measures", "lcp_at",
+           "scene_design"]
 _SAMPLES_LCP = 300
+
+
+_FAMILY: dict = {}  # (design, family) -> the member's ConcaveDesign (built and LCP-checked once per process)
+
+
+def scene_design(geometry):
+    """The :class:`analytic.designs.ConcaveDesign` of a run's geometry: the paper's design ``geometry.design``
+    (the cached one, float for float), or the family member ``geometry.family`` of that kind
+    (:func:`analytic.design_family.build`, LCP-checked; ValueError, one line, if the check fails)."""
+    from analytic.designs import design
+
+    if geometry.family is None:
+        return design(geometry.design)
+    key = (geometry.design, geometry.family)
+    if key not in _FAMILY:
+        from analytic.design_family import build
+        from workbench.scenes.concave_schema import family_member
+
+        _FAMILY[key] = build(family_member(geometry.design, geometry.family))[0]
+    return _FAMILY[key]
 
 
 def lcp_at(des, d: float):
@@ -213,10 +234,8 @@ def _short(values: list) -> str:
 def concave_a_est(run: Run, *, lcps=None) -> float:
     """The smallest expected patch half-width (mm), a ~ sqrt(R delta) at the first step with an overlap (the mesh
     is sized from it); ValueError if no step brings the particle into contact."""
-    from analytic.designs import design
-
     ld = run.loading
-    des = design(run.geometry.design)
+    des = scene_design(run.geometry)
     a_est = math.inf
     for i, d in enumerate(ld.d):
         lcp = lcps[i] if lcps is not None else lcp_at(des, d)
@@ -235,11 +254,10 @@ def concave_mesh(run: Run, *, name: str, mesh_cache: Path, comm, stats_dir: Path
                  write_xdmf: bool = True) -> ConcaveMesh:
     """The (cached) mesh of a concave run, refined where the LCP predicts contact over the whole path.
     ``write_xdmf=False`` writes the gmsh ``.msh`` only (no dolfinx: ``workbench export``)."""
-    from analytic.designs import design
     from meshes.concave import build_concave_mesh
 
     ld, disc = run.loading, run.discretisation
-    des = design(run.geometry.design)
+    des = scene_design(run.geometry)
     lcps = [lcp_at(des, d) for d in ld.d]
     a_est = concave_a_est(run, lcps=lcps)
     h_c = disc.h_contact * a_est
@@ -274,10 +292,12 @@ class ConcaveScene:
 
     def preflight(self, run: Run, *, where: str) -> None:
         """Reject a displacement path that never brings the particle into contact (pure geometry, LCP)."""
-        from analytic.designs import design
         from cases import CaseError
 
-        des = design(run.geometry.design)
+        try:
+            des = scene_design(run.geometry)
+        except ValueError as exc:
+            raise CaseError(f"{where}: variant {run.label!r}: {' '.join(str(exc).split())}") from None
         # The body is |y_bottom| deep (20 mm): a particle pushed through half of it is no contact problem, and
         # the LCP of d = 1e300 overflowed and ran for more than a minute.
         d_max = 0.5 * abs(float(des.body_box[2]))
@@ -296,11 +316,10 @@ class ConcaveScene:
         """Model triangle count of the run's mesh before meshing (:func:`meshes.sizing.graded_triangles`): the
         refined arcs of the concave curve (:func:`meshes.concave.refine_intervals`), graded to a tenth of the
         body's width."""
-        from analytic.designs import design
         from meshes.concave import SIZE_SAFETY, refine_intervals
         from meshes.sizing import graded_triangles
 
-        des = design(run.geometry.design)
+        des = scene_design(run.geometry)
         if des.name not in _INTERVALS:
             _INTERVALS[des.name] = refine_intervals(des)
         ivals = _INTERVALS[des.name]

@@ -43,9 +43,9 @@ SURFACE_TOLERANCE = 1e-3  # a sample's distance from the concave curve, over the
 
 
 def _design(run):
-    from analytic.designs import design
+    from workbench.scenes.concave import scene_design
 
-    return design(run.geometry.design)
+    return scene_design(run.geometry)
 
 
 class ConcaveScorer:
