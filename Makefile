@@ -51,7 +51,7 @@ for c in "$$PYTHON" python3.13 python3.12 \
 done; exit 1
 endef
 
-.PHONY: help setup test run ci lint clean collect-alone mutations convergence stability validity bench report list example check-numbers fuzz faults $(CASES)
+.PHONY: help setup test run ci lint clean collect-alone mutations convergence stability validity concave-map bench report list example check-numbers fuzz faults $(CASES)
 .PHONY: slow-tests viz-check external external-ccx kratos-venv kratos-check save-baseline save-numbers emulate model-bands
 
 # Exit codes: the workbench exits 1 on a tolerance FAIL (results written) and 2 on bad input (nothing written).
@@ -68,6 +68,7 @@ help:
 	@echo "make convergence  error against run time study"
 	@echo "make stability    stiff/extreme-case sweep"
 	@echo "make validity     where Hertz / the wedge / Ciavarella-Hills hold, model by model -> results/validity/"
+	@echo "make concave-map  where Hertz superposition holds over the concave design family -> results/concave_map/"
 	@echo "make bench        performance benchmark"
 	@echo "make save-baseline  make run, then save its key numbers as this machine's baseline (results/baseline/)"
 	@echo "make check-numbers  make run, then every key number against that baseline at 1e-10 (refactor check)"
@@ -147,6 +148,10 @@ stability: setup
 # two processes (the study's own pool), or NP MPI ranks; prints its wall time at the end
 validity: setup
 	$(STUDY) validity
+
+# one FEM run per design, in one process (55 designs x 5 loads; TINY=1: 2 x 2, the machinery)
+concave-map: setup
+	$(WB) concave-map $(if $(TINY),--tiny)
 
 bench: setup
 	$(WB) bench

@@ -24,9 +24,9 @@ from workbench.cli import main
 
 CASE = "hertz_cylinder"
 STUDIES = {"convergence": "convergence", "stability": "stability", "bench": "bench", "validity": "validity",
-           "convective-table": "analytic"}
+           "convective-table": "analytic", "concave-map": "concave_map"}
 EXTERNAL = ("external", "external_kratos", "external_workbench", "external_compare")  # ccx, kratos, own, compare
-MESH_WRITERS = {"run", "mesh", "convergence", "stability", "bench", "validity", "export", *EXTERNAL}
+MESH_WRITERS = {"run", "mesh", "convergence", "stability", "bench", "validity", "concave-map", "export", *EXTERNAL}
 COMMANDS = ["run", "mesh", "report", "ci", *STUDIES, "score", "export", *EXTERNAL, "forcelaw"]
 ROWS = ["file", "missing_parents", "home", "source", "user_target", "mesh_link", "mesh_user"]
 WORDS = {"file": ["is not a folder"], "missing_parents": ["does not exist"], "home": ["home folder"],

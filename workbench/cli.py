@@ -15,6 +15,8 @@ Subcommands:
     bench                study: performance (``<out>/bench/``)
     convective-table     b/b0 of the convective theory against the paper's figures (``<out>/analytic/``)
     validity             study: where the half-plane theories hold, model by model (``<out>/validity/``)
+    concave-map          study: where Hertz superposition holds over the concave design family
+                         (``<out>/concave_map/``; ``--tiny``: the machinery on 2 designs x 2 loads)
     score CASE RESULT... an external code's pressures (csv|frd, one file per mesh level) against the case's
                          theory with the workbench's measures (``<out>/score_<case>/``)
     export CASE          every case as a benchmark another code runs: mesh, JSON spec, decks (--format
@@ -59,6 +61,7 @@ STUDIES = {
     "bench": "workbench.studies.bench",
     "convective-table": "workbench.studies.convective_table",
     "validity": "workbench.studies.validity",
+    "concave-map": "workbench.studies.concave_map",
 }
 # external codes (issue 26): subcommand -> module with ``main(argv) -> int``, own options too
 EXTERNAL = {
@@ -102,7 +105,8 @@ def _study_out_options(argv: list[str]) -> list[tuple[str, str]]:
 
 # study -> its folder under the output folder (the default of its --out)
 STUDY_FOLDERS = {"convergence": "convergence", "stability": "stability", "bench": "bench",
-                 "convective-table": "analytic", "validity": "validity"}
+                 "convective-table": "analytic", "validity": "validity",
+                 "concave-map": "concave_map"}
 
 
 def _check_study_folders(study: str, given: dict[str, str]) -> None:

@@ -1,0 +1,179 @@
+"""Study: where Hertz superposition holds over the concave design family, and where the interacting-patch model must
+replace it (issue 40, item 3; ``workbench concave-map``, ``make concave-map``).
+
+For every design of :class:`workbench.studies.concave_map_config.ConcaveMapConfig` (a member of
+:mod:`analytic.design_family`, LCP-checked by the concave scene) one displacement-controlled FEM run records the
+loads d = d_touch + approach. The run is the shipped concave case of the design's kind
+(``cases/close_to_conformal.toml`` or ``cases/concave_symmetric.toml``: its material, solver and contact
+resolution) with ``geometry.family`` naming the member and ``loading.d`` the map's displacements, solved by
+:func:`workbench.pipeline.run_case.run_one` (:func:`workbench.studies.scene_point.run_point`); a run that raises is
+named by :func:`workbench.studies.scene_point.run_failure`. At every recorded load the three models of
+:mod:`workbench.studies.concave_map_models` are compared with the FEM and classified. Writes
+``<out>/concave_map.json`` (config, summary, every point), ``concave_map.csv``, ``concave_map.md`` and
+``concave_map.png`` (:mod:`workbench.studies.concave_map_report`). Units: mm, N/mm, MPa.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import sys
+import time
+from pathlib import Path
+
+from workbench.studies.concave_map_config import TINY, ConcaveMapConfig, MapDesign
+from workbench.studies.concave_map_models import FemPatch, PredictedPatch, compare, hertz_at_pairs
+from workbench.studies.config import to_json
+
+__all__ = ["design_run", "evaluate_step", "main", "run_map"]
+
+_CASE_OF = {"close_to_conformal": "close_to_conformal", "symmetric": "concave_symmetric"}
+
+
+def design_run(md: MapDesign, cfg: ConcaveMapConfig):
+    """The run of one map design and its first touch: ``(run, design, DesignMeasure)``. The shipped case of the
+    design's kind at ``cfg.h_contact``, with ``geometry.family`` and ``loading.d = d_touch + approaches``
+    (ValueError, one line, if the member fails its construction or its LCP check)."""
+    import cases
+    from analytic.design_family import measure
+    from cases.schema import load_case
+    from workbench.scenes.concave import scene_design
+
+    case = load_case(Path(cases.__file__).parent / f"{_CASE_OF[md.kind]}.toml")
+    run = case.runs(h_contact=cfg.h_contact)[0]
+    geometry = dataclasses.replace(run.geometry, family=md.family)
+    des = scene_design(geometry)
+    m = measure(des, kind=md.kind)
+    ds = tuple(m.d_touch + a for a in cfg.approaches(md.kind))
+    run = dataclasses.replace(run, label=md.label, geometry=geometry,
+                              loading=dataclasses.replace(run.loading, d=ds))
+    return run, des, m
+
+
+def _interacting(des, m, *, d: float, P: float, E_star: float, nu: float, depth: float):
+    """The interacting-patch model at the measured load P (patches, p0, validity note) and its load at d."""
+    import numpy as np
+
+    from analytic.force_law import _static_validity, design_gap, validity
+    from analytic.interacting_patches import solve_patches
+
+    why = _static_validity(m)
+    if why:
+        return None, f"refused: {why}"
+    dg = design_gap(des, m)
+    try:
+        at_P = solve_patches(dg.gap, E_star=E_star, r_ref=depth, P=P, nu=nu, n_terms=32)
+        at_d = solve_patches(dg.gap, E_star=E_star, r_ref=depth, delta=d, nu=nu, n_terms=32)
+    except (RuntimeError, ValueError) as exc:
+        return None, f"refused: {' '.join(str(exc).split())[:200]}"
+    curve = des.concave
+
+    def s_of(x: float) -> float:
+        y = float(dg.concave.y(np.array([x]))[0][0])
+        return float(curve.arc_length(curve.project(np.array([[x, y]])).t)[0])
+
+    patches = [PredictedPatch(s_of(pt.centre - pt.half_width), s_of(pt.centre + pt.half_width))
+               for pt in at_P.patches]
+    p0 = max((pt.p0 for pt in at_P.patches), default=math.nan)
+    limit = validity(at_P, dg, depth=depth)
+    return (patches, p0, at_d.P), (f"outside the model's analytic limit: {limit}" if limit else "")
+
+
+def evaluate_step(step: dict, *, des, m, E_star: float, nu: float, depth: float) -> dict:
+    """One map point: the FEM state of a recorded step and each model's errors (module docstring)."""
+    from workbench.scenes.concave import lcp_at
+
+    fem = [FemPatch(e["center"], e["half_width"], e["p_max"], e["P"]) for e in step["patches"]]
+    d, P = step["d"], step["P"]
+    models = {}
+    pred, p0 = hertz_at_pairs(fem, [(q["s"], q["R"]) for q in step["lcp_pairs"]], E_star=E_star)
+    models["hertz_lcp"] = compare(fem, pred, p0, note="at the measured patch loads")
+    lcp = lcp_at(des, d)
+    curve = des.concave
+    inter = [(float(curve.arc_length([c.t_a])[0]), c.relative_radius) for c in lcp.intersections]
+    pred, p0 = hertz_at_pairs(fem, inter, E_star=E_star)
+    models["hertz_intersections"] = compare(fem, pred, p0, note="at the measured patch loads")
+    got, note = _interacting(des, m, d=d, P=P, E_star=E_star, nu=nu, depth=depth) if P > 0 else (None, "no load")
+    if got is None:
+        models["interacting"] = compare([], [], math.nan, note=note)._replace(note=note)
+    else:
+        patches, p0, P_d = got
+        models["interacting"] = compare(fem, patches, p0, P_model=P_d, P_fem=P, same_count=True, note=note)
+    ranked = sorted((e.worst, name) for name, e in models.items() if math.isfinite(e.worst))
+    best = ranked[0][1] if ranked else None
+    main = max(fem, key=lambda f: f.P) if fem else None
+    sep_over_contact = (m.numbers.separation_over_contact(P=main.P, E_star=E_star)
+                        if main is not None and main.P > 0 else math.nan)
+    return {"d_mm": d, "approach_mm": d - m.d_touch, "P_fem": P, "p_max_fem": step["p_max"],
+            "fem_patches": [f._asdict() for f in fem], "separation_over_contact": sep_over_contact,
+            "models": {k: e.as_dict() for k, e in models.items()}, "best_model": best,
+            "best_class": models[best].cls if best else "n/a", "best_error": ranked[0][0] if ranked else math.nan}
+
+
+def run_map(cfg: ConcaveMapConfig, *, progress=print) -> tuple[list[dict], list[dict]]:
+    """Solve every design (one FEM run each, in this process, one at a time) and evaluate every recorded load:
+    (points, failures). A design that fails its construction or whose run raises is a failure record."""
+    from analytic import materials
+    from workbench.studies.scene_point import run_failure, run_point
+
+    points, failures = [], []
+    for i, md in enumerate(cfg.designs):
+        t0 = time.perf_counter()
+        try:
+            run, des, m = design_run(md, cfg)
+            out = run_point(run, name=f"concave_map_{md.label}", mesh_cache=cfg.cache_dir, case="concave_map")
+        except Exception as exc:  # noqa: BLE001  (named by run_failure, recorded, the map goes on)
+            failures.append({"design": md.label, "kind": md.kind, "family": md.family, "error": run_failure(exc)})
+            progress(f"[{i + 1}/{len(cfg.designs)}] {md.label}: {failures[-1]['error']}")
+            continue
+        E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
+        numbers = dataclasses.asdict(m.numbers)
+        for step in out.comparison:
+            pt = evaluate_step(step, des=des, m=m, E_star=E_star, nu=run.material.nu,
+                               depth=m.numbers.depth)
+            points.append({"design": md.label, "kind": md.kind, "family": md.family, "paper": md.family is None,
+                           "numbers": numbers, "relative_radius": m.numbers.relative_radius,
+                           "d_touch_mm": m.d_touch, "cells": out.metrics["mesh"].get("cells"), **pt})
+        progress(f"[{i + 1}/{len(cfg.designs)}] {md.label}: {len(out.comparison)} loads, "
+                 f"{time.perf_counter() - t0:.1f} s")
+    return points, failures
+
+
+def main(argv: list[str] | None = None) -> int:
+    """CLI ``workbench concave-map [--out DIR] [--mesh-cache DIR] [--tiny]``; bad options: one line, exit 2."""
+    from workbench.atomic import write_json
+    from workbench.cli import _Parser
+
+    ap = _Parser(prog="workbench concave-map", description=__doc__.splitlines()[0])
+    ap.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/concave_map)")
+    ap.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
+    ap.add_argument("--tiny", action="store_true", help="2 close-to-conformal designs x 2 loads on coarse meshes "
+                    "(the end-to-end test: the machinery, not a map)")
+    args = ap.parse_args(argv)
+    try:
+        cfg = ConcaveMapConfig(out=args.out, mesh_cache=args.mesh_cache, **(TINY if args.tiny else {}))
+    except ValueError as exc:
+        print(f"workbench concave-map: error: {exc}", file=sys.stderr)
+        return 2
+    from workbench.owned import ensure_dir
+    from workbench.paths import OutputError
+
+    try:
+        ensure_dir(cfg.out_dir, kind="concave_map", kinds=("concave_map",))  # the workbench's own, or refused
+        ensure_dir(cfg.cache_dir, kind="mesh_cache", kinds=("mesh_cache",))
+    except OutputError as exc:
+        print(f"workbench concave-map: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    t0 = time.perf_counter()
+    points, failures = run_map(cfg)
+    summary = {"designs": len(cfg.designs), "failed_designs": len(failures), "points": len(points),
+               "tiny": bool(args.tiny), "wall_time_s": time.perf_counter() - t0}
+    out = cfg.out_dir
+    write_json(out / "concave_map.json", {"config": to_json(cfg), "summary": summary, "points": points,
+                                          "failures": failures})
+    from workbench.studies.concave_map_report import write_report
+
+    write_report(out)
+    print(f"concave-map: {len(points)} points from {len(cfg.designs) - len(failures)} of {len(cfg.designs)} designs "
+          f"({len(failures)} failed), {summary['wall_time_s']:.0f} s -> {out}")
+    return 0

@@ -1,0 +1,185 @@
+"""The concave map's report, table and picture, from ``concave_map.json`` alone (issue 40, item 3).
+
+``concave_map.md`` opens on where Hertz superposition can be trusted, as a rule in the design numbers (the
+separation of the pairs over the Hertz contact width, s/(2a), at the main patch's load), and where the
+interacting-patch model must be used instead, with the measured errors and how many points they come from.
+``concave_map.csv`` holds every point; ``concave_map.png`` is the map: relative radius R against s/(2a), the best
+model's error class by colour, the model by marker, the paper's two designs ringed.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from pathlib import Path
+
+from workbench.studies.concave_map_models import CLASS_NAMES
+
+__all__ = ["MODELS", "hertz_rule", "write_report", "csv_text", "plot_map"]
+
+MODELS = {"hertz_lcp": "Hertz superposition at the LCP pairs (eq. 5)",
+          "hertz_intersections": "Hertz superposition at the intersection-based pairs",
+          "interacting": "interacting-patch model"}
+_COLOURS = {"1%": "#1a9850", "5%": "#91cf60", "10%": "#fee08b", "beyond": "#d73027", "n/a": "#bbbbbb"}
+_MARKERS = {"hertz_lcp": "o", "hertz_intersections": "s", "interacting": "^", None: "x"}
+
+
+def _worst(pt: dict, model: str) -> float:
+    v = pt["models"][model]["worst"]
+    return math.nan if v is None else float(v)
+
+
+def hertz_rule(points: list[dict], *, model: str = "hertz_lcp", edge: float = 0.05) -> dict:
+    """The smallest s/(2a) from which on every point keeps ``model`` within ``edge``: ``{"threshold", "n_above",
+    "worst_above", "n_below", "n"}`` (threshold None: no such region among the points; inf: none is within)."""
+    pts = sorted((p for p in points if p["separation_over_contact"] is not None
+                  and math.isfinite(p["separation_over_contact"]) and math.isfinite(_worst(p, model))),
+                 key=lambda p: p["separation_over_contact"])
+    if not pts:
+        return {"threshold": None, "n_above": 0, "worst_above": None, "n_below": 0, "n": 0}
+    k = len(pts)  # the first index from which on every point is within the edge
+    while k > 0 and _worst(pts[k - 1], model) <= edge:
+        k -= 1
+    above = pts[k:]
+    return {"threshold": above[0]["separation_over_contact"] if above else math.inf, "n_above": len(above),
+            "worst_above": max((_worst(p, model) for p in above), default=None), "n_below": k, "n": len(pts)}
+
+
+def _fmt(v, spec: str = ".3g") -> str:
+    return "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else format(v, spec)
+
+
+def _headline(data: dict) -> list[str]:
+    pts, s = data["points"], data["summary"]
+    lines = ["# Concave map: where Hertz superposition can be trusted (issue 40, item 3)", ""]
+    if s.get("tiny"):
+        lines += ["**This is the TINY run (2 designs x 2 loads on coarse meshes): it checks the machinery; its "
+                  "numbers are no map and support no rule.**", ""]
+    rule = hertz_rule(pts)
+    below = [p for p in pts if rule["threshold"] is not None and p["separation_over_contact"] is not None
+             and p["separation_over_contact"] < rule["threshold"]]
+    inter_below = [_worst(p, "interacting") for p in below if math.isfinite(_worst(p, "interacting"))]
+    src = (f"measured at {len(pts)} points ({s['designs'] - s['failed_designs']} of {s['designs']} designs solved, "
+           f"{s['failed_designs']} failed)")
+    if rule["threshold"] is None:
+        lines.append(f"- No point carries a Hertz comparison: no rule ({src}).")
+    elif math.isinf(rule["threshold"]):
+        lines.append(f"- Hertz superposition at the LCP pairs is within 5 % of the FEM at no point from the largest "
+                     f"s/(2a) down: it cannot be trusted anywhere in the mapped region ({src}).")
+    else:
+        lines.append(f"- **Hertz superposition (eq. 5, LCP pairs) can be trusted (within 5 % in patch widths and p0) "
+                     f"where s/(2a) >= {rule['threshold']:.3g}**: {rule['n_above']} of {rule['n']} points, worst "
+                     f"error there {_fmt(rule['worst_above'])} ({src}).")
+    where = "Everywhere" if rule["threshold"] is not None and math.isinf(rule["threshold"]) else "Below it"
+    if below:
+        if inter_below:
+            cls = {c: sum(1 for e in inter_below if _cls(e) == c) for c in CLASS_NAMES}
+            median = sorted(inter_below)[len(inter_below) // 2]
+            lines.append(f"- {where} ({len(below)} points) use the interacting-patch model (`workbench forcelaw`): "
+                         f"its worst error there {max(inter_below):.3g}, median {median:.3g}; "
+                         f"classes {', '.join(f'{k}: {v}' for k, v in cls.items())}; "
+                         f"{len(below) - len(inter_below)} points outside its reach (refused).")
+        else:
+            lines.append(f"- {where} ({len(below)} points) the interacting-patch model gives no comparison "
+                         "(refused at every such point): no model is validated there.")
+    lines.append("- s = the distance of the two pairs on the concave surface at first touch; 2a = the Hertz width "
+                 "of eq. (5) at the main FEM patch's load. Hertz is compared at the measured load (2D has no Hertz "
+                 "P(delta)); the interacting-patch model also by P at the FEM's d (Flamant's depth convention).")
+    return lines
+
+
+def _cls(e: float) -> str:
+    from workbench.studies.concave_map_models import classify
+
+    return classify(e)
+
+
+def csv_text(points: list[dict]) -> str:
+    """Every point as one csv row (numbers in mm, N/mm, MPa; errors relative)."""
+    out = io.StringIO()
+    w = csv.writer(out, lineterminator="\n")
+    head = ["design", "kind", "paper", "radius_convex", "radius_concave", "relative_radius", "pair_separation",
+            "central_gap", "depth", "d_mm", "approach_mm", "P_fem", "p_max_fem", "n_patches_fem",
+            "separation_over_contact"]
+    for m in MODELS:
+        head += [f"{m}_{q}" for q in ("P", "width", "p0", "worst", "class")]
+    w.writerow([*head, "best_model", "best_class", "note_interacting"])
+    for p in points:
+        n = p["numbers"]
+        row = [p["design"], p["kind"], p["paper"], n["radius_convex"], n["radius_concave"], p["relative_radius"],
+               n["pair_separation"], n["central_gap"], n["depth"], p["d_mm"], p["approach_mm"], p["P_fem"],
+               p["p_max_fem"], len(p["fem_patches"]), p["separation_over_contact"]]
+        for m in MODELS:
+            e = p["models"][m]
+            row += [e["P"], e["width"], e["p0"], e["worst"], e["class"]]
+        w.writerow(["" if v is None else v for v in [*row, p["best_model"], p["best_class"],
+                                                      p["models"]["interacting"]["note"]]])
+    return out.getvalue()
+
+
+def _table(points: list[dict]) -> list[str]:
+    rows = ["| design | R (mm) | d (mm) | P FEM (N/mm) | patches | s/(2a) | Hertz LCP | Hertz intersections | "
+            "interacting | best |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for p in points:
+        cells = [f"{_fmt(p['models'][m]['worst'])} ({p['models'][m]['class']})" for m in MODELS]
+        rows.append(f"| {p['design']}{' (paper)' if p['paper'] else ''} | {p['relative_radius']:.4g} | "
+                    f"{p['d_mm']:.5g} | {p['P_fem']:.4g} | {len(p['fem_patches'])} | "
+                    f"{_fmt(p['separation_over_contact'])} | {' | '.join(cells)} | {p['best_model'] or '-'} |")
+    return rows
+
+
+def plot_map(points: list[dict], path: Path, *, tiny: bool) -> None:
+    """The map picture (module docstring)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+
+    fig, ax = plt.subplots(figsize=(7.5, 5.5))
+    for p in points:
+        y = p["separation_over_contact"]
+        if y is None or not math.isfinite(y):
+            continue
+        ax.scatter(p["relative_radius"], y, c=_COLOURS[p["best_class"]], marker=_MARKERS[p["best_model"]], s=55,
+                   edgecolors="black" if p["paper"] else "none", linewidths=1.8 if p["paper"] else 0, zorder=3)
+        if p["paper"]:
+            ax.annotate(p["design"].replace("paper_", "paper: "), (p["relative_radius"], y), fontsize=7,
+                        xytext=(6, 4), textcoords="offset points")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("relative radius R of the primary pair (mm)")
+    ax.set_ylabel("pair separation / Hertz contact width, s/(2a)")
+    ax.set_title(("TINY RUN (machinery check, not a map): " if tiny else "") + "best model's error against the FEM")
+    handles = [Line2D([], [], marker="o", ls="", color=c, label=f"within {k}" if k not in ("beyond", "n/a") else k)
+               for k, c in _COLOURS.items()]
+    handles += [Line2D([], [], marker=mk, ls="", color="grey", label=MODELS.get(m, "no model"))
+                for m, mk in _MARKERS.items() if m]
+    handles.append(Line2D([], [], marker="o", ls="", mfc="white", mec="black", mew=1.8, label="the paper's designs"))
+    ax.legend(handles=handles, fontsize=7, loc="best")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def write_report(out: Path) -> None:
+    """``concave_map.md``, ``concave_map.csv`` and ``concave_map.png`` from ``<out>/concave_map.json``."""
+    from workbench.atomic import write_text
+
+    out = Path(out)
+    data = json.loads((out / "concave_map.json").read_text(encoding="utf-8"))
+    pts = data["points"]
+    counts = ["| model | " + " | ".join(CLASS_NAMES) + " | n/a |", "|---|" + "---|" * (len(CLASS_NAMES) + 1)]
+    for m, text in MODELS.items():
+        c = [sum(1 for p in pts if p["models"][m]["class"] == k) for k in (*CLASS_NAMES, "n/a")]
+        counts.append(f"| {text} | " + " | ".join(str(v) for v in c) + " |")
+    fails = [f"- {f['design']}: {f['error']}" for f in data.get("failures", [])] or ["- none"]
+    md = [*_headline(data), "", "![map](concave_map.png)", "", "## Error classes per model (points)", "", *counts, "",
+          "## Every point (worst relative error over P, widths and p0; class)", "", *_table(pts), "",
+          "## Designs that failed", "", *fails, ""]
+    write_text(out / "concave_map.md", "\n".join(md))
+    write_text(out / "concave_map.csv", csv_text(pts))
+    plot_map(pts, out / "concave_map.png", tiny=bool(data["summary"].get("tiny")))
