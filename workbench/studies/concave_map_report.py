@@ -148,8 +148,13 @@ def plot_map(points: list[dict], path: Path, *, tiny: bool) -> None:
         if p["paper"]:
             ax.annotate(p["design"].replace("paper_", "paper: "), (p["relative_radius"], y), fontsize=7,
                         xytext=(6, 4), textcoords="offset points")
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
+
     ax.set_xscale("log")
     ax.set_yscale("log")
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_formatter(ScalarFormatter())
+        axis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("relative radius R of the primary pair (mm)")
     ax.set_ylabel("pair separation / Hertz contact width, s/(2a)")
     ax.set_title(("TINY RUN (machinery check, not a map): " if tiny else "") + "best model's error against the FEM")
