@@ -14,13 +14,14 @@ import pytest
 from workbench.cli import STUDIES
 from workbench.paths import default_paths
 from workbench.studies.bench_config import BenchConfig
+from workbench.studies.concave_map_config import ConcaveMapConfig
 from workbench.studies.convective_table_config import ConvectiveTableConfig
 from workbench.studies.convergence_config import ConvergenceConfig
 from workbench.studies.stability_config import StabilityConfig
 
 STUDY_DIR = Path(__file__).resolve().parents[1] / "workbench" / "studies"
 RUNNERS = {"workbench.studies.bench", "workbench.studies.convergence", "workbench.studies.stability",
-           "workbench.studies.convective_table", "workbench.studies.validity"}
+           "workbench.studies.convective_table", "workbench.studies.validity", "workbench.studies.concave_map"}
 # what each runner may import of the other study modules: its own config, specs, report and plot, the shared
 # config and rates
 OWN = {"workbench.studies.bench": {"workbench.studies.bench_config", "workbench.studies.bench_report",
@@ -36,7 +37,9 @@ OWN = {"workbench.studies.bench": {"workbench.studies.bench_config", "workbench.
        "workbench.studies.validity": {"workbench.studies.validity_config", "workbench.studies.validity_assemble",
                                       "workbench.studies.validity_report", "workbench.studies.validity_plot",
                                       "workbench.studies.validity_halfplanes",
-                                      "workbench.studies.validity_elastic_wedge"}}
+                                      "workbench.studies.validity_elastic_wedge"},
+       "workbench.studies.concave_map": {"workbench.studies.concave_map_config", "workbench.studies.concave_map_models",
+                                         "workbench.studies.concave_map_report"}}
 # the shared pieces every study may import: config and rates, the point runner and its executor (local processes or
 # mpi4py.futures ranks), the reference solve measured in the same run, the block scene's point helpers, and the
 # time-and-where section every report ends with
@@ -64,13 +67,17 @@ def test_a_study_imports_no_other_study(graph, study):
 
 # a report's own section formatters (formatting only, no study code) and its study's config (read back from the JSON)
 REPORT_OWN = {"bench_report": {"workbench.studies.bench_startup_report", "workbench.studies.bench_config"},
-              "stability_report": {"workbench.studies.stability_config"}}
-CONFIGS = ["bench_config", "convective_table_config", "convergence_config", "stability_config", "validity_config"]
+              "stability_report": {"workbench.studies.stability_config"},
+              "concave_map_report": {"workbench.studies.concave_map_models"},
+              "concave_map_models": {"workbench.studies.concave_map_config"}}
+CONFIGS = ["bench_config", "convective_table_config", "convergence_config", "stability_config", "validity_config",
+           "concave_map_config"]
 
 
 @pytest.mark.parametrize("module", ["bench_report", "bench_startup_report", "bench_plot", "convergence_report",
                                     "convergence_plot", "stability_report", "stability_plot", "validity_report",
-                                    "validity_plot", "config", *CONFIGS, "rates", "executor", "reference",
+                                    "validity_plot", "concave_map_report", "concave_map_models", "config",
+                                    *CONFIGS, "rates", "executor", "reference",
                                     "scene_point", "where_report"])
 def test_reports_plots_and_shared_modules_import_no_study(graph, module):
     """Reports and plots read the study JSON; the shared modules are leaves every study may import: none of them
@@ -91,11 +98,13 @@ def test_default_folders_are_the_workbench_paths():
     assert StabilityConfig().out_dir == paths.study("stability")
     assert BenchConfig().out_dir == paths.study("bench")
     assert ConvectiveTableConfig().out_dir == paths.analytic
+    assert ConcaveMapConfig().out_dir == paths.study("concave_map")
     assert StabilityConfig().cache_dir == BenchConfig().cache_dir == paths.mesh_cache
     assert ConvergenceConfig(out=Path("rel")).out_dir.is_absolute()
 
 
-@pytest.mark.parametrize("cls", [ConvergenceConfig, StabilityConfig, BenchConfig, ConvectiveTableConfig])
+@pytest.mark.parametrize("cls", [ConvergenceConfig, StabilityConfig, BenchConfig, ConvectiveTableConfig,
+                                 ConcaveMapConfig])
 def test_configs_are_frozen(cls):
     cfg = cls()
     with pytest.raises(dataclasses.FrozenInstanceError):

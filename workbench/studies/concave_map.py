@@ -15,6 +15,7 @@ named by :func:`workbench.studies.scene_point.run_failure`. At every recorded lo
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import math
 import sys
@@ -139,10 +140,17 @@ def run_map(cfg: ConcaveMapConfig, *, progress=print) -> tuple[list[dict], list[
     return points, failures
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse whose errors are one stderr line and exit code 2."""
+
+    def error(self, message: str):  # type: ignore[override]
+        print(f"{self.prog}: error: {' '.join(message.split())}", file=sys.stderr)
+        raise SystemExit(2)
+
+
 def main(argv: list[str] | None = None) -> int:
     """CLI ``workbench concave-map [--out DIR] [--mesh-cache DIR] [--tiny]``; bad options: one line, exit 2."""
     from workbench.atomic import write_json
-    from workbench.cli import _Parser
 
     ap = _Parser(prog="workbench concave-map", description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/concave_map)")
