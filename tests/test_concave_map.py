@@ -10,7 +10,14 @@ import pytest
 
 from analytic import hertz
 from workbench.studies.concave_map_config import TINY, ConcaveMapConfig, MapDesign
-from workbench.studies.concave_map_models import FemPatch, PredictedPatch, classify, compare, hertz_at_pairs
+from workbench.studies.concave_map_models import (
+    FemPatch,
+    PredictedPatch,
+    classify,
+    compare,
+    hertz_at_pairs,
+    intersection_pairs,
+)
 from workbench.studies.concave_map_report import hertz_rule
 
 E_STAR = 214000.0 / (1 - 0.3**2)
@@ -52,6 +59,16 @@ def test_hertz_at_pairs_is_hertz_for_one_pair():
     a2 = 0.5 * hertz.patch_width_eq5(P / 2, R, E_STAR)
     assert pred[0].lo == pytest.approx(1.9 - a2) and pred[0].hi == pytest.approx(2.1 + a2)
     assert hertz_at_pairs(fem, [(2.0, -5.0)], E_star=E_STAR) == ([], pytest.approx(math.nan, nan_ok=True))
+
+
+def test_intersection_pairs_by_hand():
+    """The crossings bounding one FEM patch become one pair at their mean s with their mean R; a crossing of no
+    positive radius is dropped; each crossing goes to its nearest FEM patch."""
+    fem = [FemPatch(center=1.0, half_width=0.2, p_max=1.0, P=1.0), FemPatch(center=5.0, half_width=0.1, p_max=1.0,
+                                                                            P=1.0)]
+    got = intersection_pairs(fem, [(0.7, 40.0), (1.3, 60.0), (4.9, 20.0), (5.2, -3.0)])
+    assert got == [(pytest.approx(1.0), pytest.approx(50.0)), (4.9, 20.0)]
+    assert intersection_pairs([], [(1.0, 2.0)]) == []
 
 
 def _point(sep, err):

@@ -23,7 +23,13 @@ import time
 from pathlib import Path
 
 from workbench.studies.concave_map_config import TINY, ConcaveMapConfig, MapDesign
-from workbench.studies.concave_map_models import FemPatch, PredictedPatch, compare, hertz_at_pairs
+from workbench.studies.concave_map_models import (
+    FemPatch,
+    PredictedPatch,
+    compare,
+    hertz_at_pairs,
+    intersection_pairs,
+)
 from workbench.studies.config import to_json
 
 __all__ = ["design_run", "evaluate_step", "main", "run_map"]
@@ -92,7 +98,7 @@ def evaluate_step(step: dict, *, des, m, E_star: float, nu: float, depth: float)
     lcp = lcp_at(des, d)
     curve = des.concave
     inter = [(float(curve.arc_length([c.t_a])[0]), c.relative_radius) for c in lcp.intersections]
-    pred, p0 = hertz_at_pairs(fem, inter, E_star=E_star)
+    pred, p0 = hertz_at_pairs(fem, intersection_pairs(fem, inter), E_star=E_star)
     models["hertz_intersections"] = compare(fem, pred, p0, note="at the measured patch loads")
     got, note = _interacting(des, m, d=d, P=P, E_star=E_star, nu=nu, depth=depth) if P > 0 else (None, "no load")
     if got is None:

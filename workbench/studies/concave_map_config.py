@@ -53,9 +53,9 @@ def paper_designs() -> tuple[MapDesign, ...]:
 
 
 def _grid() -> tuple[MapDesign, ...]:
-    cc = tuple(_cc(R, sep) for R in (30.0, 50.0, 80.0, 120.0, 180.0, 260.0, 400.0, 600.0, 900.0, 1400.0)
+    cc = tuple(_cc(R, sep) for R in (50.0, 80.0, 120.0, 180.0, 260.0, 400.0, 600.0, 900.0, 1400.0, 2000.0)
                for sep in (0.8, 1.6, 2.4, 3.6, 5.0))
-    sym = (_sym(-6.81, 9.0, 1.3), _sym(-8.0, 9.0, 1.3), _sym(-6.81, 10.0, 1.6))
+    sym = (_sym(-6.81, 9.0, 1.3), _sym(-8.0, 10.0, 1.3), _sym(-6.81, 10.0, 1.6))
     return (*paper_designs(), *cc, *sym)
 
 

@@ -9,8 +9,10 @@ patch a predicted width and overall a peak pressure p0 (and, where it has one, t
   MEASURED load; its Hertz patch has 2a of eq. (5) with the pair's relative radius. In 2D Hertz has no
   load-indentation law without a depth convention, so this model is compared at the measured load only (widths,
   p0), never by P(delta).
-* ``hertz_intersections``: the same at the intersection-based pairs (the crossings of the undeformed curves, with
-  their relative radius; the DEM codes' contact points; the paper's finding is that these mislead).
+* ``hertz_intersections``: the same at the intersection-based pairs (:func:`intersection_pairs`: the crossings of
+  the undeformed curves that bound one FEM patch's overlap give one pair at their mean arc length with the mean of
+  their relative radii, as a DEM code places its contact point between the intersections; the paper's finding is
+  that these radii mislead).
 * ``interacting``: the interacting-patch model (:mod:`analytic.interacting_patches`: all patches together, the
   real gap, the half-plane's log coupling): widths and p0 at the measured load, and P at the FEM's d (Flamant's
   depth convention with r_ref = the body's depth, the workbench's; the one P(delta) comparison of the map).
@@ -34,7 +36,8 @@ from analytic.superposition import ContactPair as HertzPair
 from analytic.superposition import superpose
 from workbench.studies.concave_map_config import CLASSES
 
-__all__ = ["CLASS_NAMES", "FemPatch", "ModelErrors", "PredictedPatch", "classify", "compare", "hertz_at_pairs"]
+__all__ = ["CLASS_NAMES", "FemPatch", "ModelErrors", "PredictedPatch", "classify", "compare", "hertz_at_pairs",
+           "intersection_pairs"]
 
 CLASS_NAMES = ("1%", "5%", "10%", "beyond")
 
@@ -131,3 +134,17 @@ def hertz_at_pairs(fem: list[FemPatch], pairs: list[tuple[float, float]], *, E_s
     grid = np.linspace(lo, hi, 8001)
     p = superpose(hertz, E_star=E_star, s=grid).p
     return predicted, float(np.max(p))
+
+
+def intersection_pairs(fem: list[FemPatch], crossings: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """The intersection-based pairs ``(s, R)``: the crossings ``(s, R)`` (mm) with a finite positive relative radius,
+    each given to the FEM patch nearest to it; per FEM patch one pair at their mean s with their mean R."""
+    crossings = [(s, R) for s, R in crossings if math.isfinite(R) and R > 0]
+    if not fem:
+        return []
+    out = []
+    for k in range(len(fem)):
+        mine = [c for c in crossings if min(range(len(fem)), key=lambda j, s=c[0]: abs(fem[j].center - s)) == k]
+        if mine:
+            out.append((sum(c[0] for c in mine) / len(mine), sum(c[1] for c in mine) / len(mine)))
+    return out

@@ -77,9 +77,12 @@ def _headline(data: dict) -> list[str]:
         if inter_below:
             cls = {c: sum(1 for e in inter_below if _cls(e) == c) for c in CLASS_NAMES}
             median = sorted(inter_below)[len(inter_below) // 2]
-            lines.append(f"- {where} ({len(below)} points) use the interacting-patch model (`workbench forcelaw`): "
-                         f"its worst error there {max(inter_below):.3g}, median {median:.3g}; "
-                         f"classes {', '.join(f'{k}: {v}' for k, v in cls.items())}; "
+            within = sum(1 for e in inter_below if e <= 0.05)
+            verdict = ("use the interacting-patch model (`workbench forcelaw`)" if within == len(inter_below) else
+                       "the interacting-patch model (`workbench forcelaw`) is the alternative, validated within 5 % "
+                       f"at {within} of its {len(inter_below)} points there")
+            lines.append(f"- {where} ({len(below)} points) {verdict}: its worst error there {max(inter_below):.3g}, "
+                         f"median {median:.3g}; classes {', '.join(f'{k}: {v}' for k, v in cls.items())}; "
                          f"{len(below) - len(inter_below)} points outside its reach (refused).")
         else:
             lines.append(f"- {where} ({len(below)} points) the interacting-patch model gives no comparison "
