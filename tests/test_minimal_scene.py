@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from cases import schema
+from cases import scene_schema
 from workbench.pipeline.key_numbers import key_numbers
 from workbench.pipeline.number_classes import classify, explicit_class
 from workbench.scenes import base
@@ -31,7 +31,7 @@ def flat_block(monkeypatch):
     from minimal_scene.scene import FlatBlockScene
 
     monkeypatch.setattr(base, "SCENES", dict(base.SCENES))
-    monkeypatch.setattr(schema, "_SCENE_SCHEMAS", dict(schema._SCENE_SCHEMAS))
+    monkeypatch.setattr(scene_schema, "_SCENE_SCHEMAS", dict(scene_schema._SCENE_SCHEMAS))
     return base.register_scene(FlatBlockScene())
 
 
@@ -62,4 +62,4 @@ def test_the_minimal_scene_runs_end_to_end(flat_block, tmp_path):
 
 
 def test_registration_is_undone_after_a_test():
-    assert "flat_block" not in base.SCENES and "flat_block" not in schema._SCENE_SCHEMAS
+    assert "flat_block" not in base.SCENES and "flat_block" not in scene_schema._SCENE_SCHEMAS
