@@ -132,69 +132,80 @@ class FiniteContact:
 
     # -- the current segmentation ---------------------------------------------------------------------------
     def _points(self, u: np.ndarray):
-        """Per point: slave facet k, t, dt-weight, kind (0 facet, 1 vertex), master nodes (2), sign."""
+        """Per point: slave facet k, t, dt-weight, kind (0 facet, 1 vertex), master nodes (2), sign; or None."""
         x = u.reshape(-1, 2) + self._X
         out = []
         for k, cand in enumerate(self.cand):
             if cand.size == 0:
                 continue
             xA, xB = x[self.s_ends[k, 0]], x[self.s_ends[k, 1]]
+            cand = _near(cand, 0.5 * (xA + xB), float(np.linalg.norm(xB - xA)), x[self.m_ends[cand, 0]],
+                         x[self.m_ends[cand, 1]])
             xa, xb = x[self.m_ends[cand, 0]], x[self.m_ends[cand, 1]]
             e = xb - xa
             ee = np.einsum("ij,ij->i", e, e)
-            r0 = (xA - xa) @ np.eye(2)
-            r0 = np.einsum("ij,ij->i", r0, e) / ee
+            r0 = np.einsum("ij,ij->i", xA - xa, e) / ee
             r1 = (e @ (xB - xA)) / ee
             with np.errstate(divide="ignore", invalid="ignore"):
                 tc = np.concatenate([-r0 / r1, (1.0 - r0) / r1])
             tc = tc[np.isfinite(tc) & (tc > 1e-13) & (tc < 1 - 1e-13)]
             br = np.unique(np.concatenate([[0.0, 1.0], tc]))
-            for t0, t1 in zip(br[:-1], br[1:], strict=True):
-                if t1 - t0 <= 1e-14:
-                    continue
-                feat = self._feature(xA + 0.5 * (t0 + t1) * (xB - xA), cand, xa, xb, r0 + 0.5 * (t0 + t1) * r1, x)
-                if feat is None:
-                    continue
-                t = t0 + (t1 - t0) * self.tg
-                for tq, wq in zip(t, (t1 - t0) * self.wg, strict=True):
-                    out.append((k, tq, wq, *feat))
+            t0, t1 = br[:-1], br[1:]
+            keep = t1 - t0 > 1e-14
+            t0, t1 = t0[keep], t1[keep]
+            tm = 0.5 * (t0 + t1)
+            kind, n1, n2, sgn = self._features(xA + tm[:, None] * (xB - xA), cand, xa, e,
+                                               r0[None, :] + tm[:, None] * r1[None, :], x)
+            ok = kind >= 0
+            if not ok.any():
+                continue
+            t0, t1, kind, n1, n2, sgn = t0[ok], t1[ok], kind[ok], n1[ok], n2[ok], sgn[ok]
+            ng = self.tg.size
+            out.append((np.full(t0.size * ng, k), (t0[:, None] + (t1 - t0)[:, None] * self.tg[None, :]).ravel(),
+                        ((t1 - t0)[:, None] * self.wg[None, :]).ravel(),
+                        *(np.repeat(a, ng) for a in (kind, n1, n2, sgn))))
         if not out:
             return None
         cols = list(zip(*out, strict=True))
-        return (np.array(cols[0], dtype=np.int64), np.array(cols[1]), np.array(cols[2]),
-                np.array(cols[3], dtype=np.int64), np.array(cols[4], dtype=np.int64),
-                np.array(cols[5], dtype=np.int64), np.array(cols[6]))
+        return (np.concatenate(cols[0]).astype(np.int64), np.concatenate(cols[1]), np.concatenate(cols[2]),
+                np.concatenate(cols[3]).astype(np.int64), np.concatenate(cols[4]).astype(np.int64),
+                np.concatenate(cols[5]).astype(np.int64), np.concatenate(cols[6]))
 
-    def _feature(self, xs, cand, xa, xb, r, x):
-        """The master feature of the slave point xs: (kind, node 1, node 2, sign) or None."""
+    def _features(self, xs, cand, xa, e, r, x):
+        """The master feature of each slave point xs (n, 2) among the candidate facets (module docstring): arrays
+        (kind: 0 facet, 1 vertex, -1 none; node 1; node 2; sign of the gap formula). r: (n, n_c) foot parameters."""
         sig = self.sigma[cand]
-        e = xb - xa
-        n = sig[:, None] * _rot(e) / np.linalg.norm(e, axis=1)[:, None]
-        dist = np.einsum("ij,ij->i", xs - xa, n)
+        nrm = sig[:, None] * _rot(e) / np.linalg.norm(e, axis=1)[:, None]  # (n_c, 2)
+        dist = np.einsum("nc,kc->nk", xs, nrm) - np.einsum("kc,kc->k", xa, nrm)[None, :]  # (n, n_c)
         inside = (r >= 0.0) & (r <= 1.0)
-        best = (np.inf, None)
         ends = self.m_ends[cand]
-        excluded = set()
-        for v in np.unique(ends):
-            on = np.flatnonzero((ends == v).any(axis=1))
-            if on.size != 2:
-                continue
-            beyond = [(r[i] - 1.0) if ends[i, 1] == v else -r[i] for i in on]
-            both_in = inside[on[0]] and inside[on[1]]
-            if (beyond[0] > 0 and beyond[1] > 0) or both_in:
-                q = xs - x[v]
-                s = 1.0 if q @ (n[on[0]] + n[on[1]]) >= 0 else -1.0
-                rho = float(np.linalg.norm(q))
-                if both_in:
-                    excluded.update(int(i) for i in on)
-                if rho < best[0]:
-                    best = (rho, (1, int(v), int(v), s))
-        for i in np.flatnonzero(inside):
-            if int(i) in excluded:
-                continue
-            if abs(dist[i]) < best[0]:
-                best = (abs(dist[i]), (0, int(ends[i, 0]), int(ends[i, 1]), float(sig[i])))
-        return best[1]
+        n, nc = r.shape
+        excluded = np.zeros((n, nc), dtype=bool)
+        i1, i2 = np.nonzero(np.triu(_shares(ends), 1))
+        v = np.where((ends[i1, 0] == ends[i2, 0]) | (ends[i1, 0] == ends[i2, 1]), ends[i1, 0], ends[i1, 1])
+        b1 = np.where(ends[i1, 1] == v, r[:, i1] - 1.0, -r[:, i1])  # (n, n_pairs): the foot beyond v
+        b2 = np.where(ends[i2, 1] == v, r[:, i2] - 1.0, -r[:, i2])
+        both_in = inside[:, i1] & inside[:, i2]
+        active = ((b1 > 0) & (b2 > 0)) | both_in
+        for p in range(i1.size):
+            excluded[:, i1[p]] |= both_in[:, p]
+            excluded[:, i2[p]] |= both_in[:, p]
+        q = xs[:, None, :] - x[v][None, :, :]  # (n, n_pairs, 2)
+        rho = np.linalg.norm(q, axis=2)
+        vsign = np.where(np.einsum("npc,pc->np", q, nrm[i1] + nrm[i2]) >= 0, 1.0, -1.0)
+        score = np.concatenate([np.where(inside & ~excluded, np.abs(dist), np.inf), np.where(active, rho, np.inf)],
+                               axis=1)
+        best = np.argmin(score, axis=1)
+        none = ~np.isfinite(score[np.arange(n), best])
+        is_v = best >= nc
+        fi = np.minimum(best, nc - 1)
+        pi = np.maximum(best - nc, 0)
+        kind = np.where(none, -1, np.where(is_v, 1, 0))
+        vv = v[pi] if v.size else np.zeros(n, dtype=np.int64)
+        n1 = np.where(is_v, vv, ends[fi, 0])
+        n2 = np.where(is_v, vv, ends[fi, 1])
+        sgn = np.where(is_v, vsign[np.arange(n), pi] if v.size else 1.0, sig[fi])
+        return kind, n1, n2, sgn
 
     # -- gap, gradient, Hessian ----------------------------------------------------------------------------
     def bind_reference(self, X_nodes: np.ndarray) -> None:
@@ -295,6 +306,21 @@ class FiniteContact:
         M = sp.csr_matrix((np.ones(ri.size), (ri.ravel(), ci.ravel())), shape=(self.small.nodes.size, self.n_dofs))
         M.sum_duplicates()
         return M
+
+
+def _near(cand: np.ndarray, xm: np.ndarray, ls: float, xa: np.ndarray, xb: np.ndarray) -> np.ndarray:
+    """The candidate master facets that can hold the nearest feature of some point of a slave facet (midpoint xm,
+    length ls): those within ``ls`` (plus round-off) of the nearest facet's distance to xm (a point of the facet is
+    within ls/2 of xm, so a farther facet is never the nearest to it)."""
+    e = xb - xa
+    r = np.clip(np.einsum("ij,ij->i", xm - xa, e) / np.einsum("ij,ij->i", e, e), 0.0, 1.0)
+    dist = np.linalg.norm(xm - (xa + r[:, None] * e), axis=1)
+    return cand[dist <= dist.min() + 1.01 * ls]
+
+
+def _shares(ends: np.ndarray) -> np.ndarray:
+    """(n_c, n_c) True where two facets (end nodes ``ends``) share a node."""
+    return (ends[:, None, :, None] == ends[None, :, None, :]).any(axis=(2, 3))
 
 
 def _node_at(cells: CellData, P: np.ndarray) -> np.ndarray:
