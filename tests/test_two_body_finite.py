@@ -239,3 +239,61 @@ def test_rigid_limit_finite_strain_effect(rigid_limit):
     bs = rigid_limit["two", "small"][1] / rigid_limit["rigid", "small"][1]
     print(f"half-width two/rigid: finite {bf:.4f}, small {bs:.4f}")
     assert abs(bf - 1) < 0.1 and abs(bf / bs - 1) < 0.025
+
+
+def _cylinder_p_max(tmp_path_factory, a: float, kinematics: str) -> float:
+    """p_max (MPa) of the stiff cylinder (E ratio 1e6) on the neo-Hookean (or linear) block at the Hertz load of
+    half-width a (h = a/10, W = H = 20 a), two-body solver."""
+    from analytic.hertz import hertz_load_from_half_width
+    from analytic.materials import composite_modulus
+    from fem.solver import solve_contact
+
+    kw = dict(radius=R_CYL, width=20 * a, height=20 * a, contact_half_width=a, h_contact=a / 10,
+              out_dir=tmp_path_factory.mktemp("mesh"))
+    two = read_mesh(build_cylinder_on_block(**kw).msh, MPI.COMM_SELF)
+    model = "neo_hookean" if kinematics == "finite" else "linear"
+    partner = MeshedPartner(bodies=(Body(name="lower", E=E_BLOCK, nu=NU_BLOCK, material_model=model),
+                                    Body(name="upper", E=1e6 * E_BLOCK, nu=NU_BLOCK, material_model=model)),
+                            slave="contact_lower", master="contact_upper", driven="driven", driven_body="upper",
+                            traction="master_normal" if kinematics == "finite" else "halfplane")
+    P = hertz_load_from_half_width(a, R_CYL, composite_modulus(1e6 * E_BLOCK, NU_BLOCK, E1=E_BLOCK, nu1=NU_BLOCK))
+    res = solve_contact(two, partner, options=ContactOptions.of(
+        kinematics=kinematics, target=P, degree=1, method="augmented_lagrangian", control="force", n_steps=4,
+        predictor="extrapolate", active_set="geometry"))
+    return float(np.max(res.samples.p))
+
+
+def test_small_loads_reproduce_small_strain_hertz(tmp_path_factory):
+    """The finite-strain p_max against the small-strain two-body p_max at the same load is first order in the
+    strain a/R (for Hertz a ~ sqrt(P)): measured +1.78e-3 at a/R = 0.02 and +9.50e-4 at a/R = 0.01 (ratio 1.87;
+    the half-widths agree to 2e-4 at both, inside the P1 edge resolution)."""
+    d = {a: _cylinder_p_max(tmp_path_factory, a, "finite") / _cylinder_p_max(tmp_path_factory, a, "small") - 1
+         for a in (0.2, 0.1)}
+    print(f"p_max finite/small - 1: a/R = 0.02 {d[0.2]:.3e}, a/R = 0.01 {d[0.1]:.3e}")
+    assert 0 < d[0.1] < d[0.2] < 3e-3
+    assert 1.6 < d[0.2] / d[0.1] < 2.4
+
+
+def test_small_loads_reproduce_small_strain_patch(stacked):
+    """The stacked blocks (the patch test's bodies, any nu): the load P at the top displacement d at finite strain
+    against small strain differs by a relative amount proportional to d (the strain)."""
+    rel = {}
+    for d in (2e-3, 1e-3):
+        P = {}
+        for kin in ("small", "finite"):
+            lin = kin == "small"
+            setup = MeshedPartner(
+                bodies=(Body(name="lower", E=LOWER[1], nu=LOWER[2], material_model="linear" if lin else LOWER[0]),
+                        Body(name="upper", E=UPPER[1], nu=0.33, material_model="linear" if lin else UPPER[0])),
+                slave="contact_lower", master="contact_upper", driven="driven", driven_body="upper",
+                driven_components=(1,), traction="halfplane" if lin else "master_normal")
+            opts = ContactOptions.of(target=d, degree=1, method="augmented_lagrangian", kinematics=kin,
+                                     control="displacement", n_steps=1, active_set_predictor=False,
+                                     supports={"clamped": "roller_y", "symmetry": "roller_x"}, predictor="extrapolate")
+            pb = contact_problem(stacked, setup, opts)
+            LoadStepper(pb).run()
+            P[kin] = pb.measure()[0]
+        rel[d] = P["finite"] / P["small"] - 1
+    print(f"P finite/small - 1: d = 2e-3 {rel[2e-3]:.4e}, d = 1e-3 {rel[1e-3]:.4e}")
+    assert abs(rel[1e-3]) < abs(rel[2e-3]) < 1e-2
+    assert 1.9 < rel[2e-3] / rel[1e-3] < 2.1
