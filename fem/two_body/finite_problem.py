@@ -17,6 +17,10 @@ Residual ``F_b(u) - T(u)^T p`` with the support rows ``u_i - u_i^prescribed``; J
 Jacobian, with the supports' rows and columns set to the identity. P (the load) is measured as in small strain: the
 reaction along ``direction`` of the driven group (or of the softer body's supports). Degree 1 (P1) and mortar only.
 The load stepper's tangent force correction does not apply (P is not linear in u).
+
+Measured (force control, one step with the stepper's cut-backs, P1, h_c = a/10, penalty kappa0 = 1e3): the shipped
+elastic cylinder loads (R = 40 mm, a = 0.5 mm, W = H = 40 a) are reached, steel on steel (neo-Hookean) in 48 s,
+aluminium on steel (Saint Venant-Kirchhoff) in 60 s, with 12 and 14 Newton solves (cut-backs included).
 """
 
 from __future__ import annotations
