@@ -21,7 +21,7 @@ on runs of X1) and one results contract (:class:`fem.solver.ContactResult`) for 
 from __future__ import annotations
 
 from fem.options import ContactOptions
-from vocabulary import MESHED, RIGID
+from vocabulary import FINITE, MESHED, RIGID
 
 __all__ = ["contact_problem", "partner_kind"]
 
@@ -38,6 +38,10 @@ def contact_problem(mesh_data, partner, options: ContactOptions):
     if partner_kind(partner) == MESHED:
         from fem.two_body.problem import TwoBodyProblem
 
+        if options.kinematics == FINITE:
+            from fem.two_body.finite_problem import FiniteTwoBodyProblem
+
+            return FiniteTwoBodyProblem(mesh_data, partner, options)
         return TwoBodyProblem(mesh_data, partner, options)
     if options.body is None:
         raise ValueError("a rigid obstacle needs the body's material: give E and nu (ContactOptions.body, a "

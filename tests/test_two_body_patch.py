@@ -117,9 +117,11 @@ def test_refusals(stacked):
     with pytest.raises(ValueError, match="pairing"):
         _problem(stacked, pairing="segment")
     setup = _problem(stacked).setup  # slave: the upper block's bottom, normal (0, -1)
-    with pytest.raises(ValueError, match="kinematics"):
+    with pytest.raises(ValueError, match="ContactOptions.body must be None"):
         TwoBodyProblem(stacked, setup, ContactOptions.of(E=1.0, nu=0.3, target=1.0, method="penalty",
                                                          kinematics="finite", material_model="neo_hookean"))
+    with pytest.raises(ValueError, match=r"kinematics='finite' needs bodies\['lower'\].material_model"):
+        TwoBodyProblem(stacked, setup, ContactOptions.of(target=1.0, method="penalty", kinematics="finite"))
     with pytest.raises(ValueError, match="flat slave surface with normal"):
         TwoBodyProblem(stacked, setup, ContactOptions.of(target=1.0, method="penalty",
                                                       kinematics="convective"))

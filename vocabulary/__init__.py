@@ -39,7 +39,7 @@ SMALL = "small"  # gap at the undeformed position, small strain
 CONVECTIVE = "convective"  # the partner evaluated at the deformed position X + u, small strain
 FINITE = "finite"  # finite-strain hyperelasticity (total Lagrangian), contact at the deformed position
 KINEMATICS = (SMALL, CONVECTIVE, FINITE)
-TWO_BODY_KINEMATICS = (SMALL, CONVECTIVE)
+TWO_BODY_KINEMATICS = (SMALL, CONVECTIVE, FINITE)  # finite: hyperelastic bodies, P1 mortar (fem.two_body)
 
 # -- bulk material models (fem.hyperelastic) ----------------------------------------------------------------
 LINEAR = "linear"  # small-strain Hooke (kinematics small or convective)

@@ -62,19 +62,12 @@ from fem.newton_controls import NewtonControls
 from fem.options import ContactOptions
 from fem.postprocess import LOCKING_NU, SurfaceSamples, contact_edges, oscillation_warnings, resolution_warnings
 from fem.supports import COMPONENTS, group_facets, resolve_supports
+from fem.two_body.checks import check_two_body
 from fem.two_body.geometry import exact_master_gaps, mortar_points, node_points
 from fem.two_body.laws import law_for
 from fem.two_body.surfaces import cell_data, surface_of_group, tabulate2
 from fem.two_body.weighted_gap import WeightedGap, assemble_weighted_gap
-from vocabulary import (
-    CONVECTIONS,
-    CONVECTIVE,
-    HALFPLANE,
-    MASTER_NORMAL,
-    PAIRINGS,
-    TWO_BODY_KINEMATICS,
-    TWO_BODY_TRACTIONS,
-)
+from vocabulary import CONVECTIONS, CONVECTIVE, PAIRINGS, TWO_BODY_TRACTIONS
 
 __all__ = ["Body", "MeshedPartner", "TwoBodyProblem", "CONVECTIONS", "PAIRINGS", "TWO_BODY_TRACTIONS"]
 
@@ -86,13 +79,15 @@ _counter = itertools.count()
 
 @dataclass(frozen=True, kw_only=True)
 class Body:
-    """One elastic body: its cell physical group, Young's modulus E (MPa), Poisson's ratio nu, and the label the
-    output names it by (default: the group's name)."""
+    """One elastic body: its cell physical group, Young's modulus E (MPa), Poisson's ratio nu, the label the
+    output names it by (default: the group's name), and its bulk law (``"linear"``; kinematics ``"finite"``:
+    ``"saint_venant_kirchhoff"`` or ``"neo_hookean"``, :mod:`fem.two_body.finite_problem`)."""
 
     name: str
     E: float
     nu: float
     label: str = ""
+    material_model: str = "linear"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -173,7 +168,7 @@ class TwoBodyProblem(NewtonControls):
         self.setup = setup
         self.mesh_data, self.mesh = mesh_data, mesh_data.mesh
         self.comm = self.mesh.comm
-        _check(setup, opts, mesh_data)
+        check_two_body(setup, opts, mesh_data)
         self.E_star = setup.combined_modulus()
         self.mult = 2.0 if opts.symmetric_half else 1.0
         self.d = _Value(0.0)
@@ -542,51 +537,3 @@ def _add_csr(M, C: sp.csr_matrix, *, scale: float = 1.0) -> None:
     for i in np.flatnonzero(np.diff(C.indptr)):
         lo, hi = C.indptr[i], C.indptr[i + 1]
         M.setValues(int(i), C.indices[lo:hi].astype(np.int32), scale * C.data[lo:hi], addv=PETSc.InsertMode.ADD)
-
-
-def _check(setup: MeshedPartner, opts: ContactOptions, mesh_data) -> None:
-    """The combinations the two-body problem supports (ValueError naming the option)."""
-    if mesh_data.mesh.comm.size > 1:
-        raise ValueError("two-body contact runs on one process (the pairing needs both surfaces there); "
-                         "run it without mpiexec")
-    if opts.kinematics not in TWO_BODY_KINEMATICS:
-        raise ValueError(f"kinematics={opts.kinematics!r} is not available for two elastic bodies; allowed: 'small' "
-                         "(pairing fixed in the reference configuration) or 'convective' (pairing follows the "
-                         "relative tangential displacement)")
-    if opts.degree not in (1, 2):
-        raise ValueError(f"degree must be 1 or 2 for two elastic bodies, got {opts.degree}")
-    if opts.body is not None:
-        raise ValueError("two elastic bodies take their materials from MeshedPartner.bodies (linear, displacement "
-                         "formulation): give the options no body (E, nu, material_model, formulation, traction, "
-                         "contact_group, quadrature_degree, sample_degree: ContactOptions.body must be None)")
-    if not opts.split_jacobian:
-        raise ValueError("split_jacobian=False is not available for two elastic bodies (their elastic stiffness is "
-                         "always assembled once, the contact terms per Newton iteration)")
-    if setup.traction not in TWO_BODY_TRACTIONS:
-        raise ValueError(f"traction must be one of {TWO_BODY_TRACTIONS}, got {setup.traction!r}")
-    if setup.traction == MASTER_NORMAL and opts.kinematics != CONVECTIVE:
-        raise ValueError("traction='master_normal' needs kinematics='convective' (small kinematics pairs and pushes "
-                         "along the slave normal: traction='halfplane')")
-    if setup.convection not in CONVECTIONS:
-        raise ValueError(f"convection must be one of {CONVECTIONS}, got {setup.convection!r}")
-    if setup.convection == "profile" and (setup.master_surface is None or setup.traction != HALFPLANE):
-        raise ValueError("convection='profile' needs master_surface (the master's exact profile) and "
-                         "traction='halfplane'")
-    if setup.pairing not in PAIRINGS:
-        raise ValueError(f"pairing must be one of {PAIRINGS}, got {setup.pairing!r}")
-    if len(setup.bodies) != 2 or setup.bodies[0].name == setup.bodies[1].name:
-        raise ValueError("two-body contact needs exactly two bodies with different names")
-    groups = mesh_data.physical_groups
-    for b in setup.bodies:
-        if b.name not in groups:
-            raise ValueError(f"body {b.name!r} is not a physical group of the mesh; known: {sorted(groups)}")
-        materials.validate_modulus(b.E, f"bodies[{b.name!r}].E")
-        materials.validate_poisson(b.nu, f"bodies[{b.name!r}].nu")
-    for g in (setup.slave, setup.master, setup.driven):
-        if g not in groups:
-            raise ValueError(f"facet group {g!r} is not a physical group of the mesh; known: {sorted(groups)}")
-    if setup.driven_body not in {b.name for b in setup.bodies}:
-        raise ValueError(f"driven_body must name one of the bodies, got {setup.driven_body!r}")
-    if opts.supports and "halfplane" in opts.supports.values():
-        raise ValueError("supports 'halfplane' is not available for two elastic bodies")
-    law_for(opts.method)
