@@ -66,13 +66,13 @@ def _interacting(des, m, *, d: float, P: float, E_star: float, nu: float, depth:
 
     why = _static_validity(m)
     if why:
-        return None, f"refused: {why}"
+        return None, f"outside the model: {why}"
     dg = design_gap(des, m)
     try:
         at_P = solve_patches(dg.gap, E_star=E_star, r_ref=depth, P=P, nu=nu, n_terms=32)
         at_d = solve_patches(dg.gap, E_star=E_star, r_ref=depth, delta=d, nu=nu, n_terms=32)
     except (RuntimeError, ValueError) as exc:
-        return None, f"refused: {' '.join(str(exc).split())[:200]}"
+        return None, f"model not solved: {' '.join(str(exc).split())[:200]}"
     curve = des.concave
 
     def s_of(x: float) -> float:
