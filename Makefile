@@ -107,7 +107,8 @@ test: setup
 # The slow checks `make test` leaves out (each names this target when it skips): concave_symmetric's error budget,
 # every test file collected alone (issue 28)
 slow-tests: setup
-	WORKBENCH_SLOW_TESTS=1 $(PY) -m pytest -q -rs tests/test_error_budget_cases.py tests/test_files_alone.py
+	WORKBENCH_SLOW_TESTS=1 $(PY) -m pytest -q -rs tests/test_error_budget_cases.py tests/test_files_alone.py \
+	 tests/test_studies_mpi.py tests/test_two_body_finite.py
 
 lint: setup
 	$(VENV)/bin/ruff check .
