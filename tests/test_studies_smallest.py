@@ -47,6 +47,9 @@ def test_stability_smallest(tmp_path):
     assert (out / "report.md").stat().st_size > 0 and (out / "report.html").stat().st_size > 0
 
 
+@pytest.mark.skipif(os.environ.get("WORKBENCH_SLOW_TESTS") != "1",
+                    reason="the validity study's smallest run (about 30 s cold): make slow-tests runs it "
+                           "(WORKBENCH_SLOW_TESTS=1); tests/test_validity_study.py checks its parts in make test")
 def test_validity_smallest(tmp_path):
     out = _study(tmp_path, "validity", "--tiny", "--workers", "1")
     d = json.loads((out / "validity.json").read_text())
