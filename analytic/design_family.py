@@ -44,10 +44,11 @@ from analytic.designs import (
 )
 from analytic.lcp import ContactPair, LCPResult, find_contact_pairs
 
-__all__ = ["FamilyMember", "KINDS", "SYMMETRIC_TOLERANCE", "PAPER_MEMBERS", "DesignMeasure", "build", "check",
-           "measure", "member"]
+__all__ = ["FAMILY_NUMBERS", "FamilyMember", "KINDS", "SYMMETRIC_TOLERANCE", "PAPER_MEMBERS", "DesignMeasure",
+           "build", "check", "measure", "member", "parse_family"]
 
 KINDS = ("symmetric", "close_to_conformal")
+FAMILY_NUMBERS = ("radius_convex", "radius_concave", "pair_separation", "central_gap", "depth")  # the last optional
 SYMMETRIC_TOLERANCE = (0.05, 0.005)  # mm: (pair_separation, central_gap) the symmetric constructor meets
 
 
@@ -255,3 +256,32 @@ def member(name: str) -> FamilyMember:
     if name not in PAPER_MEMBERS:
         raise ValueError(f"design = {name!r} out of range: need one of {sorted(PAPER_MEMBERS)}")
     return PAPER_MEMBERS[name]
+
+
+def parse_family(kind: str, text: str, *, field: str = "family") -> FamilyMember:
+    """The member of kind ``kind`` named by its numbers ``text`` = ``key=value,...`` (keys :data:`FAMILY_NUMBERS`,
+    each once, mm; ``depth`` optional, 20). The one parser of a member's numbers: a case file's
+    ``geometry.family`` and ``workbench forcelaw KIND:...`` both come here. Its name ``<kind>_family_<hash>``
+    (the hash of the kind and the sorted numbers) names its meshes and its force-law folder. ValueError (one line
+    naming ``field``): an unknown kind, an unknown, repeated or valueless key, a non-number, a missing number."""
+    import hashlib
+
+    if kind not in KINDS:
+        raise ValueError(f"{field} kind = {kind[:40]!r} out of range: need one of {KINDS}")
+    values: dict[str, float] = {}
+    for item in filter(None, (t.strip() for t in text.split(","))):
+        key, eq, val = item.partition("=")
+        key = key.strip()
+        if key not in FAMILY_NUMBERS or not eq or key in values:
+            raise ValueError(f"{field} item {item[:40]!r} out of range: need key=value once per key, "
+                             f"keys in {FAMILY_NUMBERS}")
+        try:
+            values[key] = float(val)
+        except ValueError:
+            raise ValueError(f"{field} {key} = {val.strip()[:40]!r} out of range: need a number (mm)") from None
+    missing = [k for k in FAMILY_NUMBERS[:4] if k not in values]
+    if missing:
+        raise ValueError(f"{field} lacks {', '.join(missing)}: need all of {FAMILY_NUMBERS[:4]} "
+                         "(depth optional, 20 mm)")
+    tag = hashlib.sha256(repr((kind, sorted(values.items()))).encode()).hexdigest()[:10]
+    return FamilyMember(name=f"{kind}_family_{tag}", kind=kind, **values)

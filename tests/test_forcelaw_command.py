@@ -93,5 +93,28 @@ def test_d_max_beyond_the_validity_limit_is_refused(tmp_path, capsys):
 
 def test_a_member_by_its_numbers():
     mem = parse_design("close_to_conformal:radius_convex=30,radius_concave=-40,pair_separation=3,central_gap=0.004")
-    assert (mem.kind, mem.name, mem.depth) == ("close_to_conformal", "close_to_conformal_custom", 20.0)
+    assert (mem.kind, mem.depth) == ("close_to_conformal", 20.0)
+    assert mem.name.startswith("close_to_conformal_family_")
     assert math.isclose(mem.relative_radius, 120.0)
+
+
+def test_one_parser_for_the_command_and_the_case_file():
+    """``workbench forcelaw KIND:...`` and a case file's ``geometry.family`` go through the one parser
+    (analytic.design_family.parse_family): the same member, the same name (key order free), and a repeated key is
+    refused in both paths (one line, naming the path's own field)."""
+    from analytic.design_family import parse_family
+    from workbench.scenes.concave_schema import family_member
+
+    text = "radius_convex=30,radius_concave=-40,pair_separation=3,central_gap=0.004"
+    shuffled = "central_gap=0.004, pair_separation=3,radius_concave=-40,radius_convex=30"
+    a = parse_design(f"close_to_conformal:{text}")
+    b = family_member("close_to_conformal", shuffled)
+    assert a == b == parse_family("close_to_conformal", text)
+    twice = text + ",radius_convex=31"
+    with pytest.raises(ValueError, match=r"^DESIGN item 'radius_convex=31' out of range: need key=value once") as e1:
+        parse_design(f"close_to_conformal:{twice}")
+    with pytest.raises(ValueError, match=r"^geometry\.family item 'radius_convex=31' out of range") as e2:
+        family_member("close_to_conformal", twice)
+    assert "\n" not in str(e1.value) + str(e2.value)
+    with pytest.raises(ValueError, match=r"^DESIGN kind = 'cup' out of range"):
+        parse_design(f"cup:{text}")

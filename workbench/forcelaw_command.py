@@ -25,33 +25,15 @@ from pathlib import Path
 
 __all__ = ["main", "parse_design", "table_json", "table_csv"]
 
-_NUMBERS = ("radius_convex", "radius_concave", "pair_separation", "central_gap", "depth")
-
-
 def parse_design(text: str):
-    """A paper member's name, or ``KIND:key=value,...`` (the numbers of :class:`FamilyMember`; ValueError)."""
-    from analytic.design_family import KINDS, FamilyMember, member
+    """A paper member's name, or ``KIND:key=value,...`` (:func:`analytic.design_family.parse_family`, the parser a
+    case file's ``geometry.family`` uses too; ValueError, one line)."""
+    from analytic.design_family import member, parse_family
 
     if ":" not in text:
         return member(text)
     kind, _, rest = text.partition(":")
-    if kind not in KINDS:
-        raise ValueError(f"DESIGN kind = {kind[:40]!r} out of range: need one of {KINDS}")
-    values: dict[str, float] = {}
-    for item in filter(None, rest.split(",")):
-        key, eq, val = item.partition("=")
-        key = key.strip()
-        if key not in _NUMBERS or not eq:
-            raise ValueError(f"DESIGN field {key[:40]!r} out of range: need key=value with a key in {_NUMBERS}")
-        try:
-            values[key] = float(val)
-        except ValueError:
-            raise ValueError(f"{key} = {val[:40]!r} out of range: need a number (mm)") from None
-    missing = [k for k in _NUMBERS[:4] if k not in values]
-    if missing:
-        raise ValueError(f"DESIGN {', '.join(missing)} = missing out of range: need all of {_NUMBERS[:4]}")
-    name = f"{kind}_custom"
-    return FamilyMember(name=name, kind=kind, **values)
+    return parse_family(kind, rest, field="DESIGN")
 
 
 def table_json(table) -> dict:

@@ -11,10 +11,9 @@ from dataclasses import dataclass
 
 from cases.schema import CaseError, Geometry, Run, SceneSchema
 
-__all__ = ["CONCAVE_SCHEMA", "ConcaveGeometry", "DESIGNS", "FAMILY_NUMBERS", "family_member"]
+__all__ = ["CONCAVE_SCHEMA", "ConcaveGeometry", "DESIGNS", "family_member"]
 
 DESIGNS = ("symmetric", "close_to_conformal")  # analytic.designs
-FAMILY_NUMBERS = ("radius_convex", "radius_concave", "pair_separation", "central_gap", "depth")  # the last optional
 
 
 @dataclass(frozen=True)
@@ -34,28 +33,10 @@ class ConcaveGeometry(Geometry):
 
 def family_member(design: str, family: str):
     """The :class:`analytic.design_family.FamilyMember` of kind ``design`` named by ``family`` (``key=value,...``,
-    :data:`FAMILY_NUMBERS`, mm); its name ``<kind>_family_<hash>`` names its meshes. ValueError: one line."""
-    import hashlib
+    mm; :func:`analytic.design_family.parse_family`, the one parser); ValueError: one line."""
+    from analytic.design_family import parse_family
 
-    from analytic.design_family import FamilyMember
-
-    values: dict[str, float] = {}
-    for item in filter(None, (t.strip() for t in family.split(","))):
-        key, eq, val = item.partition("=")
-        key = key.strip()
-        if key not in FAMILY_NUMBERS or not eq or key in values:
-            raise ValueError(f"geometry.family item {item[:40]!r} out of range: need key=value once per key, "
-                             f"keys in {FAMILY_NUMBERS}")
-        try:
-            values[key] = float(val)
-        except ValueError:
-            raise ValueError(f"geometry.family {key} = {val.strip()[:40]!r} out of range: need a number (mm)") from None
-    missing = [k for k in FAMILY_NUMBERS[:4] if k not in values]
-    if missing:
-        raise ValueError(f"geometry.family lacks {', '.join(missing)}: need all of {FAMILY_NUMBERS[:4]} "
-                         "(depth optional, 20 mm)")
-    tag = hashlib.sha256(repr((design, sorted(values.items()))).encode()).hexdigest()[:10]
-    return FamilyMember(name=f"{design}_family_{tag}", kind=design, **values)
+    return parse_family(design, family, field="geometry.family")
 
 
 def _check_geometry(run: Run, where: str) -> None:
