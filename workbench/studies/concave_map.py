@@ -48,6 +48,10 @@ def design_run(md: MapDesign, cfg: ConcaveMapConfig):
 
     case = load_case(Path(cases.__file__).parent / f"{_CASE_OF[md.kind]}.toml")
     run = case.runs(h_contact=cfg.h_contact)[0]
+    if cfg.growth_scale != 1.0:  # the band's coarse pass: the grading coarsened with h_contact (concave_budget's rule)
+        disc = run.discretisation
+        run = dataclasses.replace(run, discretisation=dataclasses.replace(
+            disc, growth=1.0 + (disc.growth - 1.0) * cfg.growth_scale))
     geometry = dataclasses.replace(run.geometry, family=md.family)
     des = scene_design(geometry)
     m = measure(des, kind=md.kind)
@@ -155,17 +159,39 @@ class _Parser(argparse.ArgumentParser):
 
 
 def main(argv: list[str] | None = None) -> int:
-    """CLI ``workbench concave-map [--out DIR] [--mesh-cache DIR] [--tiny]``; bad options: one line, exit 2."""
+    """CLI ``workbench concave-map [--out DIR] [--mesh-cache DIR] [--tiny] [--coarse] [--designs L,...] [--report]``;
+    bad options: one line, exit 2.
+
+    ``--coarse`` solves the same designs on the band's coarse grid (:mod:`workbench.studies.concave_map_band`) into
+    ``concave_map_coarse.json``; ``--designs`` keeps only the named designs (a subset); ``--report`` solves nothing
+    and writes the report again from the JSON files in the folder (with the FEM's band where the coarse file
+    exists)."""
     from workbench.atomic import write_json
+    from workbench.studies.concave_map_band import REFINEMENT
 
     ap = _Parser(prog="workbench concave-map", description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/concave_map)")
     ap.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
     ap.add_argument("--tiny", action="store_true", help="2 close-to-conformal designs x 2 loads on coarse meshes "
                     "(the end-to-end test: the machinery, not a map)")
+    ap.add_argument("--coarse", action="store_true", help="the FEM band's coarse pass: every element x 2 "
+                    "-> concave_map_coarse.json")
+    ap.add_argument("--designs", default=None, help="comma-separated design labels: solve only these")
+    ap.add_argument("--report", action="store_true", help="solve nothing; write the report from the folder's JSON")
     args = ap.parse_args(argv)
     try:
-        cfg = ConcaveMapConfig(out=args.out, mesh_cache=args.mesh_cache, **(TINY if args.tiny else {}))
+        opts = dict(TINY if args.tiny else {})
+        cfg = ConcaveMapConfig(out=args.out, mesh_cache=args.mesh_cache, **opts)
+        if args.designs is not None:
+            want = [t.strip() for t in args.designs.split(",") if t.strip()]
+            unknown = [t for t in want if t not in {d.label for d in cfg.designs}]
+            if unknown or not want:
+                raise ValueError(f"--designs {','.join(unknown)[:60] or args.designs!r} out of range: need labels "
+                                 "of the map's designs (concave_map.csv's first column)")
+            cfg = dataclasses.replace(cfg, designs=tuple(d for d in cfg.designs if d.label in want))
+        if args.coarse:
+            cfg = dataclasses.replace(cfg, h_contact=REFINEMENT * cfg.h_contact,
+                                      growth_scale=REFINEMENT * cfg.growth_scale)
     except ValueError as exc:
         print(f"workbench concave-map: error: {exc}", file=sys.stderr)
         return 2
@@ -178,16 +204,26 @@ def main(argv: list[str] | None = None) -> int:
     except OutputError as exc:
         print(f"workbench concave-map: error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
+    out = cfg.out_dir
+    from workbench.studies.concave_map_report import write_report
+
+    if args.report:
+        if not (out / "concave_map.json").is_file():
+            print(f"workbench concave-map: error: --report: {out / 'concave_map.json'} missing: need a solved map",
+                  file=sys.stderr)
+            return 2
+        write_report(out)
+        print(f"concave-map: report written again -> {out}")
+        return 0
     t0 = time.perf_counter()
     points, failures = run_map(cfg)
     summary = {"designs": len(cfg.designs), "failed_designs": len(failures), "points": len(points),
                "tiny": bool(args.tiny), "wall_time_s": time.perf_counter() - t0}
-    out = cfg.out_dir
-    write_json(out / "concave_map.json", {"config": to_json(cfg), "summary": summary, "points": points,
-                                          "failures": failures})
-    from workbench.studies.concave_map_report import write_report
-
-    write_report(out)
-    print(f"concave-map: {len(points)} points from {len(cfg.designs) - len(failures)} of {len(cfg.designs)} designs "
-          f"({len(failures)} failed), {summary['wall_time_s']:.0f} s -> {out}")
+    name = "concave_map_coarse.json" if args.coarse else "concave_map.json"
+    write_json(out / name, {"config": to_json(cfg), "summary": summary, "points": points, "failures": failures})
+    if (out / "concave_map.json").is_file():
+        write_report(out)
+    print(f"concave-map{' (coarse pass)' if args.coarse else ''}: {len(points)} points from "
+          f"{len(cfg.designs) - len(failures)} of {len(cfg.designs)} designs ({len(failures)} failed), "
+          f"{summary['wall_time_s']:.0f} s -> {out / name}")
     return 0

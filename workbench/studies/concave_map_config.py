@@ -68,6 +68,8 @@ class ConcaveMapConfig(StudyFolders):
         approaches_conformal, approaches_symmetric: The loads of a design of that kind: approaches past first touch
             (mm, increasing, > 0).
         h_contact: The contact element size over the smallest expected half-width (the shipped concave cases: 0.05).
+        growth_scale: The grading's ``growth - 1`` over the case's (1: the case's grading; the FEM band's coarse
+            pass, :mod:`workbench.studies.concave_map_band`, doubles it with h_contact: every element x 2).
         out, mesh_cache: Output folder and mesh cache (None: the workbench defaults).
     """
 
@@ -77,6 +79,7 @@ class ConcaveMapConfig(StudyFolders):
     approaches_conformal: tuple[float, ...] = (0.002, 0.005, 0.01, 0.02, 0.04)
     approaches_symmetric: tuple[float, ...] = (0.05, 0.1, 0.2, 0.3, 0.45)
     h_contact: float = 0.05
+    growth_scale: float = 1.0
     out: Path | None = None
     mesh_cache: Path | None = None
 
@@ -94,6 +97,8 @@ class ConcaveMapConfig(StudyFolders):
                 raise ValueError(f"{name} = {v!r} out of range: need increasing approaches 0 < a <= 0.5 mm")
         if not (math.isfinite(self.h_contact) and 0.01 <= self.h_contact <= 1.0):
             raise ValueError(f"h_contact = {self.h_contact!r} out of range: need 0.01 <= h_contact <= 1")
+        if not (math.isfinite(self.growth_scale) and 0.25 <= self.growth_scale <= 3.0):
+            raise ValueError(f"growth_scale = {self.growth_scale!r} out of range: need 0.25 <= growth_scale <= 3")
 
     def approaches(self, kind: str) -> tuple[float, ...]:
         return self.approaches_symmetric if kind == "symmetric" else self.approaches_conformal

@@ -15,6 +15,7 @@ import json
 import math
 from pathlib import Path
 
+from workbench.studies.concave_map_band import attach_bands
 from workbench.studies.concave_map_models import CLASS_NAMES
 
 __all__ = ["MODELS", "hertz_rule", "write_report", "csv_text", "plot_map"]
@@ -27,6 +28,14 @@ _MARKERS = {"hertz_lcp": "o", "hertz_intersections": "s", "interacting": "^", No
 
 
 def _worst(pt: dict, model: str) -> float:
+    """The model's error at a point as the map judges it: its worst relative error, or 0 where it lies within the
+    FEM's own band (:func:`workbench.studies.concave_map_band.effective_error`)."""
+    from workbench.studies.concave_map_band import effective_error
+
+    return effective_error(pt, model)
+
+
+def _raw(pt: dict, model: str) -> float:
     v = pt["models"][model]["worst"]
     return math.nan if v is None else float(v)
 
@@ -108,6 +117,8 @@ def csv_text(points: list[dict]) -> str:
             "separation_over_contact"]
     for m in MODELS:
         head += [f"{m}_{q}" for q in ("P", "width", "p0", "worst", "class")]
+        head.append(f"{m}_within_fem_band")
+    head += ["fem_band_P", "fem_band_p0", "fem_band_width"]
     w.writerow([*head, "best_model", "best_class", "note_interacting"])
     for p in points:
         n = p["numbers"]
@@ -116,20 +127,25 @@ def csv_text(points: list[dict]) -> str:
                p["p_max_fem"], len(p["fem_patches"]), p["separation_over_contact"]]
         for m in MODELS:
             e = p["models"][m]
-            row += [e["P"], e["width"], e["p0"], e["worst"], e["class"]]
+            row += [e["P"], e["width"], e["p0"], e["worst"], e["class"], e.get("within_fem_band")]
+        b = p.get("fem_band") or {}
+        row += [b.get("P"), b.get("p0"), b.get("width")]
         w.writerow(["" if v is None else v for v in [*row, p["best_model"], p["best_class"],
                                                       p["models"]["interacting"]["note"]]])
     return out.getvalue()
 
 
 def _table(points: list[dict]) -> list[str]:
-    rows = ["| design | R (mm) | d (mm) | P FEM (N/mm) | patches | s/(2a) | Hertz LCP | Hertz intersections | "
-            "interacting | best |", "|---|---|---|---|---|---|---|---|---|---|"]
+    rows = ["| design | R (mm) | d (mm) | P FEM (N/mm) | patches | s/(2a) | FEM band P / p0 / width | Hertz LCP | "
+            "Hertz intersections | interacting | best |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for p in points:
-        cells = [f"{_fmt(p['models'][m]['worst'])} ({p['models'][m]['class']})" for m in MODELS]
+        cells = [f"{_fmt(p['models'][m]['worst'])} ({p['models'][m]['class']}"
+                 f"{', in band' if p['models'][m].get('within_fem_band') else ''})" for m in MODELS]
+        b = p.get("fem_band")
+        band = " / ".join(_fmt(b[q], ".2g") for q in ("P", "p0", "width")) if b else "-"
         rows.append(f"| {p['design']}{' (paper)' if p['paper'] else ''} | {p['relative_radius']:.4g} | "
                     f"{p['d_mm']:.5g} | {p['P_fem']:.4g} | {len(p['fem_patches'])} | "
-                    f"{_fmt(p['separation_over_contact'])} | {' | '.join(cells)} | {p['best_model'] or '-'} |")
+                    f"{_fmt(p['separation_over_contact'])} | {band} | {' | '.join(cells)} | {p['best_model'] or '-'} |")
     return rows
 
 
@@ -173,6 +189,31 @@ def plot_map(points: list[dict], path: Path, *, tiny: bool) -> None:
     plt.close(fig)
 
 
+def _band_section(pts: list[dict]) -> list[str]:
+    """The FEM band's method and its values over the points (median, 90th percentile, largest, per quantity)."""
+    from workbench.studies.concave_map_band import ASSUMED_ORDER, FS_TWO_GRID, REFINEMENT
+
+    banded = [p for p in pts if p.get("fem_band")]
+    lines = ["## The FEM's own band", "",
+             f"Two-grid GCI per point: the map's grid and one {REFINEMENT:g} times coarser in every element "
+             f"(`workbench concave-map --coarse`), band = {FS_TWO_GRID:g} |q_coarse - q_fine| / |q_fine| / "
+             f"({REFINEMENT:g}^p - 1) with the ASSUMED order p = {ASSUMED_ORDER:g} (two grids observe no order). "
+             "A model within the band at a point counts as within, whatever its class.", ""]
+    if not banded:
+        return [*lines, "No coarse pass in this folder: no point has a band.", ""]
+    lines += [f"{len(banded)} of {len(pts)} points have a band.", "",
+              "| quantity | points | median | 90 % | largest |", "|---|---|---|---|---|"]
+    for q, text in (("P", "load P"), ("p0", "peak p0"), ("width", "patch width (largest over patches)")):
+        v = sorted(p["fem_band"][q] for p in banded if p["fem_band"][q] is not None)
+        if v:
+            lines.append(f"| {text} | {len(v)} | {v[len(v) // 2]:.2g} | {v[int(0.9 * (len(v) - 1))]:.2g} | "
+                         f"{v[-1]:.2g} |")
+    differ = sum(1 for p in banded if p["fem_band"]["width"] is None)
+    lines += ["", f"{differ} points where the two grids find a different number of patches (widths unbanded there; "
+              "no model rescued by width).", ""]
+    return lines
+
+
 def write_report(out: Path) -> None:
     """``concave_map.md``, ``concave_map.csv`` and ``concave_map.png`` from ``<out>/concave_map.json``."""
     from workbench.atomic import write_text
@@ -180,12 +221,18 @@ def write_report(out: Path) -> None:
     out = Path(out)
     data = json.loads((out / "concave_map.json").read_text(encoding="utf-8"))
     pts = data["points"]
-    counts = ["| model | " + " | ".join(CLASS_NAMES) + " | n/a |", "|---|" + "---|" * (len(CLASS_NAMES) + 1)]
+    coarse_file = out / "concave_map_coarse.json"
+    coarse = json.loads(coarse_file.read_text(encoding="utf-8")) if coarse_file.is_file() else None
+    data["summary"]["banded_points"] = attach_bands(pts, coarse["points"] if coarse else [])
+    counts = ["| model | " + " | ".join(CLASS_NAMES) + " | n/a | beyond 5 % but within the FEM's band |",
+              "|---|" + "---|" * (len(CLASS_NAMES) + 2)]
     for m, text in MODELS.items():
         c = [sum(1 for p in pts if p["models"][m]["class"] == k) for k in (*CLASS_NAMES, "n/a")]
-        counts.append(f"| {text} | " + " | ".join(str(v) for v in c) + " |")
+        rescued = sum(1 for p in pts if p["models"][m].get("within_fem_band") and _raw(p, m) > 0.05)
+        counts.append(f"| {text} | " + " | ".join(str(v) for v in c) + f" | {rescued} |")
     fails = [f"- {f['design']}: {f['error']}" for f in data.get("failures", [])] or ["- none"]
-    md = [*_headline(data), "", "![map](concave_map.png)", "", "## Error classes per model (points)", "", *counts, "",
+    md = [*_headline(data), "", "![map](concave_map.png)", "", "## Error classes per model (points)", "", *counts,
+          "", *_band_section(pts),
           "## Every point (worst relative error over P, widths and p0; class)", "", *_table(pts), "",
           "## Designs that failed", "", *fails, ""]
     write_text(out / "concave_map.md", "\n".join(md))
