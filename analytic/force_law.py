@@ -155,9 +155,11 @@ def _static_validity(m: DesignMeasure) -> str | None:
 
 
 def force_law(mem: FamilyMember, *, d_max: float | None = None, n_rows: int = 41, step: float = 0.002,
-              n_terms: int = 32) -> ForceLawTable:
+              n_terms: int = 32, approach_max: float | None = None) -> ForceLawTable:
     """The table of a member from first touch: to ``d_max`` (mm along the path) in ``n_rows`` rows (>= 2), or,
     with d_max None, in steps of ``step`` (mm) up to the last row inside the validity limit (at most 0.5 mm).
+    ``approach_max`` (mm past first touch, > 0): a region measured elsewhere (the concave map,
+    ``workbench.forcelaw_region``); without d_max the rows stop there too, and a d_max beyond it is refused.
 
     Raises:
         ValueError: one line: a bad value, the design outside the validity limit, or (d_max given) a state up to
@@ -175,12 +177,19 @@ def force_law(mem: FamilyMember, *, d_max: float | None = None, n_rows: int = 41
     if d_max is not None and not (math.isfinite(d_max) and m.d_touch < d_max <= m.d_touch + 0.5):
         raise ValueError(f"d_max = {d_max!r} out of range: need {m.d_touch:.6g} < d_max <= {m.d_touch + 0.5:.6g} mm "
                          "(from first touch to 0.5 mm beyond)")
+    limit = 0.5 if approach_max is None else approach_max
+    if d_max is not None and d_max > m.d_touch + limit * (1.0 + 1e-12):
+        raise ValueError(f"d_max = {d_max!r} out of range: beyond the region the concave map validated for this "
+                         f"design, d <= {m.d_touch + limit:.6g} mm ({limit:.4g} mm past first touch at "
+                         f"{m.d_touch:.6g} mm)")
     E_star = YOUNGS_MODULUS / (1.0 - POISSON_RATIO**2)
     dg = design_gap(des, m)
     if d_max is not None:
         ds = m.d_touch + (d_max - m.d_touch) * np.linspace(0.0, 1.0, n_rows)[1:]
     else:
-        ds = m.d_touch + step * np.arange(1, int(0.5 / step) + 1)
+        ds = m.d_touch + step * np.arange(1, int(limit / step + 1e-9) + 1)
+        if approach_max is not None and (not len(ds) or ds[-1] < m.d_touch + limit * (1.0 - 1e-12)):
+            ds = np.append(ds, m.d_touch + limit)  # the region's last map load is a row
     rows = [ForceLawRow(float(m.d_touch), 0.0, ())]
     prev: PatchSolution | None = None
     for d in ds:

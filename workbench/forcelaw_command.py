@@ -9,9 +9,10 @@ writes ``<out>/forcelaw_<name>/``:
     forcelaw_eval.py   the pure-numpy evaluator (:mod:`analytic.force_law_eval`) to copy into your code
 
 from the interacting-patch model (:mod:`analytic.force_law`), from first touch up to ``--d-max`` (refused if the
-model's validity limit comes first) or, by default, up to that limit in steps of ``--step``. The region is the
-model's ANALYTIC validity limit until the FEM map that validates regions exists (issue 40, item 3); the files say
-so. Bad input (a design, a number, an option): one line naming the field and its range, exit 2, nothing written.
+model's validity limit comes first) or, by default, up to that limit in steps of ``--step``, and never beyond the
+region the concave map validated (``workbench/forcelaw_region.json``, :mod:`workbench.forcelaw_region`: a design
+outside it, or a ``--d-max`` beyond it, is refused). Bad input (a design, a number, an option): one line naming
+the field and its range, exit 2, nothing written.
 """
 
 from __future__ import annotations
@@ -49,7 +50,8 @@ def table_json(table) -> dict:
         "units": {"d": "mm", "P": "N/mm", "x": "mm", "b": "mm", "p0": "MPa"},
         "d_touch_mm": table.d_touch,
         "E_star_MPa": table.E_star, "nu": table.nu, "depth_mm": table.depth,
-        "validity": {"region": "analytic", "max_surface_slope": MAX_SURFACE_SLOPE,
+        "validity": {"region": "measured by the concave map, and the analytic limit",
+                     "max_surface_slope": MAX_SURFACE_SLOPE,
                      "max_patch_over_radius": MAX_PATCH_OVER_RADIUS, "max_span_over_depth": MAX_SPAN_OVER_DEPTH,
                      "d_min_mm": table.rows[0].d, "d_max_mm": table.rows[-1].d},
         "note": table.note,
@@ -104,8 +106,15 @@ def main(argv: list[str] | None = None) -> int:
         check_dir(folder, kinds=("forcelaw",))
         interrupt.stage(f"force law of {mem.name}")
         from analytic.force_law import force_law
+        from workbench.forcelaw_region import load_region, validated_approach
 
-        table = force_law(mem, d_max=args.d_max, n_rows=args.rows, step=args.step)
+        region = load_region()
+        approach = validated_approach(mem, region)  # outside the map's validated region: refused here
+        table = force_law(mem, d_max=args.d_max, n_rows=args.rows, step=args.step, approach_max=approach)
+        table = table._replace(note=f"region = where the concave map validated the interacting-patch model within "
+                                    f"{100 * region['edge']:g} % of the FEM (widths, p0, P; a point within the "
+                                    f"FEM's band counts as within): up to {approach:.4g} mm past first touch, and "
+                                    "inside the model's analytic validity limit")
     except (ValueError, OutputError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
@@ -121,7 +130,8 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     last = table.rows[-1]
     print(f"forcelaw {mem.name}: {len(table.rows)} rows, d = {table.d_touch:.6g} .. {last.d:.6g} mm, "
-          f"P up to {last.P:.6g} N/mm (region: the model's analytic validity limit) -> {folder}")
+          f"P up to {last.P:.6g} N/mm (region: validated by the concave map, {approach:.4g} mm past first touch, "
+          f"and the model's analytic limit) -> {folder}")
     return 0
 
 

@@ -150,6 +150,26 @@ def run_map(cfg: ConcaveMapConfig, *, progress=print) -> tuple[list[dict], list[
     return points, failures
 
 
+def _write_region(out: Path) -> Path:
+    """``workbench/forcelaw_region.json`` from the solved map in ``out`` (with the FEM's band where the coarse pass
+    exists): :func:`workbench.forcelaw_region.region_from_points`."""
+    import json
+
+    from workbench.atomic import write_json
+    from workbench.forcelaw_region import REGION_FILE, region_from_points
+    from workbench.studies.concave_map_band import attach_bands
+
+    data = json.loads((out / "concave_map.json").read_text(encoding="utf-8"))
+    coarse = out / "concave_map_coarse.json"
+    banded = attach_bands(data["points"], json.loads(coarse.read_text(encoding="utf-8"))["points"]
+                          if coarse.is_file() else [])
+    s = data["summary"]
+    source = (f"workbench concave-map: {s['points']} points, {s['designs'] - s['failed_designs']} of {s['designs']} "
+              f"designs solved, {banded} points with the FEM's band")
+    write_json(REGION_FILE, region_from_points(data["points"], data.get("failures", []), source=source))
+    return REGION_FILE
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse whose errors are one stderr line and exit code 2."""
 
@@ -178,6 +198,8 @@ def main(argv: list[str] | None = None) -> int:
                     "-> concave_map_coarse.json")
     ap.add_argument("--designs", default=None, help="comma-separated design labels: solve only these")
     ap.add_argument("--report", action="store_true", help="solve nothing; write the report from the folder's JSON")
+    ap.add_argument("--write-region", action="store_true", help="solve nothing; write the region the map validated "
+                    "for the force law into workbench/forcelaw_region.json (read by workbench forcelaw)")
     args = ap.parse_args(argv)
     try:
         opts = dict(TINY if args.tiny else {})
@@ -207,13 +229,16 @@ def main(argv: list[str] | None = None) -> int:
     out = cfg.out_dir
     from workbench.studies.concave_map_report import write_report
 
-    if args.report:
+    if args.report or args.write_region:
         if not (out / "concave_map.json").is_file():
-            print(f"workbench concave-map: error: --report: {out / 'concave_map.json'} missing: need a solved map",
-                  file=sys.stderr)
+            print(f"workbench concave-map: error: --report/--write-region: {out / 'concave_map.json'} missing: need "
+                  "a solved map", file=sys.stderr)
             return 2
-        write_report(out)
-        print(f"concave-map: report written again -> {out}")
+        if args.report:
+            write_report(out)
+            print(f"concave-map: report written again -> {out}")
+        if args.write_region:
+            print(f"concave-map: region written -> {_write_region(out)}")
         return 0
     t0 = time.perf_counter()
     points, failures = run_map(cfg)
