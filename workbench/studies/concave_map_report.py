@@ -17,6 +17,7 @@ from pathlib import Path
 
 from workbench.studies.concave_map_band import attach_bands
 from workbench.studies.concave_map_models import CLASS_NAMES
+from workbench.studies.concave_map_rule import HERTZ_RULE, rule_lines, rule_numbers
 
 __all__ = ["MODELS", "hertz_rule", "write_report", "csv_text", "plot_map"]
 
@@ -24,7 +25,6 @@ MODELS = {"hertz_lcp": "Hertz superposition at the LCP pairs (eq. 5)",
           "hertz_intersections": "Hertz superposition at the intersection-based pairs",
           "interacting": "interacting-patch model"}
 _COLOURS = {"1%": "#1a9850", "5%": "#91cf60", "10%": "#fee08b", "beyond": "#d73027", "n/a": "#bbbbbb"}
-_MARKERS = {"hertz_lcp": "o", "hertz_intersections": "s", "interacting": "^", None: "x"}
 
 
 def _worst(pt: dict, model: str) -> float:
@@ -66,38 +66,13 @@ def _headline(data: dict) -> list[str]:
     if s.get("tiny"):
         lines += ["**This is the TINY run (2 designs x 2 loads on coarse meshes): it checks the machinery; its "
                   "numbers are no map and support no rule.**", ""]
-    rule = hertz_rule(pts)
-    below = [p for p in pts if rule["threshold"] is not None and p["separation_over_contact"] is not None
-             and p["separation_over_contact"] < rule["threshold"]]
-    inter_below = [_worst(p, "interacting") for p in below if math.isfinite(_worst(p, "interacting"))]
-    src = (f"measured at {len(pts)} points ({s['designs'] - s['failed_designs']} of {s['designs']} designs solved, "
-           f"{s['failed_designs']} failed)")
-    if rule["threshold"] is None:
-        lines.append(f"- No point carries a Hertz comparison: no rule ({src}).")
-    elif math.isinf(rule["threshold"]):
-        lines.append(f"- Hertz superposition at the LCP pairs is within 5 % of the FEM at no point from the largest "
-                     f"s/(2a) down: it cannot be trusted anywhere in the mapped region ({src}).")
-    else:
-        lines.append(f"- **Hertz superposition (eq. 5, LCP pairs) can be trusted (within 5 % in patch widths and p0) "
-                     f"where s/(2a) >= {rule['threshold']:.3g}**: {rule['n_above']} of {rule['n']} points, worst "
-                     f"error there {_fmt(rule['worst_above'])} ({src}).")
-    where = "Everywhere" if rule["threshold"] is not None and math.isinf(rule["threshold"]) else "Below it"
-    if below:
-        if inter_below:
-            cls = {c: sum(1 for e in inter_below if _cls(e) == c) for c in CLASS_NAMES}
-            median = sorted(inter_below)[len(inter_below) // 2]
-            within = sum(1 for e in inter_below if e <= 0.05)
-            verdict = ("use the interacting-patch model (`workbench forcelaw`)" if within == len(inter_below) else
-                       "the interacting-patch model (`workbench forcelaw`) is the alternative, validated within 5 % "
-                       f"at {within} of its {len(inter_below)} points there")
-            lines.append(f"- {where} ({len(below)} points) {verdict}: its worst error there {max(inter_below):.3g}, "
-                         f"median {median:.3g}; classes {', '.join(f'{k}: {v}' for k, v in cls.items())}; "
-                         f"{len(below) - len(inter_below)} points outside its reach (refused).")
-        else:
-            lines.append(f"- {where} ({len(below)} points) the interacting-patch model gives no comparison "
-                         "(refused at every such point): no model is validated there.")
-    lines.append("- s = the distance of the two pairs on the concave surface at first touch; 2a = the Hertz width "
-                 "of eq. (5) at the main FEM patch's load. Hertz is compared at the measured load (2D has no Hertz "
+    src = (f"measured at {len(pts)} points, {s['designs'] - s['failed_designs']} of {s['designs']} designs solved, "
+           f"{s['failed_designs']} failed; {s.get('banded_points', 0)} points with the FEM's band")
+    lines += rule_lines(pts, source=src)
+    lines.append("- R = the primary pair's relative radius, R_convex = the particle's radius there, s = the distance "
+                 "of the two pairs on the concave surface at first touch, 2a = the Hertz width of eq. (5) at the main "
+                 "FEM patch's load, b = the largest FEM patch half-width. Errors are relative to the FEM; a point "
+                 "within the FEM's own band counts as within. Hertz is compared at the measured load (2D has no Hertz "
                  "P(delta)); the interacting-patch model also by P at the FEM's d (Flamant's depth convention).")
     return lines
 
@@ -149,43 +124,89 @@ def _table(points: list[dict]) -> list[str]:
     return rows
 
 
+_PANELS = (("hertz_lcp", "Hertz superposition at the LCP pairs (eq. 5)"),
+           ("interacting", "interacting-patch model (workbench forcelaw)"))
+_KIND_MARKERS = {"close_to_conformal": "o", "symmetric": "s"}
+
+
+def _judged_class(pt: dict, model: str) -> str:
+    """The class the map gives a model at a point: its error's class, "band" where it is beyond 5 % but within the
+    FEM's band, "n/a" where it gives nothing."""
+    e = pt["models"][model]
+    if e["class"] in ("10%", "beyond") and e.get("within_fem_band"):
+        return "band"
+    return e["class"]
+
+
 def plot_map(points: list[dict], path: Path, *, tiny: bool) -> None:
-    """The map picture (module docstring)."""
+    """The map picture: one panel per model (Hertz superposition at the LCP pairs; the interacting-patch model),
+    x the conformity R/R_convex, y the pair separation over the Hertz contact width s/(2a) at each load, colour the
+    model's error class against the FEM, marker the design's kind, the paper's two designs ringed and named, the
+    rule's region (:data:`workbench.studies.concave_map_rule.HERTZ_RULE`) shaded, points it excludes by their patch
+    size crossed."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-    fig, ax = plt.subplots(figsize=(7.5, 5.5))
-    for p in points:
-        y = p["separation_over_contact"]
-        if y is None or not math.isfinite(y):
-            continue
-        ax.scatter(p["relative_radius"], y, c=_COLOURS[p["best_class"]], marker=_MARKERS[p["best_model"]], s=55,
-                   edgecolors="black" if p["paper"] else "none", linewidths=1.8 if p["paper"] else 0, zorder=3)
-        if p["paper"]:
-            ax.annotate(p["design"].replace("paper_", "paper: "), (p["relative_radius"], y), fontsize=7,
-                        xytext=(6, 4), textcoords="offset points")
-    from matplotlib.ticker import NullFormatter, ScalarFormatter
-
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    for axis in (ax.xaxis, ax.yaxis):
-        axis.set_major_formatter(ScalarFormatter())
-        axis.set_minor_formatter(NullFormatter())
-    ax.set_xlabel("relative radius R of the primary pair (mm)")
-    ax.set_ylabel("pair separation / Hertz contact width, s/(2a)")
-    ax.set_title(("TINY RUN (machinery check, not a map): " if tiny else "") + "best model's error against the FEM")
-    handles = [Line2D([], [], marker="o", ls="", color=c, label=f"within {k}" if k not in ("beyond", "n/a") else k)
-               for k, c in _COLOURS.items()]
-    handles += [Line2D([], [], marker=mk, ls="", color="grey", label=MODELS.get(m, "no model"))
-                for m, mk in _MARKERS.items() if m]
-    handles.append(Line2D([], [], marker="o", ls="", mfc="white", mec="black", mew=1.8, label="the paper's designs"))
-    ax.legend(handles=handles, fontsize=7, loc="best")
-    ax.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    colours = {**_COLOURS, "band": "#4575b4"}
+    names = {"1%": "within 1 %", "5%": "within 5 %", "10%": "within 10 %", "beyond": "beyond 10 %",
+             "band": "beyond 5 %, within the FEM's band", "n/a": "model does not apply"}
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.8), sharex=True, sharey=True)
+    shown = [p for p in points if p["separation_over_contact"] is not None
+             and math.isfinite(p["separation_over_contact"])]
+    for ax, (model, title) in zip(axes, _PANELS, strict=True):
+        for p in sorted(shown, key=lambda q: q["paper"]):
+            c, y, b = rule_numbers(p)
+            ax.scatter(c, y, c=colours[_judged_class(p, model)], marker=_KIND_MARKERS.get(p["kind"], "o"), s=42,
+                       edgecolors="none", zorder=3)
+            if b > HERTZ_RULE["patch_max"]:
+                ax.scatter(c, y, marker="x", c="black", s=30, linewidths=1.0, zorder=4)
+        for label, text in (("paper_close_to_conformal", "paper: close to conformal"),
+                            ("paper_symmetric", "paper: symmetric")):
+            mine = [p for p in shown if p["design"] == label]
+            if not mine:
+                continue
+            xs = [rule_numbers(p)[0] for p in mine]
+            ys = [p["separation_over_contact"] for p in mine]
+            ax.scatter(xs, ys, s=150, facecolors="none", edgecolors="black", linewidths=1.6, zorder=4)
+            ax.annotate(text, (xs[0], max(ys)), xytext=(12, 14), textcoords="offset points", fontsize=9,
+                        fontweight="bold", arrowprops={"arrowstyle": "-", "lw": 0.8}, zorder=5)
+        x_max, y_min = HERTZ_RULE["conformity_max"], HERTZ_RULE["separation_min"]
+        ax.fill_between([0.5, x_max], y_min, 100.0, color="#1a9850", alpha=0.12, zorder=1, lw=0)
+        ax.plot([0.5, x_max, x_max], [y_min, y_min, 100.0], color="#1a9850", lw=1.5, ls="--", zorder=2)
+        if model == "hertz_lcp":
+            ax.text(0.63, 6.0, "Hertz\ntrusted\n(the rule)", fontsize=9, color="#1a6b34", fontweight="bold",
+                    zorder=6)
+        else:
+            ax.text(2.5, 0.07, "use the interacting-patch model\n(where it applies)", fontsize=9, color="#223f7a",
+                    fontweight="bold", zorder=6)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        for axis in (ax.xaxis, ax.yaxis):
+            axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+            axis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
+            axis.set_minor_formatter(NullFormatter())
+        ax.set_title(title, fontsize=11)
+        ax.set_xlim(0.6, 300.0)
+        ax.set_ylim(0.05, 30.0)
+        ax.set_xlabel("conformity R/R_convex of the primary pair (1: flat concave flank)")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("pair separation / Hertz contact width, s/(2a)")
+    handles = [Line2D([], [], marker="o", ls="", color=colours[k], markersize=8, label=names[k])
+               for k in ("1%", "5%", "10%", "beyond", "band", "n/a")]
+    handles += [Line2D([], [], marker=mk, ls="", color="grey", label=f"{kind.replace('_', ' ')} design")
+                for kind, mk in _KIND_MARKERS.items()]
+    handles.append(Line2D([], [], marker="o", ls="", mfc="white", mec="black", mew=1.6, markersize=10,
+                          label="the paper's two designs"))
+    handles.append(Line2D([], [], marker="x", ls="", color="black", label="patch b/R_convex > 0.32"))
+    fig.legend(handles=handles, loc="lower center", ncol=5, fontsize=9, frameon=False)
+    fig.suptitle(("TINY RUN (machinery check, not a map): " if tiny else "")
+                 + "error against the FEM (widths, p0; interacting also P(d)), each design at 5 loads", fontsize=12)
+    fig.tight_layout(rect=(0, 0.1, 1, 0.95))
+    fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
