@@ -33,17 +33,20 @@ _ON_NODE = 1e-4     # a number on a grid line to this (relative; the grid's numb
 _FIXED = ("radius_convex", "central_gap", "depth")
 
 
-def _approach_max(points: list[dict], model: str, edge: float) -> float:
-    """The largest approach up to which every point (one design's loads) keeps ``model`` within ``edge``."""
+def _approach_max(points: list[dict], model: str, edge: float) -> tuple[float, str]:
+    """The largest approach up to which every point (one design's loads) keeps ``model`` within ``edge``, and why
+    the next load is not (its error, or the model's note where it gave none; "" after the last load)."""
     from workbench.studies.concave_map_band import effective_error
 
     best = 0.0
     for p in sorted(points, key=lambda q: q["approach_mm"]):
         e = effective_error(p, model)
         if not (math.isfinite(e) and e <= edge):
-            break
-        best = p["approach_mm"]
-    return best
+            note = " ".join(p["models"][model]["note"].split())
+            why = (f"is {100 * e:.3g} % off the FEM" if math.isfinite(e) else f"gave nothing ({note})")
+            return best, f"at approach {p['approach_mm']:.4g} mm it {why}"
+        best = round(p["approach_mm"], 9)  # d - d_touch: drop the subtraction's last bits (0.020000000000000018)
+    return best, ""
 
 
 def _grid(v: float) -> float:
@@ -69,15 +72,17 @@ def region_from_points(points: list[dict], failures: list[dict], *, edge: float 
         fixed = fixed or {k: getattr(mem, k) for k in _FIXED}
         if any(not math.isclose(getattr(mem, k), fixed[k], rel_tol=FIXED_RTOL) for k in _FIXED):
             continue  # the grid holds these fixed; a design off them is not a grid node
+        a, why = _approach_max(pts, model, edge)
         nodes.append({"design": label, "relative_radius": _grid(mem.relative_radius),
-                      "pair_separation": _grid(mem.pair_separation),
-                      "approach_max_mm": _approach_max(pts, model, edge)})
+                      "pair_separation": _grid(mem.pair_separation), "approach_max_mm": a, "ends": why})
     for f in failures:
         if f["kind"] == "close_to_conformal" and f["family"]:
             mem = parse_family(f["kind"], f["family"])
             nodes.append({"design": f["design"], "relative_radius": _grid(mem.relative_radius),
-                          "pair_separation": _grid(mem.pair_separation), "approach_max_mm": None})
-    named = {pts[0]["design"].removeprefix("paper_"): _approach_max(pts, model, edge)
+                          "pair_separation": _grid(mem.pair_separation), "approach_max_mm": None,
+                          "ends": "the design failed"})
+    named = {pts[0]["design"].removeprefix("paper_"): dict(zip(("approach_max_mm", "ends"),
+                                                               _approach_max(pts, model, edge), strict=True))
              for pts in by_design.values() if pts[0]["family"] is None}
     return {"model": model, "edge": edge, "kind": "close_to_conformal", "fixed": fixed, "fixed_rtol": FIXED_RTOL,
             "nodes": nodes, "named": named, "source": source,
@@ -112,9 +117,10 @@ def validated_approach(mem, region: dict | None) -> float:
                          "--write-region)")
     edge = f"{100 * region['edge']:g} %"
     if mem.name in region["named"]:
-        a = region["named"][mem.name]
+        a, why = region["named"][mem.name]["approach_max_mm"], region["named"][mem.name]["ends"]
         if not a:
-            raise ValueError(f"{head}: the map found the interacting-patch model beyond {edge} at its first load")
+            raise ValueError(f"{head}: the interacting-patch model is not within {edge} of the FEM at the map's first "
+                             f"load of this design: {why}")
         return a
     if mem.kind != region["kind"]:
         raise ValueError(f"{head}: kind {mem.kind!r} (the map validated {region['kind']!r} only; the "
@@ -139,6 +145,8 @@ def validated_approach(mem, region: dict | None) -> float:
         raise ValueError(f"{head}: a design of its grid cell failed or is missing (R {R:.4g} mm, s {s:.4g} mm)")
     a = min(values)
     if a <= 0:
-        raise ValueError(f"{head}: at R {R:.4g} mm, s {s:.4g} mm the interacting-patch model is beyond {edge} of "
-                         "the FEM at the first map load of a design of its grid cell")
+        worst = next(n for n in cell if n["approach_max_mm"] <= 0)
+        raise ValueError(f"{head}: at R {R:.4g} mm, s {s:.4g} mm the interacting-patch model is not within {edge} "
+                         f"of the FEM at the first map load of {worst['design']} (a design of its grid cell): "
+                         f"{worst['ends']}")
     return a

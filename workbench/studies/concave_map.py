@@ -183,7 +183,8 @@ def main(argv: list[str] | None = None) -> int:
     bad options: one line, exit 2.
 
     ``--coarse`` solves the same designs on the band's coarse grid (:mod:`workbench.studies.concave_map_band`) into
-    ``concave_map_coarse.json``; ``--designs`` keeps only the named designs (a subset); ``--report`` solves nothing
+    ``concave_map_coarse.json``; ``--middle`` on a grid sqrt(2) coarser (the band's order check) into
+    ``concave_map_middle.json``; ``--designs`` keeps only the named designs (a subset); ``--report`` solves nothing
     and writes the report again from the JSON files in the folder (with the FEM's band where the coarse file
     exists)."""
     from workbench.atomic import write_json
@@ -196,6 +197,8 @@ def main(argv: list[str] | None = None) -> int:
                     "(the end-to-end test: the machinery, not a map)")
     ap.add_argument("--coarse", action="store_true", help="the FEM band's coarse pass: every element x 2 "
                     "-> concave_map_coarse.json")
+    ap.add_argument("--middle", action="store_true", help="the band's order check: every element x sqrt(2) "
+                    "-> concave_map_middle.json (with --designs: on a subset)")
     ap.add_argument("--designs", default=None, help="comma-separated design labels: solve only these")
     ap.add_argument("--report", action="store_true", help="solve nothing; write the report from the folder's JSON")
     ap.add_argument("--write-region", action="store_true", help="solve nothing; write the region the map validated "
@@ -211,6 +214,11 @@ def main(argv: list[str] | None = None) -> int:
                 raise ValueError(f"--designs {','.join(unknown)[:60] or args.designs!r} out of range: need labels "
                                  "of the map's designs (concave_map.csv's first column)")
             cfg = dataclasses.replace(cfg, designs=tuple(d for d in cfg.designs if d.label in want))
+        if args.coarse and args.middle:
+            raise ValueError("--coarse and --middle out of range: one pass at a time")
+        if args.middle:
+            cfg = dataclasses.replace(cfg, h_contact=math.sqrt(REFINEMENT) * cfg.h_contact,
+                                      growth_scale=math.sqrt(REFINEMENT) * cfg.growth_scale)
         if args.coarse:
             cfg = dataclasses.replace(cfg, h_contact=REFINEMENT * cfg.h_contact,
                                       growth_scale=REFINEMENT * cfg.growth_scale)
@@ -244,11 +252,13 @@ def main(argv: list[str] | None = None) -> int:
     points, failures = run_map(cfg)
     summary = {"designs": len(cfg.designs), "failed_designs": len(failures), "points": len(points),
                "tiny": bool(args.tiny), "wall_time_s": time.perf_counter() - t0}
-    name = "concave_map_coarse.json" if args.coarse else "concave_map.json"
+    name = ("concave_map_coarse.json" if args.coarse else "concave_map_middle.json" if args.middle
+            else "concave_map.json")
     write_json(out / name, {"config": to_json(cfg), "summary": summary, "points": points, "failures": failures})
     if (out / "concave_map.json").is_file():
         write_report(out)
-    print(f"concave-map{' (coarse pass)' if args.coarse else ''}: {len(points)} points from "
+    print(f"concave-map{' (coarse pass)' if args.coarse else ' (middle pass)' if args.middle else ''}: "
+          f"{len(points)} points from "
           f"{len(cfg.designs) - len(failures)} of {len(cfg.designs)} designs ({len(failures)} failed), "
           f"{summary['wall_time_s']:.0f} s -> {out / name}")
     return 0

@@ -23,8 +23,8 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["ASSUMED_ORDER", "FS_TWO_GRID", "REFINEMENT", "attach_bands", "effective_error", "point_band",
-           "within_band"]
+__all__ = ["ASSUMED_ORDER", "FS_TWO_GRID", "REFINEMENT", "attach_bands", "effective_error", "order_check",
+           "point_band", "within_band"]
 
 REFINEMENT = 2.0      # the coarse grid's element size over the map's, everywhere
 FS_TWO_GRID = 3.0     # Roache's safety factor for a two-grid GCI (no observed order)
@@ -80,3 +80,38 @@ def attach_bands(points: list[dict], coarse_points: list[dict]) -> int:
         for e in p["models"].values():
             e["within_fem_band"] = within_band(e, p["fem_band"])
     return n
+
+
+def order_check(points: list[dict], middle_points: list[dict], coarse_points: list[dict]) -> dict:
+    """The assumed order checked on three grids (the map's, sqrt(2) and 2 times coarser; :func:`workbench.
+    error_budget.grid_study`, Roache's three-grid GCI with the observed order) wherever the middle pass solved a
+    point and the three grids find the same patches: per quantity ``{"n", "orders" (observed, where asymptotic or
+    not), "status" (counts), "covered" (points whose two-grid band is at least the three-grid GCI, or where the
+    three-grid study claims no order and the two-grid band is at least its fallback band)}``."""
+    from workbench.error_budget import grid_study
+
+    mid = {(c["design"], round(c["approach_mm"], 9)): c for c in middle_points}
+    coarse = {(c["design"], round(c["approach_mm"], 9)): c for c in coarse_points}
+    out = {q: {"n": 0, "orders": [], "status": {}, "covered": 0} for q in ("P", "p0", "width")}
+    h = (1.0, math.sqrt(REFINEMENT), REFINEMENT)
+    for p in points:
+        key = (p["design"], round(p["approach_mm"], 9))
+        if key not in mid or key not in coarse:
+            continue
+        grids = (p, mid[key], coarse[key])
+        values = {"P": [[g["P_fem"]] for g in grids], "p0": [[g["p_max_fem"]] for g in grids]}
+        patches = [sorted(g["fem_patches"], key=lambda e: e["center"]) for g in grids]
+        if len({len(x) for x in patches}) == 1 and patches[0]:
+            values["width"] = [[2.0 * e["half_width"] for e in x] for x in patches]
+        for q, per_grid in values.items():
+            for k in range(len(per_grid[0])):
+                f = tuple(g[k] for g in per_grid)
+                study = grid_study(h, f)
+                two_grid = _gci(f[0], f[2])
+                rec = out[q]
+                rec["n"] += 1
+                rec["status"][study.status] = rec["status"].get(study.status, 0) + 1
+                if math.isfinite(study.observed_order):
+                    rec["orders"].append(study.observed_order)
+                rec["covered"] += two_grid is not None and two_grid >= study.gci
+    return out

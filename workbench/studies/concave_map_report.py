@@ -210,9 +210,10 @@ def plot_map(points: list[dict], path: Path, *, tiny: bool) -> None:
     plt.close(fig)
 
 
-def _band_section(pts: list[dict]) -> list[str]:
-    """The FEM band's method and its values over the points (median, 90th percentile, largest, per quantity)."""
-    from workbench.studies.concave_map_band import ASSUMED_ORDER, FS_TWO_GRID, REFINEMENT
+def _band_section(pts: list[dict], middle: list[dict], coarse: list[dict]) -> list[str]:
+    """The FEM band's method and its values over the points (median, 90th percentile, largest, per quantity), and
+    the assumed order checked on three grids where the middle pass exists."""
+    from workbench.studies.concave_map_band import ASSUMED_ORDER, FS_TWO_GRID, REFINEMENT, order_check
 
     banded = [p for p in pts if p.get("fem_band")]
     lines = ["## The FEM's own band", "",
@@ -232,6 +233,19 @@ def _band_section(pts: list[dict]) -> list[str]:
     differ = sum(1 for p in banded if p["fem_band"]["width"] is None)
     lines += ["", f"{differ} points where the two grids find a different number of patches (widths unbanded there; "
               "no model rescued by width).", ""]
+    if middle:
+        chk = order_check(pts, middle, coarse)
+        designs = len({p["design"] for p in middle})
+        lines += [f"The assumed order checked on a third grid (every element x sqrt(2), `--middle`) at {designs} "
+                  "designs: Roache's three-grid study (`workbench.error_budget.grid_study`) per quantity.", "",
+                  "| quantity | studied | observed order (median, range) | status | two-grid band >= three-grid GCI |",
+                  "|---|---|---|---|---|"]
+        for q, r in chk.items():
+            o = sorted(r["orders"])
+            order = f"{o[len(o) // 2]:.2g} ({o[0]:.2g} to {o[-1]:.2g})" if o else "-"
+            status = ", ".join(f"{k} {v}" for k, v in sorted(r["status"].items()))
+            lines.append(f"| {q} | {r['n']} | {order} | {status} | {r['covered']} of {r['n']} |")
+        lines.append("")
     return lines
 
 
@@ -245,6 +259,8 @@ def write_report(out: Path) -> None:
     coarse_file = out / "concave_map_coarse.json"
     coarse = json.loads(coarse_file.read_text(encoding="utf-8")) if coarse_file.is_file() else None
     data["summary"]["banded_points"] = attach_bands(pts, coarse["points"] if coarse else [])
+    middle_file = out / "concave_map_middle.json"
+    middle = json.loads(middle_file.read_text(encoding="utf-8"))["points"] if middle_file.is_file() else []
     counts = ["| model | " + " | ".join(CLASS_NAMES) + " | n/a | beyond 5 % but within the FEM's band |",
               "|---|" + "---|" * (len(CLASS_NAMES) + 2)]
     for m, text in MODELS.items():
@@ -253,7 +269,7 @@ def write_report(out: Path) -> None:
         counts.append(f"| {text} | " + " | ".join(str(v) for v in c) + f" | {rescued} |")
     fails = [f"- {f['design']}: {f['error']}" for f in data.get("failures", [])] or ["- none"]
     md = [*_headline(data), "", "![map](concave_map.png)", "", "## Error classes per model (points)", "", *counts,
-          "", *_band_section(pts),
+          "", *_band_section(pts, middle, coarse["points"] if coarse else []),
           "## Every point (worst relative error over P, widths and p0; class)", "", *_table(pts), "",
           "## Designs that failed", "", *fails, ""]
     write_text(out / "concave_map.md", "\n".join(md))
