@@ -12,8 +12,9 @@ Validity (the model's analytic limit, :func:`validity`; refused outside it): at 
     |slope of the concave surface| <= MAX_SURFACE_SLOPE over the patches (the half-plane is horizontal),
     b_k <= MAX_PATCH_OVER_RADIUS * min(|R_concave(c_k)|, R_particle(c_k)) at every patch,
     span of the patches <= MAX_SPAN_OVER_DEPTH * H.
-The FEM map that validates regions (issue 40, item 3) does not exist yet: until it does, the region a table
-states is this analytic validity limit, not a measured one.
+The region the concave FEM map measured (issue 40, item 3) comes from above: ``approach_max`` (mm past first
+touch), which ``workbench forcelaw`` reads from the map's region file; without it a table states this analytic
+validity limit only.
 """
 
 from __future__ import annotations
@@ -37,8 +38,8 @@ from analytic.interacting_patches import (
 __all__ = ["ForceLawRow", "ForceLawTable", "VALIDITY_NOTE", "design_gap", "force_law", "validity"]
 
 VALIDITY_NOTE = ("region = the interacting-patch model's analytic validity limit (surface slope, patch size against "
-                 "the radii, span against the depth); the FEM map that validates regions (issue 40, item 3) does not "
-                 "exist yet")
+                 "the radii, span against the depth) only; workbench forcelaw narrows it to the region the concave "
+                 "FEM map validated")
 
 
 class _Graph:

@@ -1,8 +1,9 @@
 """``workbench forcelaw`` and its evaluator (workbench.forcelaw_command, analytic.force_law, force_law_eval).
 
 Requirements (issue 40, item 4):
-* the command writes forcelaw.csv, forcelaw.json and the copyable evaluator for a design inside the model's
-  validity limit; the json says the region is the model's analytic validity limit until the FEM map exists;
+* the command writes forcelaw.csv, forcelaw.json and the copyable evaluator for a design inside the region the
+  concave map validated (workbench/forcelaw_region.json) and the model's analytic validity limit; the json names
+  the validated region; a design outside that region, or a d_max beyond it, is refused;
 * the evaluator reproduces the table's rows exactly, is 0 before first touch, refuses beyond the last row, and is
   the monotone Hermite interpolant (checked against scipy's PchipInterpolator);
 * a design outside the validity limit (the symmetric one), a d_max beyond it, a bad design or option: one line

@@ -153,7 +153,7 @@ def plot_map(points: list[dict], path: Path, *, tiny: bool) -> None:
 
     colours = {**_COLOURS, "band": "#4575b4"}
     names = {"1%": "within 1 %", "5%": "within 5 %", "10%": "within 10 %", "beyond": "beyond 10 %",
-             "band": "beyond 5 %, within the FEM's band", "n/a": "model does not apply"}
+             "band": "beyond 5 %, within the FEM's band", "n/a": "model refused or unsolved"}
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.8), sharex=True, sharey=True)
     shown = [p for p in points if p["separation_over_contact"] is not None
              and math.isfinite(p["separation_over_contact"])]
