@@ -80,3 +80,27 @@ def test_a_point_within_the_fem_band_counts_as_within():
     pts[1]["models"]["interacting"]["within_fem_band"] = True
     assert {n["design"]: n["approach_max_mm"] for n in region_from_points(pts, [])["nodes"]}["a"] == 0.04
     assert math.isclose(_member(150, 1.0).relative_radius, 150.0, rel_tol=1e-5)
+
+
+def test_the_command_writes_the_region_from_a_map_folder(tmp_path, monkeypatch, capsys):
+    """``workbench concave-map --out DIR --write-region`` reads DIR's points (no FEM) and writes the region file;
+    without a solved map it refuses in one line and creates nothing."""
+    import json
+
+    import workbench.forcelaw_region as fr
+    from workbench.owned import ensure_dir
+    from workbench.studies.concave_map import main
+
+    target = tmp_path / "region.json"
+    monkeypatch.setattr(fr, "REGION_FILE", target)
+    assert main(["--out", str(tmp_path / "none"), "--write-region"]) == 2
+    assert "missing" in capsys.readouterr().err and not (tmp_path / "none").exists()
+    out = tmp_path / "map"
+    ensure_dir(out, kind="concave_map", kinds=("concave_map",))
+    pts = _points("a", 100, 1.0, [0.01] * 5) + _points("c", 200, 1.0, [0.01, 0.2, 0.01, 0.01, 0.01])
+    (out / "concave_map.json").write_text(json.dumps(
+        {"summary": {"points": len(pts), "designs": 2, "failed_designs": 0}, "points": pts, "failures": []}))
+    assert main(["--out", str(out), "--write-region"]) == 0
+    region = json.loads(target.read_text())
+    assert {n["design"]: n["approach_max_mm"] for n in region["nodes"]} == {"a": 0.04, "c": 0.002}
+    assert "0 points with the FEM's band" in region["source"]

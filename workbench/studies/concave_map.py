@@ -225,6 +225,10 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as exc:
         print(f"workbench concave-map: error: {exc}", file=sys.stderr)
         return 2
+    if (args.report or args.write_region) and not (cfg.out_dir / "concave_map.json").is_file():
+        print(f"workbench concave-map: error: --report/--write-region: {cfg.out_dir / 'concave_map.json'} missing: "
+              "need a solved map", file=sys.stderr)
+        return 2
     from workbench.owned import ensure_dir
     from workbench.paths import OutputError
 
@@ -238,10 +242,6 @@ def main(argv: list[str] | None = None) -> int:
     from workbench.studies.concave_map_report import write_report
 
     if args.report or args.write_region:
-        if not (out / "concave_map.json").is_file():
-            print(f"workbench concave-map: error: --report/--write-region: {out / 'concave_map.json'} missing: need "
-                  "a solved map", file=sys.stderr)
-            return 2
         if args.report:
             write_report(out)
             print(f"concave-map: report written again -> {out}")
