@@ -23,9 +23,9 @@ import time
 from pathlib import Path
 
 from workbench.studies.concave_map_config import TINY, ConcaveMapConfig, MapDesign
+from workbench.studies.concave_map_interacting import InteractingTrack
 from workbench.studies.concave_map_models import (
     FemPatch,
-    PredictedPatch,
     compare,
     hertz_at_pairs,
     intersection_pairs,
@@ -61,37 +61,9 @@ def design_run(md: MapDesign, cfg: ConcaveMapConfig):
     return run, des, m
 
 
-def _interacting(des, m, *, d: float, P: float, E_star: float, nu: float, depth: float):
-    """The interacting-patch model at the measured load P (patches, p0, validity note) and its load at d."""
-    import numpy as np
-
-    from analytic.force_law import _static_validity, design_gap, validity
-    from analytic.interacting_patches import solve_patches
-
-    why = _static_validity(m)
-    if why:
-        return None, f"outside the model: {why}"
-    dg = design_gap(des, m)
-    try:
-        at_P = solve_patches(dg.gap, E_star=E_star, r_ref=depth, P=P, nu=nu, n_terms=32)
-        at_d = solve_patches(dg.gap, E_star=E_star, r_ref=depth, delta=d, nu=nu, n_terms=32)
-    except (RuntimeError, ValueError) as exc:
-        return None, f"model not solved: {' '.join(str(exc).split())[:200]}"
-    curve = des.concave
-
-    def s_of(x: float) -> float:
-        y = float(dg.concave.y(np.array([x]))[0][0])
-        return float(curve.arc_length(curve.project(np.array([[x, y]])).t)[0])
-
-    patches = [PredictedPatch(s_of(pt.centre - pt.half_width), s_of(pt.centre + pt.half_width))
-               for pt in at_P.patches]
-    p0 = max((pt.p0 for pt in at_P.patches), default=math.nan)
-    limit = validity(at_P, dg, depth=depth)
-    return (patches, p0, at_d.P), (f"outside the model's analytic limit: {limit}" if limit else "")
-
-
-def evaluate_step(step: dict, *, des, m, E_star: float, nu: float, depth: float) -> dict:
-    """One map point: the FEM state of a recorded step and each model's errors (module docstring)."""
+def evaluate_step(step: dict, *, des, m, E_star: float, track) -> dict:
+    """One map point: the FEM state of a recorded step and each model's errors (module docstring); ``track``: the
+    design's :class:`workbench.studies.concave_map_interacting.InteractingTrack` (steps in increasing d)."""
     from workbench.scenes.concave import lcp_at
 
     fem = [FemPatch(e["center"], e["half_width"], e["p_max"], e["P"]) for e in step["patches"]]
@@ -104,12 +76,7 @@ def evaluate_step(step: dict, *, des, m, E_star: float, nu: float, depth: float)
     inter = [(float(curve.arc_length([c.t_a])[0]), c.relative_radius) for c in lcp.intersections]
     pred, p0 = hertz_at_pairs(fem, intersection_pairs(fem, inter), E_star=E_star)
     models["hertz_intersections"] = compare(fem, pred, p0, note="at the measured patch loads")
-    got, note = _interacting(des, m, d=d, P=P, E_star=E_star, nu=nu, depth=depth) if P > 0 else (None, "no load")
-    if got is None:
-        models["interacting"] = compare([], [], math.nan, note=note)._replace(note=note)
-    else:
-        patches, p0, P_d = got
-        models["interacting"] = compare(fem, patches, p0, P_model=P_d, P_fem=P, same_count=True, note=note)
+    models["interacting"] = track.compare(fem, d=d, P=P)
     ranked = sorted((e.worst, name) for name, e in models.items() if math.isfinite(e.worst))
     best = ranked[0][1] if ranked else None
     main = max(fem, key=lambda f: f.P) if fem else None
@@ -139,9 +106,9 @@ def run_map(cfg: ConcaveMapConfig, *, progress=print) -> tuple[list[dict], list[
             continue
         E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
         numbers = dataclasses.asdict(m.numbers)
-        for step in out.comparison:
-            pt = evaluate_step(step, des=des, m=m, E_star=E_star, nu=run.material.nu,
-                               depth=m.numbers.depth)
+        track = InteractingTrack(des, m, E_star=E_star, nu=run.material.nu, depth=m.numbers.depth)
+        for step in sorted(out.comparison, key=lambda st: st["d"]):
+            pt = evaluate_step(step, des=des, m=m, E_star=E_star, track=track)
             points.append({"design": md.label, "kind": md.kind, "family": md.family, "paper": md.family is None,
                            "numbers": numbers, "relative_radius": m.numbers.relative_radius,
                            "d_touch_mm": m.d_touch, "cells": out.metrics["mesh"].get("cells"), **pt})
@@ -201,6 +168,8 @@ def main(argv: list[str] | None = None) -> int:
                     "-> concave_map_middle.json (with --designs: on a subset)")
     ap.add_argument("--designs", default=None, help="comma-separated design labels: solve only these")
     ap.add_argument("--report", action="store_true", help="solve nothing; write the report from the folder's JSON")
+    ap.add_argument("--reevaluate", action="store_true", help="solve no FEM; the interacting-patch model again "
+                    "(continued along each design's path) on the folder's stored FEM states, then the report")
     ap.add_argument("--write-region", action="store_true", help="solve nothing; write the region the map validated "
                     "for the force law into workbench/forcelaw_region.json (read by workbench forcelaw)")
     args = ap.parse_args(argv)
@@ -225,7 +194,7 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as exc:
         print(f"workbench concave-map: error: {exc}", file=sys.stderr)
         return 2
-    if (args.report or args.write_region) and not (cfg.out_dir / "concave_map.json").is_file():
+    if (args.report or args.write_region or args.reevaluate) and not (cfg.out_dir / "concave_map.json").is_file():
         print(f"workbench concave-map: error: --report/--write-region: {cfg.out_dir / 'concave_map.json'} missing: "
               "need a solved map", file=sys.stderr)
         return 2
@@ -241,6 +210,18 @@ def main(argv: list[str] | None = None) -> int:
     out = cfg.out_dir
     from workbench.studies.concave_map_report import write_report
 
+    if args.reevaluate:
+        import json
+
+        from workbench.studies.concave_map_interacting import reevaluate
+
+        data = json.loads((out / "concave_map.json").read_text(encoding="utf-8"))
+        reevaluate(data["points"], cfg)
+        data["summary"]["interacting_reevaluated"] = True
+        write_json(out / "concave_map.json", data)
+        write_report(out)
+        print(f"concave-map: interacting-patch model re-evaluated at {len(data['points'])} points -> {out}")
+        return 0
     if args.report or args.write_region:
         if args.report:
             write_report(out)
