@@ -39,7 +39,8 @@ OWN = {"workbench.studies.bench": {"workbench.studies.bench_config", "workbench.
                                       "workbench.studies.validity_halfplanes",
                                       "workbench.studies.validity_elastic_wedge"},
        "workbench.studies.concave_map": {"workbench.studies.concave_map_config", "workbench.studies.concave_map_models",
-                                         "workbench.studies.concave_map_report"}}
+                                         "workbench.studies.concave_map_report", "workbench.studies.concave_map_band",
+                                         "workbench.studies.concave_map_interacting"}}
 # the shared pieces every study may import: config and rates, the point runner and its executor (local processes or
 # mpi4py.futures ranks), the reference solve measured in the same run, the block scene's point helpers, and the
 # time-and-where section every report ends with
@@ -68,7 +69,9 @@ def test_a_study_imports_no_other_study(graph, study):
 # a report's own section formatters (formatting only, no study code) and its study's config (read back from the JSON)
 REPORT_OWN = {"bench_report": {"workbench.studies.bench_startup_report", "workbench.studies.bench_config"},
               "stability_report": {"workbench.studies.stability_config"},
-              "concave_map_report": {"workbench.studies.concave_map_models"},
+              "concave_map_report": {"workbench.studies.concave_map_models", "workbench.studies.concave_map_band",
+                                     "workbench.studies.concave_map_rule"},
+              "concave_map_rule": {"workbench.studies.concave_map_band"},
               "concave_map_models": {"workbench.studies.concave_map_config"}}
 CONFIGS = ["bench_config", "convective_table_config", "convergence_config", "stability_config", "validity_config",
            "concave_map_config"]
@@ -76,7 +79,8 @@ CONFIGS = ["bench_config", "convective_table_config", "convergence_config", "sta
 
 @pytest.mark.parametrize("module", ["bench_report", "bench_startup_report", "bench_plot", "convergence_report",
                                     "convergence_plot", "stability_report", "stability_plot", "validity_report",
-                                    "validity_plot", "concave_map_report", "concave_map_models", "config",
+                                    "validity_plot", "concave_map_report", "concave_map_models", "concave_map_band",
+                                    "concave_map_rule", "config",
                                     *CONFIGS, "rates", "executor", "reference",
                                     "scene_point", "where_report"])
 def test_reports_plots_and_shared_modules_import_no_study(graph, module):
