@@ -15,6 +15,13 @@ Validity (the model's analytic limit, :func:`validity`; refused outside it): at 
 The region the concave FEM map measured (issue 40, item 3) comes from above: ``approach_max`` (mm past first
 touch), which ``workbench forcelaw`` reads from the map's region file; without it a table states this analytic
 validity limit only.
+
+Which limit refuses (explicit): WITHOUT ``approach_max`` the analytic limit refuses (the static tilt of the pairs
+before solving; a state past it ends the rows, or refuses a d_max). WITH ``approach_max`` (a region the map
+measured against the FEM) the measured region is the refusal, and the analytic limit is a warning
+(:attr:`ForceLawTable.warnings`, written into the table): the map evaluated the model past the analytic limit and
+validated it there, so the analytic limit is conservative where the map says so, and a design beyond it is
+accepted only inside the measured region.
 """
 
 from __future__ import annotations
@@ -35,7 +42,7 @@ from analytic.interacting_patches import (
     solve_patches,
 )
 
-__all__ = ["ForceLawRow", "ForceLawTable", "VALIDITY_NOTE", "design_gap", "force_law", "validity"]
+__all__ = ["ForceLawRow", "ForceLawTable", "VALIDITY_NOTE", "design_gap", "force_law", "pair_tilts", "validity"]
 
 VALIDITY_NOTE = ("region = the interacting-patch model's analytic validity limit (surface slope, patch size against "
                  "the radii, span against the depth) only; workbench forcelaw narrows it to the region the concave "
@@ -143,12 +150,19 @@ class ForceLawTable(NamedTuple):
     nu: float
     depth: float
     note: str
+    warnings: tuple[str, ...] = ()  # the analytic limit passed inside a measured region (module docstring)
+
+
+def pair_tilts(m: DesignMeasure) -> tuple[tuple[str, float], ...]:
+    """The surface slope at each pair against the path (|n_x| / |n_y| of the pair's normal; 0: the surface faces
+    the path, as the horizontal half-plane assumes): ``(("primary", t1), ("secondary", t2))``."""
+    return tuple((label, abs(p.normal[0]) / max(abs(p.normal[1]), 1e-300))
+                 for label, p in (("primary", m.primary), ("secondary", m.secondary)))
 
 
 def _static_validity(m: DesignMeasure) -> str | None:
     """Before solving: the surfaces at the pairs must face the path (the half-plane is horizontal)."""
-    for label, p in (("primary", m.primary), ("secondary", m.secondary)):
-        tilt = math.hypot(p.normal[0], 0.0) / max(abs(p.normal[1]), 1e-300)
+    for label, tilt in pair_tilts(m):
         if tilt > MAX_SURFACE_SLOPE:
             return (f"the {label} pair's surface slope is {tilt:.3g} (limit {MAX_SURFACE_SLOPE}): its normal is "
                     f"{math.degrees(math.atan(tilt)):.3g} deg off the path, the patches do not share one half-plane")
@@ -160,21 +174,27 @@ def force_law(mem: FamilyMember, *, d_max: float | None = None, n_rows: int = 41
     """The table of a member from first touch: to ``d_max`` (mm along the path) in ``n_rows`` rows (>= 2), or,
     with d_max None, in steps of ``step`` (mm) up to the last row inside the validity limit (at most 0.5 mm).
     ``approach_max`` (mm past first touch, > 0): a region measured elsewhere (the concave map,
-    ``workbench.forcelaw_region``); without d_max the rows stop there too, and a d_max beyond it is refused.
+    ``workbench.forcelaw_region``); without d_max the rows stop there too, and a d_max beyond it is refused. With
+    it the analytic limit warns instead of refusing (module docstring; :attr:`ForceLawTable.warnings`).
 
     Raises:
-        ValueError: one line: a bad value, the design outside the validity limit, or (d_max given) a state up to
-            d_max outside it.
+        ValueError: one line: a bad value, a d_max beyond ``approach_max``, or (without ``approach_max``) the design
+            outside the analytic validity limit, or (d_max given) a state up to d_max outside it.
     """
     if not (isinstance(n_rows, int) and 2 <= n_rows <= 1000):
         raise ValueError(f"n_rows = {n_rows!r} out of range: need an integer 2 <= n_rows <= 1000")
     if not (math.isfinite(step) and 1e-5 <= step <= 0.1):
         raise ValueError(f"step = {step!r} out of range: need 1e-5 <= step <= 0.1 mm")
     des, m = build(mem)
+    measured = approach_max is not None  # the measured region refuses; the analytic limit only warns
+    warnings: list[str] = []
     why = _static_validity(m)
-    if why:
+    if why and not measured:
         raise ValueError(f"design {mem.name!r} out of range: outside the interacting-patch model's validity "
                          f"limit: {why}")
+    if why:
+        warnings.append(f"past the model's analytic limit before solving ({why}); inside the region the concave "
+                        "map validated")
     if d_max is not None and not (math.isfinite(d_max) and m.d_touch < d_max <= m.d_touch + 0.5):
         raise ValueError(f"d_max = {d_max!r} out of range: need {m.d_touch:.6g} < d_max <= {m.d_touch + 0.5:.6g} mm "
                          "(from first touch to 0.5 mm beyond)")
@@ -196,6 +216,11 @@ def force_law(mem: FamilyMember, *, d_max: float | None = None, n_rows: int = 41
     for d in ds:
         sol = _continued(dg, prev, float(d), d0=rows[-1].d, E_star=E_star, depth=mem.depth, n_terms=n_terms)
         why = validity(sol, dg, depth=mem.depth)
+        if why and measured:
+            if not any(w.startswith("from d = ") for w in warnings):
+                warnings.append(f"from d = {d:.6g} mm past the model's analytic limit ({why}); inside the region "
+                                "the concave map validated")
+            why = None
         if why and d_max is None:
             if len(rows) < 2:
                 raise ValueError(f"design {mem.name!r} out of range: already at d = {d:.6g} mm {why} "
@@ -208,7 +233,8 @@ def force_law(mem: FamilyMember, *, d_max: float | None = None, n_rows: int = 41
         rows.append(ForceLawRow(float(d), sol.P, tuple((pt.centre, pt.half_width, pt.p0, pt.share)
                                                        for pt in sol.patches)))
         prev = sol
-    return ForceLawTable(mem, float(m.d_touch), tuple(rows), E_star, POISSON_RATIO, mem.depth, VALIDITY_NOTE)
+    return ForceLawTable(mem, float(m.d_touch), tuple(rows), E_star, POISSON_RATIO, mem.depth, VALIDITY_NOTE,
+                         tuple(warnings))
 
 
 def _continued(dg: DesignGap, prev: PatchSolution | None, d: float, *, d0: float, E_star: float, depth: float,

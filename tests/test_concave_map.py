@@ -94,6 +94,9 @@ def test_config_is_a_map_and_refuses_bad_values():
         ConcaveMapConfig(approaches_conformal=(0.02, 0.01))
     with pytest.raises(ValueError, match="h_contact"):
         ConcaveMapConfig(h_contact=0.0)
+    assert cfg.past_limit_slope == 0.15 and ConcaveMapConfig(past_limit_slope=None).past_limit_slope is None
+    with pytest.raises(ValueError, match="past_limit_slope"):
+        ConcaveMapConfig(past_limit_slope=0.05)  # below the analytic limit: no meaning
 
 
 def _family_text(mem) -> str:

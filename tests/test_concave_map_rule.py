@@ -50,3 +50,24 @@ def test_summary_and_first_lines():
     assert "CONTRADICTED" in rule_lines([*pts, bad], source="made up")[0]
     bad = _pt(R=5.0, r1=3.0, s2a=6.0, b=0.9, hertz=0.08, in_band=True)
     assert "can be trusted" in rule_lines([*pts, bad], source="made up")[0]
+
+
+def test_points_past_the_slope_limit_are_counted_apart():
+    """A point the interacting-patch model was evaluated at past its analytic slope limit (its note says so) counts
+    in its own line, not among the points where it applies, and no longer as refused."""
+    from workbench.studies.concave_map_rule import PAST_LIMIT_NOTE, past_limit
+
+    pts = [_pt(R=300.0, r1=41.0, s2a=1.0, b=0.5, hertz=0.8, inter=0.02),
+           _pt(R=300.0, r1=41.0, s2a=1.0, b=0.5, hertz=0.8, inter=0.03, note=f"{PAST_LIMIT_NOTE} (tilt 0.12)"),
+           _pt(R=300.0, r1=41.0, s2a=1.0, b=0.5, hertz=0.8, inter=0.07, note=f"{PAST_LIMIT_NOTE} (tilt 0.13)"),
+           _pt(R=300.0, r1=41.0, s2a=1.0, b=0.5, hertz=0.8, note=f"model not solved: root; {PAST_LIMIT_NOTE} (0.11)"),
+           _pt(R=300.0, r1=41.0, s2a=1.0, b=0.5, hertz=0.8, note="outside the model: tilt 0.41")]
+    assert [past_limit(p) for p in pts] == [False, True, True, True, False]
+    s = rule_summary(pts)
+    assert (s["interacting"], s["interacting_within"]) == (1, 1)
+    assert (s["past"], s["past_within"], s["past_unsolved"]) == (2, 1, 1)
+    assert (s["refused"], s["unsolved"], s["no_model"]) == (1, 1, 3)
+    lines = rule_lines(pts, source="made up")
+    assert "within 5 % at 1 of the 1 points where it applies" in lines[1]
+    assert lines[2].startswith("- Past its analytic slope limit") and "within 5 % at 1 of 2 points" in lines[2]
+    assert "unsolved at 1" in lines[2] and "refuses 1 of those points" in lines[3]

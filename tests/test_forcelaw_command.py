@@ -2,8 +2,8 @@
 
 Requirements (issue 40, item 4):
 * the command writes forcelaw.csv, forcelaw.json and the copyable evaluator for a design inside the region the
-  concave map validated (workbench/forcelaw_region.json) and the model's analytic validity limit; the json names
-  the validated region; a design outside that region, or a d_max beyond it, is refused;
+  concave map validated (workbench/forcelaw_region.json); the json names the validated region; a design outside
+  that region, or a d_max beyond it, is refused; inside it, the model's analytic validity limit is a warning;
 * the evaluator reproduces the table's rows exactly, is 0 before first touch, refuses beyond the last row, and is
   the monotone Hermite interpolant (checked against scipy's PchipInterpolator);
 * a design outside the validity limit (the symmetric one), a d_max beyond it, a bad design or option: one line
@@ -99,8 +99,9 @@ def test_d_max_beyond_the_validated_region_is_refused(tmp_path, capsys, d_max):
 
 
 @pytest.mark.parametrize(("design", "why"), [
-    # inside the analytic limit of the static check, outside the map's grid or its validated cells
-    ("close_to_conformal:radius_convex=41.279,radius_concave=-49.1,pair_separation=5,central_gap=0.0059758",
+    # outside the map's grid or its validated cells
+    # R = 1700 mm, s = 1.2 mm: its cell holds cc_R2000_s1.6, 26 % off the FEM at the first map load
+    ("close_to_conformal:radius_convex=41.279,radius_concave=-42.3063,pair_separation=1.2,central_gap=0.0059758",
      "not within 5 %"),
     ("close_to_conformal:radius_convex=41.279,radius_concave=-49.1,pair_separation=9,central_gap=0.0059758",
      "pair separation"),
@@ -156,3 +157,25 @@ def test_a_member_inside_the_validated_region_is_written_up_to_it(tmp_path, caps
     table = json.loads((folder / "forcelaw.json").read_text())
     approach = table["rows"][-1]["d_mm"] - table["d_touch_mm"]
     assert 0.0 < approach <= 0.04 + 1e-12 and "up to 0.04 mm past first touch" in table["note"]
+
+
+def test_past_the_analytic_limit_inside_the_measured_region_is_accepted_with_a_warning(tmp_path, capsys):
+    """R = 259 mm, s = 5 mm (the cell of cc_R180_s5 .. cc_R260_s5): its secondary pair tilts 0.126 from the path,
+    past the model's analytic slope limit 0.1, which refuses it without a measured region. The map evaluated the
+    model past that limit and validated the cell up to approach 0.04 mm: the measured region is the refusal, so the
+    design is written, and the analytic limit is a warning (forcelaw.json's warnings, one stderr line each)."""
+    from analytic.design_family import parse_family
+    from analytic.force_law import force_law
+
+    text = "radius_convex=41.279,radius_concave=-49.1,pair_separation=5,central_gap=0.0059758"
+    mem = parse_family("close_to_conformal", text)
+    with pytest.raises(ValueError, match="outside the interacting-patch model's validity limit.*0.126"):
+        force_law(mem)
+    code = main([f"close_to_conformal:{text}", "--step", "0.01", "--out", str(tmp_path)])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    table = json.loads((tmp_path / f"forcelaw_{mem.name}" / "forcelaw.json").read_text())
+    assert table["warnings"] and "0.126" in table["warnings"][0]
+    assert all(f"warning: {w}" in err for w in table["warnings"])
+    assert math.isclose(table["rows"][-1]["d_mm"] - table["d_touch_mm"], 0.04, abs_tol=1e-9)
+    assert "past the analytic limit, a warning" in out

@@ -8,11 +8,15 @@ writes ``<out>/forcelaw_<name>/``:
     forcelaw.json      the same rows, the design's numbers, the model, its constants and its validity limit
     forcelaw_eval.py   the pure-numpy evaluator (:mod:`analytic.force_law_eval`) to copy into your code
 
-from the interacting-patch model (:mod:`analytic.force_law`), from first touch up to ``--d-max`` (refused if the
-model's validity limit comes first) or, by default, up to that limit in steps of ``--step``, and never beyond the
-region the concave map validated (``workbench/forcelaw_region.json``, :mod:`workbench.forcelaw_region`: a design
-outside it, or a ``--d-max`` beyond it, is refused). Bad input (a design, a number, an option): one line naming
-the field and its range, exit 2, nothing written.
+from the interacting-patch model (:mod:`analytic.force_law`), from first touch up to ``--d-max`` or, by default, in
+steps of ``--step`` up to the region the concave map validated (``workbench/forcelaw_region.json``,
+:mod:`workbench.forcelaw_region`).
+
+Which limit refuses: the MEASURED region. A design outside it, or a ``--d-max`` beyond it, is refused. The
+model's analytic validity limit (the pairs' tilt against the path, the surface slope over the patches, patch size,
+span) does not refuse a design the map validated: the map evaluated the model past that limit against the FEM, so
+there the analytic limit is a warning (``forcelaw.json``'s ``warnings``, and one stderr line each). Bad input (a
+design, a number, an option): one line naming the field and its range, exit 2, nothing written.
 """
 
 from __future__ import annotations
@@ -50,11 +54,13 @@ def table_json(table) -> dict:
         "units": {"d": "mm", "P": "N/mm", "x": "mm", "b": "mm", "p0": "MPa"},
         "d_touch_mm": table.d_touch,
         "E_star_MPa": table.E_star, "nu": table.nu, "depth_mm": table.depth,
-        "validity": {"region": "measured by the concave map, and the analytic limit",
+        "validity": {"region": "measured by the concave map (the refusal); the analytic limit below is a warning "
+                               "inside it",
                      "max_surface_slope": MAX_SURFACE_SLOPE,
                      "max_patch_over_radius": MAX_PATCH_OVER_RADIUS, "max_span_over_depth": MAX_SPAN_OVER_DEPTH,
                      "d_min_mm": table.rows[0].d, "d_max_mm": table.rows[-1].d},
         "note": table.note,
+        "warnings": list(table.warnings),
         "rows": [{"d_mm": r.d, "P_N_per_mm": r.P,
                   "patches": [{"x_mm": x, "b_mm": b, "p0_MPa": p0, "share": sh} for x, b, p0, sh in r.patches]}
                  for r in table.rows],
@@ -113,8 +119,8 @@ def main(argv: list[str] | None = None) -> int:
         table = force_law(mem, d_max=args.d_max, n_rows=args.rows, step=args.step, approach_max=approach)
         table = table._replace(note=f"region = where the concave map validated the interacting-patch model within "
                                     f"{100 * region['edge']:g} % of the FEM (widths, p0, P; a point within the "
-                                    f"FEM's band counts as within): up to {approach:.4g} mm past first touch, and "
-                                    "inside the model's analytic validity limit")
+                                    f"FEM's band counts as within): up to {approach:.4g} mm past first touch; the "
+                                    "model's analytic validity limit is a warning there (warnings)")
     except (ValueError, OutputError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
@@ -128,10 +134,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: forcelaw {mem.name}: cannot write the results: {' '.join(str(exc.strerror or exc).split())}; "
               "previous results left intact", file=sys.stderr)
         return 1
+    for w in table.warnings:
+        print(f"forcelaw {mem.name}: warning: {w}", file=sys.stderr)
     last = table.rows[-1]
     print(f"forcelaw {mem.name}: {len(table.rows)} rows, d = {table.d_touch:.6g} .. {last.d:.6g} mm, "
-          f"P up to {last.P:.6g} N/mm (region: validated by the concave map, {approach:.4g} mm past first touch, "
-          f"and the model's analytic limit) -> {folder}")
+          f"P up to {last.P:.6g} N/mm (region: validated by the concave map, {approach:.4g} mm past first touch"
+          f"{'; past the analytic limit, a warning' if table.warnings else ''}) -> {folder}")
     return 0
 
 

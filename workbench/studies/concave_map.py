@@ -106,7 +106,8 @@ def run_map(cfg: ConcaveMapConfig, *, progress=print) -> tuple[list[dict], list[
             continue
         E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
         numbers = dataclasses.asdict(m.numbers)
-        track = InteractingTrack(des, m, E_star=E_star, nu=run.material.nu, depth=m.numbers.depth)
+        track = InteractingTrack(des, m, E_star=E_star, nu=run.material.nu, depth=m.numbers.depth,
+                                 past_limit=cfg.past_limit_slope)
         for step in sorted(out.comparison, key=lambda st: st["d"]):
             pt = evaluate_step(step, des=des, m=m, E_star=E_star, track=track)
             points.append({"design": md.label, "kind": md.kind, "family": md.family, "paper": md.family is None,
@@ -146,12 +147,14 @@ class _Parser(argparse.ArgumentParser):
 
 
 def main(argv: list[str] | None = None) -> int:
-    """CLI ``workbench concave-map [--out DIR] [--mesh-cache DIR] [--tiny] [--coarse] [--designs L,...] [--report]``;
-    bad options: one line, exit 2.
+    """CLI ``workbench concave-map [--out DIR] [--mesh-cache DIR] [--tiny] [--coarse] [--designs L,...] [--report]
+    [--reevaluate] [--past-limit SLOPE | --no-past-limit] [--write-region]``; bad options: one line, exit 2.
 
     ``--coarse`` solves the same designs on the band's coarse grid (:mod:`workbench.studies.concave_map_band`) into
     ``concave_map_coarse.json``; ``--middle`` on a grid sqrt(2) coarser (the band's order check) into
-    ``concave_map_middle.json``; ``--designs`` keeps only the named designs (a subset); ``--report`` solves nothing
+    ``concave_map_middle.json``; ``--designs`` keeps only the named designs (a subset; with ``--reevaluate`` the
+    designs re-evaluated, the others kept as stored); ``--past-limit``/``--no-past-limit`` set
+    ``ConcaveMapConfig.past_limit_slope``; ``--report`` solves nothing
     and writes the report again from the JSON files in the folder (with the FEM's band where the coarse file
     exists)."""
     from workbench.atomic import write_json
@@ -170,11 +173,20 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--report", action="store_true", help="solve nothing; write the report from the folder's JSON")
     ap.add_argument("--reevaluate", action="store_true", help="solve no FEM; the interacting-patch model again "
                     "(continued along each design's path) on the folder's stored FEM states, then the report")
+    ap.add_argument("--past-limit", type=float, default=None, metavar="SLOPE", help="evaluate the interacting-patch "
+                    "model past its analytic slope limit (0.1) at designs whose pairs tilt at most SLOPE, the notes "
+                    "saying so (0.1 to 0.3; default 0.15: the close-to-conformal members, not the symmetric ones)")
+    ap.add_argument("--no-past-limit", action="store_true", help="refuse the interacting-patch model beyond its "
+                    "analytic slope limit (the map's first runs)")
     ap.add_argument("--write-region", action="store_true", help="solve nothing; write the region the map validated "
                     "for the force law into workbench/forcelaw_region.json (read by workbench forcelaw)")
     args = ap.parse_args(argv)
     try:
         opts = dict(TINY if args.tiny else {})
+        if args.past_limit is not None and args.no_past_limit:
+            raise ValueError("--past-limit and --no-past-limit out of range: one of them")
+        if args.past_limit is not None or args.no_past_limit:
+            opts["past_limit_slope"] = None if args.no_past_limit else args.past_limit
         cfg = ConcaveMapConfig(out=args.out, mesh_cache=args.mesh_cache, **opts)
         if args.designs is not None:
             want = [t.strip() for t in args.designs.split(",") if t.strip()]
@@ -216,11 +228,14 @@ def main(argv: list[str] | None = None) -> int:
         from workbench.studies.concave_map_interacting import reevaluate
 
         data = json.loads((out / "concave_map.json").read_text(encoding="utf-8"))
-        reevaluate(data["points"], cfg)
+        n = reevaluate(data["points"], cfg)
         data["summary"]["interacting_reevaluated"] = True
+        data["summary"]["past_limit_slope"] = cfg.past_limit_slope
+        data["config"]["past_limit_slope"] = cfg.past_limit_slope
         write_json(out / "concave_map.json", data)
         write_report(out)
-        print(f"concave-map: interacting-patch model re-evaluated at {len(data['points'])} points -> {out}")
+        print(f"concave-map: interacting-patch model re-evaluated at {n} designs (past its slope limit up to "
+              f"{cfg.past_limit_slope}) -> {out}")
         return 0
     if args.report or args.write_region:
         if args.report:

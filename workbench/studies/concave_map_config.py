@@ -70,6 +70,11 @@ class ConcaveMapConfig(StudyFolders):
         h_contact: The contact element size over the smallest expected half-width (the shipped concave cases: 0.05).
         growth_scale: The grading's ``growth - 1`` over the case's (1: the case's grading; the FEM band's coarse
             pass, :mod:`workbench.studies.concave_map_band`, doubles it with h_contact: every element x 2).
+        past_limit_slope: The interacting-patch model is evaluated past its analytic slope limit
+            (:data:`analytic.interacting_patches.MAX_SURFACE_SLOPE`, 0.1) at a design whose pairs tilt at most this
+            much from the path, its points' notes saying so (:mod:`workbench.studies.concave_map_interacting`);
+            None: refused beyond the analytic limit. 0.15 takes the close-to-conformal members (0.10 to 0.14), not
+            the symmetric ones (0.41 to 0.43).
         out, mesh_cache: Output folder and mesh cache (None: the workbench defaults).
     """
 
@@ -80,6 +85,7 @@ class ConcaveMapConfig(StudyFolders):
     approaches_symmetric: tuple[float, ...] = (0.05, 0.1, 0.2, 0.3, 0.45)
     h_contact: float = 0.05
     growth_scale: float = 1.0
+    past_limit_slope: float | None = 0.15
     out: Path | None = None
     mesh_cache: Path | None = None
 
@@ -99,6 +105,10 @@ class ConcaveMapConfig(StudyFolders):
             raise ValueError(f"h_contact = {self.h_contact!r} out of range: need 0.01 <= h_contact <= 1")
         if not (math.isfinite(self.growth_scale) and 0.25 <= self.growth_scale <= 3.0):
             raise ValueError(f"growth_scale = {self.growth_scale!r} out of range: need 0.25 <= growth_scale <= 3")
+        v = self.past_limit_slope
+        if v is not None and not (math.isfinite(v) and 0.1 <= v <= 0.3):
+            raise ValueError(f"past_limit_slope = {v!r} out of range: need None or 0.1 <= past_limit_slope <= 0.3 "
+                             "(the surface slope; 0.1 is the model's analytic limit)")
 
     def approaches(self, kind: str) -> tuple[float, ...]:
         return self.approaches_symmetric if kind == "symmetric" else self.approaches_conformal

@@ -8,6 +8,12 @@ gives the patches and peak at P and the load P(d) at the FEM's d (Flamant's dept
 depth). A design whose pairs face different directions is refused (the static check of :mod:`analytic.force_law`);
 a state past the analytic validity limit is compared and its note names the limit.
 
+Past the analytic slope limit (``past_limit``, the map's ``ConcaveMapConfig.past_limit_slope``): a design whose
+pairs tilt beyond :data:`analytic.interacting_patches.MAX_SURFACE_SLOPE` but at most ``past_limit`` is evaluated
+anyway, and every note of its points starts with :data:`PAST_LIMIT_NOTE`. The analytic limit keeps its meaning
+(the model is not claimed there); the map measures whether it is conservative. A tilt beyond ``past_limit``
+(the symmetric members, 0.41 to 0.43: pairs facing directions 22 deg apart) stays refused.
+
 :func:`reevaluate` recomputes this model on the points of a solved map (``workbench concave-map --reevaluate``):
 the FEM states are the stored ones, no FEM runs.
 """
@@ -17,8 +23,9 @@ from __future__ import annotations
 import math
 
 from workbench.studies.concave_map_models import FemPatch, ModelErrors, PredictedPatch, compare
+from workbench.studies.concave_map_rule import PAST_LIMIT_NOTE
 
-__all__ = ["STEP", "InteractingTrack", "reevaluate"]
+__all__ = ["PAST_LIMIT_NOTE", "STEP", "InteractingTrack", "reevaluate"]
 
 STEP = 0.002  # mm: the largest continuation step (workbench forcelaw's default row spacing)
 
@@ -26,13 +33,15 @@ STEP = 0.002  # mm: the largest continuation step (workbench forcelaw's default 
 class InteractingTrack:
     """The interacting-patch model along one design's path (module docstring)."""
 
-    def __init__(self, des, m, *, E_star: float, nu: float, depth: float) -> None:
-        from analytic.force_law import _static_validity, design_gap
+    def __init__(self, des, m, *, E_star: float, nu: float, depth: float, past_limit: float | None = None) -> None:
+        from analytic.force_law import _static_validity, design_gap, pair_tilts
 
         self.des, self.m, self.E_star, self.nu, self.depth = des, m, E_star, nu, depth
         why = _static_validity(m)
-        self.refused = f"outside the model: {why}" if why else ""
-        self.dg = None if why else design_gap(des, m)
+        tilt = max(t for _, t in pair_tilts(m))
+        self.past = f"{PAST_LIMIT_NOTE} ({why})" if why and past_limit is not None and tilt <= past_limit else ""
+        self.refused = f"outside the model: {why}" if why and not self.past else ""
+        self.dg = None if self.refused else design_gap(des, m)
         self.prev, self.prev_d = None, m.d_touch
 
     def _to(self, d: float):
@@ -64,7 +73,7 @@ class InteractingTrack:
                                  start=start)
         except (RuntimeError, ValueError) as exc:
             self.prev, self.prev_d = None, d  # the next load starts afresh from here
-            note = f"model not solved: {' '.join(str(exc).split())[:200]}"
+            note = f"model not solved: {' '.join(str(exc).split())[:200]}" + (f"; {self.past}" if self.past else "")
             return compare([], [], math.nan, note=note)._replace(note=note)
         curve = self.des.concave
 
@@ -76,26 +85,30 @@ class InteractingTrack:
                    for pt in at_P.patches]
         p0 = max((pt.p0 for pt in at_P.patches), default=math.nan)
         limit = validity(at_P, self.dg, depth=self.depth)
-        note = f"outside the model's analytic limit: {limit}" if limit else ""
+        note = "; ".join(t for t in (self.past, f"outside the model's analytic limit: {limit}" if limit else "") if t)
         return compare(fem, patches, p0, P_model=at_d.P, P_fem=P, same_count=True, note=note)
 
 
 def reevaluate(points: list[dict], cfg, *, progress=print) -> int:
     """Recompute the interacting-patch model (and each point's best model) on a solved map's points in place, from
-    their stored FEM states; returns the number of designs. ``cfg``: the map's
-    :class:`workbench.studies.concave_map_config.ConcaveMapConfig` (its cases, for the material)."""
+    their stored FEM states, for the designs of ``cfg`` (the others are left as stored); returns the number of
+    designs re-evaluated. ``cfg``: the map's :class:`workbench.studies.concave_map_config.ConcaveMapConfig` (its
+    designs, its cases for the material, its ``past_limit_slope``)."""
     from analytic import materials
     from workbench.studies.concave_map import design_run
     from workbench.studies.concave_map_config import MapDesign
 
+    want = {d.label for d in cfg.designs}
     by: dict[str, list[dict]] = {}
     for p in points:
-        by.setdefault(p["design"], []).append(p)
+        if p["design"] in want:
+            by.setdefault(p["design"], []).append(p)
     for i, (label, pts) in enumerate(by.items()):
         md = MapDesign(label, pts[0]["kind"], pts[0]["family"])
         run, des, m = design_run(md, cfg)
         E_star = materials.plane_strain_modulus(run.material.E, run.material.nu)
-        track = InteractingTrack(des, m, E_star=E_star, nu=run.material.nu, depth=m.numbers.depth)
+        track = InteractingTrack(des, m, E_star=E_star, nu=run.material.nu, depth=m.numbers.depth,
+                                 past_limit=cfg.past_limit_slope)
         for p in sorted(pts, key=lambda q: q["d_mm"]):
             fem = [FemPatch(e["center"], e["half_width"], e["p_max"], e["P"]) for e in p["fem_patches"]]
             p["models"]["interacting"] = track.compare(fem, d=p["d_mm"], P=p["P_fem"]).as_dict()

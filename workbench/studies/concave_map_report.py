@@ -17,7 +17,7 @@ from pathlib import Path
 
 from workbench.studies.concave_map_band import attach_bands
 from workbench.studies.concave_map_models import CLASS_NAMES
-from workbench.studies.concave_map_rule import HERTZ_RULE, rule_lines, rule_numbers
+from workbench.studies.concave_map_rule import HERTZ_RULE, past_limit, rule_lines, rule_numbers
 
 __all__ = ["MODELS", "hertz_rule", "write_report", "csv_text", "plot_map"]
 
@@ -143,7 +143,7 @@ def plot_map(points: list[dict], path: Path, *, tiny: bool) -> None:
     x the conformity R/R_convex, y the pair separation over the Hertz contact width s/(2a) at each load, colour the
     model's error class against the FEM, marker the design's kind, the paper's two designs ringed and named, the
     rule's region (:data:`workbench.studies.concave_map_rule.HERTZ_RULE`) shaded, points it excludes by their patch
-    size crossed."""
+    size crossed, the interacting-patch model's points past its analytic slope limit edged in black."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -160,8 +160,9 @@ def plot_map(points: list[dict], path: Path, *, tiny: bool) -> None:
     for ax, (model, title) in zip(axes, _PANELS, strict=True):
         for p in sorted(shown, key=lambda q: q["paper"]):
             c, y, b = rule_numbers(p)
+            past = model == "interacting" and past_limit(p)
             ax.scatter(c, y, c=colours[_judged_class(p, model)], marker=_KIND_MARKERS.get(p["kind"], "o"), s=42,
-                       edgecolors="none", zorder=3)
+                       edgecolors="black" if past else "none", linewidths=0.9 if past else 0.0, zorder=3)
             if b > HERTZ_RULE["patch_max"]:
                 ax.scatter(c, y, marker="x", c="black", s=30, linewidths=1.0, zorder=4)
         for label, text in (("paper_close_to_conformal", "paper: close to conformal"),
@@ -202,6 +203,8 @@ def plot_map(points: list[dict], path: Path, *, tiny: bool) -> None:
     handles.append(Line2D([], [], marker="o", ls="", mfc="white", mec="black", mew=1.6, markersize=10,
                           label="the paper's two designs"))
     handles.append(Line2D([], [], marker="x", ls="", color="black", label="patch b/R_convex > 0.32"))
+    handles.append(Line2D([], [], marker="o", ls="", mfc="grey", mec="black", mew=0.9, markersize=8,
+                          label="interacting: past its slope limit"))
     fig.legend(handles=handles, loc="lower center", ncol=5, fontsize=9, frameon=False)
     fig.suptitle(("TINY RUN (machinery check, not a map): " if tiny else "")
                  + "error against the FEM (widths, p0; interacting also P(d)), each design at 5 loads", fontsize=12)

@@ -17,9 +17,13 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["EDGE", "HERTZ_RULE", "in_hertz_region", "rule_lines", "rule_numbers", "rule_summary"]
+__all__ = ["EDGE", "HERTZ_RULE", "PAST_LIMIT_NOTE", "in_hertz_region", "past_limit", "rule_lines", "rule_numbers",
+           "rule_summary"]
 
 EDGE = 0.05
+PAST_LIMIT_NOTE = "past the analytic slope limit"
+"""The head of the interacting-patch model's note at a design it was evaluated at past its analytic slope limit
+(:mod:`workbench.studies.concave_map_interacting`, ``ConcaveMapConfig.past_limit_slope``)."""
 HERTZ_RULE = {"conformity_max": 1.8, "separation_min": 4.6, "patch_max": 0.32}
 """Read off the map (docs/concave_map.md): Hertz within 5 % at every point with conformity <= 1.77 (the map has no
 design between 1.80 and 1.92; every point from 1.92 up is beyond), separation >= 4.58 (beyond at 4.08 to 4.54 on
@@ -40,6 +44,11 @@ def in_hertz_region(pt: dict, rule: dict | None = None) -> bool:
     rule = HERTZ_RULE if rule is None else rule
     c, s, b = rule_numbers(pt)
     return c <= rule["conformity_max"] and s >= rule["separation_min"] and b <= rule["patch_max"]
+
+
+def past_limit(pt: dict) -> bool:
+    """Whether the interacting-patch model was evaluated at this point past its analytic slope limit."""
+    return PAST_LIMIT_NOTE in pt["models"]["interacting"]["note"]
 
 
 def _err(pt: dict, model: str) -> float:
@@ -64,7 +73,8 @@ def rule_summary(points: list[dict], rule: dict | None = None) -> dict:
     inside = [p for p in points if in_hertz_region(p, rule)]
     outside = [p for p in points if not in_hertz_region(p, rule)]
     ok = lambda p, m: math.isfinite(_err(p, m)) and _err(p, m) <= EDGE  # noqa: E731
-    inter = [p for p in outside if math.isfinite(_raw(p, "interacting"))]
+    inter = [p for p in outside if math.isfinite(_raw(p, "interacting")) and not past_limit(p)]
+    past = [p for p in outside if math.isfinite(_raw(p, "interacting")) and past_limit(p)]
     not_applied = [p for p in outside if not math.isfinite(_raw(p, "interacting"))]
     return {
         "inside": len(inside), "inside_within": sum(ok(p, "hertz_lcp") for p in inside),
@@ -76,6 +86,11 @@ def rule_summary(points: list[dict], rule: dict | None = None) -> dict:
         "interacting_errors": _stats([_raw(p, "interacting") for p in inter]),
         "interacting_P_errors": _stats([float(p["models"]["interacting"]["P"]) for p in inter
                                         if p["models"]["interacting"]["P"] is not None]),
+        "past": len(past), "past_within": sum(ok(p, "interacting") for p in past),
+        "past_errors": _stats([_raw(p, "interacting") for p in past]),
+        "past_P_errors": _stats([float(p["models"]["interacting"]["P"]) for p in past
+                                 if p["models"]["interacting"]["P"] is not None]),
+        "past_unsolved": sum(past_limit(p) for p in not_applied),
         "refused": sum(p["models"]["interacting"]["note"].startswith("outside the model") for p in not_applied),
         "unsolved": sum(p["models"]["interacting"]["note"].startswith("model not solved") for p in not_applied),
         "no_model": sum(not ok(p, "hertz_lcp") and not ok(p, "interacting") for p in outside),
@@ -108,10 +123,24 @@ def rule_lines(points: list[dict], *, source: str) -> list[str]:
     second = (f"- **Everywhere else ({s['outside']} points) use the interacting-patch model (`workbench forcelaw`)**: "
               f"Hertz superposition is beyond 5 % at {s['outside'] - s['outside_hertz_within']} of them (median "
               f"{_f(med_o)}, worst {_f(worst_o)}); the interacting-patch model is within 5 % at "
-              f"{s['interacting_within']} of the {s['interacting']} points where it applies (median {_f(med_i)}, "
+              f"{s['interacting_within']} of the {s['interacting']} points where it applies (pairs within its slope "
+              f"limit; median {_f(med_i)}, "
               f"worst {_f(worst_i)}; its P(d) median {_f(med_p)}, worst {_f(worst_p)}).")
-    third = (f"- Not covered: the interacting-patch model refuses {s['refused']} of those points (a pair's surface "
-             f"tilted more than 0.1 from the path: every symmetric point, and close-to-conformal members whose "
-             f"secondary pair tilts 0.10 to 0.14) and did not converge at {s['unsolved']}; at {s['no_model']} points "
-             "neither model is validated (Hertz beyond 5 %, the force law refused, unsolved or beyond 5 %).")
-    return [first, second, third]
+    lines = [first, second]
+    if s["past"] or s["past_unsolved"]:
+        med_q, worst_q = s["past_errors"]
+        med_qp, worst_qp = s["past_P_errors"]
+        lines.append(f"- Past its analytic slope limit (a pair tilted more than 0.1 from the path, evaluated anyway: "
+                     f"the close-to-conformal members whose secondary pair tilts 0.10 to 0.14): the interacting-patch "
+                     f"model is within 5 % at {s['past_within']} of {s['past']} points (median {_f(med_q)}, worst "
+                     f"{_f(worst_q)}; its P(d) median {_f(med_qp)}, worst {_f(worst_qp)})"
+                     + (f", unsolved at {s['past_unsolved']}" if s["past_unsolved"] else "")
+                     + "; the force law's region takes those the map validated.")
+        why = "a pair tilted beyond the slope the map evaluated: every symmetric point, pairs facing 22 deg apart"
+    else:
+        why = ("a pair's surface tilted more than 0.1 from the path: every symmetric point, and close-to-conformal "
+               "members whose secondary pair tilts 0.10 to 0.14")
+    lines.append(f"- Not covered: the interacting-patch model refuses {s['refused']} of those points ({why}) and did "
+                 f"not converge at {s['unsolved']}; at {s['no_model']} points neither model is validated (Hertz beyond "
+                 "5 %, the force law refused, unsolved or beyond 5 %).")
+    return lines
