@@ -45,11 +45,23 @@ class InteractingTrack:
         self.prev, self.prev_d = None, m.d_touch
 
     def _to(self, d: float):
+        """The state at d, continued from the last one in n steps of at most STEP; where that fails, once more from
+        the same state in 4 n + 1 steps (other intermediate states: a patch born exactly at an intermediate state
+        can fail the model's interpenetration check, cc_R900_s3.6 at d_touch + 0.00833 mm)."""
+        prev, prev_d = self.prev, self.prev_d
+        try:
+            return self._steps(d, retry=False)
+        except ValueError:
+            self.prev, self.prev_d = prev, prev_d
+            return self._steps(d, retry=True)
+
+    def _steps(self, d: float, *, retry: bool):
         import numpy as np
 
         from analytic.force_law import _continued
 
         n = max(1, math.ceil((d - self.prev_d) / STEP - 1e-9))
+        n = 4 * n + 1 if retry else n
         for dd in np.linspace(self.prev_d, d, n + 1)[1:]:
             self.prev = _continued(self.dg, self.prev, float(dd), d0=self.prev_d, E_star=self.E_star,
                                    depth=self.depth, n_terms=32)
