@@ -195,3 +195,16 @@ def test_tiny_map_end_to_end(tmp_path):
     assert md[0].startswith("# Concave map") and "TINY run" in md[2]
     assert "Hertz superposition" in md[4]
     assert len((out / "concave_map.csv").read_text().splitlines()) == 5
+
+
+@pytest.mark.parametrize(("argv", "field"), [
+    (["--past-limit", "0.05"], "past_limit_slope"),
+    (["--past-limit", "0.2", "--no-past-limit"], "--past-limit"),
+])
+def test_past_limit_options_refuse_bad_values_in_one_line(tmp_path, capsys, argv, field):
+    from workbench.studies.concave_map import main
+
+    assert main([*argv, "--out", str(tmp_path / "m"), "--report"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and field in err, err
+    assert not (tmp_path / "m").exists()
