@@ -89,7 +89,8 @@ def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog="workbench forcelaw", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("design", metavar="DESIGN", help="symmetric | close_to_conformal | KIND:key=value,...")
     p.add_argument("--d-max", type=float, default=None,
-                   help="last displacement (mm along the path); default: the model's validity limit")
+                   help="last displacement (mm along the path); default: the end of the region the concave map "
+                        "validated")
     p.add_argument("--rows", type=int, default=41, help="rows from first touch to --d-max, 2 to 1000")
     p.add_argument("--step", type=float, default=0.002, help="row spacing without --d-max (mm), 1e-5 to 0.1")
     p.add_argument("--out", default=None, help="output folder (default: $WORKBENCH_RESULTS, else results/)")
