@@ -20,6 +20,20 @@ above its flat face, ``y = X1^2 / (2 R)`` or the wedge ``y = m |X1|``: :class:`f
   ``convective`` kinematics a lower-surface point meets the upper body's material point at the same current
   abscissa, and the profile travels with that point: the relative tangential displacement of dissimilar
   materials enters the gap, which is Ciavarella and Hills's model (:mod:`fem.two_body.convective`).
+* ``finite`` kinematics (issue 39; :mod:`fem.two_body.finite_problem`): both bodies hyperelastic, P1 mortar in the
+  current configuration, the traction along the deformed master normal (the case's ``traction = "obstacle"``).
+  The upper body is meshed as the real parabola, its lower face ``y = X1^2 / (2 R)`` up to ``|X1| = W/2``
+  (``build_profile_blocks(parabola_radius=R)``, the geometry ``workbench export`` gives the external codes), and
+  the gap is the distance to its deformed facets. Why not the flat block with the profile as a gap function: at
+  finite strain that is no body at all. The profile's material (a layer up to ``b0^2 / (2 R)`` thick under the
+  contact) would be missing from the bulk, and carrying ``h`` in the current-configuration gap needs a rule for
+  where on the deformed flat face to read it (the material point of Ciavarella-Hills's eq. (8), the current abscissa
+  of the pairing model, ...). That rule is exactly the modelling choice between ``profile`` and ``pairing`` that the
+  finite-strain runs are meant to decide, so it cannot be an input. The meshed parabola has no such rule: every
+  term of the same order as the convective effect (the geometry, the tangential displacements, the traction
+  direction, the material law) comes from the one body. b/b0 is measured as for the other runs, in the lower
+  body's material abscissa, with the pressure per deformed length weighted by the current slave length
+  (``p weight``: the normal force per reference length of the lower body).
 * The wedge's apex: the profile's slope jumps at X1 = 0. With ``apex = "refined"`` (the default) both contact lines
   have a node at x = 0, refined there as the block scene's apex, and the mortar segments are cut at the apex's
   projection (:func:`fem.two_body.geometry.mortar_points`), so no Gauss segment straddles the kink. That is exact for
@@ -47,6 +61,7 @@ from analytic import wedge
 from analytic.hertz import hertz_load_from_half_width
 from cases.schema import Case, Run
 from measures.contact import moment_half_width, rms_error
+from vocabulary import FINITE, MASTER_NORMAL
 from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series, SolveMetrics, run_keys
 from workbench.scenes.budget_theory import curve_moment_half_width
 from workbench.scenes.halfplanes_budget import halfplanes_error_budget
@@ -62,7 +77,6 @@ from workbench.scenes.halfplanes_theory import (
 from workbench.scenes.numbers import FRACTION_THEORY, MESH_SENSITIVE, WIDTH, declare
 from workbench.scenes.partners import meshed_partner
 from workbench.scenes.two_body import SOLVER_DEFAULTS
-from vocabulary import FINITE, MASTER_NORMAL
 
 # the judge's Dundurs parameters (0 for equal materials) are fractions; the FEM's b/b0 is a measured width ratio;
 # rms_convective moves by percents with the mesh

@@ -1,7 +1,7 @@
 """Error budget of two half-planes with a profile: three grids, three block sizes, the solver tolerance (issue 25).
 
-Every run of the case (a ``small`` one and one or more ``convective`` or ``finite`` ones) is solved again on the three
-``[discretisation] budget_levels`` (h_c / b0) at the largest block ``W_max = max(budget_widths)``, on the finest
+Every run of the case (a ``small`` one and one or more ``convective`` or ``finite`` ones) is solved again on the
+three ``[discretisation] budget_levels`` (h_c / b0) at the largest block ``W_max = max(budget_widths)``, on the finest
 level at the three block sizes, and at the finest level with the solver tolerances / 100; each row goes through
 :func:`workbench.scenes.budget_rows.budget_row` (Richardson in h, the 1/W correction, the iterative error,
 round-off). Both blocks are clamped/driven W x H blocks (no half-plane far field for two bodies), so the truncation
@@ -10,7 +10,8 @@ is O(b0/W), extrapolated in 1/W where that study is asymptotic.
 Rows (dimensionless):
 
 * ``b_over_b0`` and ``b_over_b0_moment``: the convective run over the small run at the same load (edges; moment
-  half-widths; with several convective or finite runs one row per run, ``b_over_b0_moment[<label>]``), each half-width over the classical one at its own measured load. Theory: converged Ciavarella-Hills
+  half-widths; with several convective or finite runs one row per run, ``b_over_b0_moment[<label>]``), each
+  half-width over the classical one at its own measured load. Theory: converged Ciavarella-Hills
   at the bodies' beta and the fine run's b0/R (parabola) or m (wedge); alternative: the first-order theory (its
   closed form for the edge, the moment ratio of its pressure for the moments). The theory's moments are taken on
   its fine plot grid: ``theory_uncertainty`` is that grid's error on the classical moment (closed forms b0/2,
@@ -98,7 +99,7 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
         alt = {"half_width": sol.b_over_b0_first_order,
                "moment": curve_moment_half_width(sol.x, sol.p_first_order) / w_class}
 
-        def ratio(key):
+        def ratio(key, conv=conv, alt=alt):
             oc, os_ = conv[key], small[key]
             if oc is None or os_ is None:
                 return None
