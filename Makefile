@@ -109,7 +109,8 @@ test: setup
 # every test file collected alone (issue 28)
 slow-tests: setup
 	WORKBENCH_SLOW_TESTS=1 $(PY) -m pytest -q -rs tests/test_error_budget_cases.py tests/test_files_alone.py \
-	 tests/test_studies_mpi.py tests/test_two_body_finite.py tests/test_two_body_convective.py tests/test_studies_smallest.py
+	 tests/test_studies_mpi.py tests/test_two_body_finite.py tests/test_two_body_convective.py tests/test_studies_smallest.py \
+	 tests/test_halfplanes_finite.py
 
 lint: setup
 	$(VENV)/bin/ruff check .

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import dolfinx_solver  # noqa: F401
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -30,6 +31,9 @@ from workbench.scenes.base import scene_for
 from workbench.scenes.wiring import solve_run
 
 ROOT = Path(__file__).resolve().parents[1]
+# The budget's rows per run (18 coarse solves, 90 s on a loaded machine) run in make slow-tests; the schema and the
+# tiny finite run in make test.
+SLOW = os.environ.get("WORKBENCH_SLOW_TESTS") == "1"
 CASE = ROOT / "cases" / "slow" / "halfplanes_finite_parabola.toml"
 
 
@@ -101,3 +105,29 @@ def test_finite_moment_ratio_shows_the_convective_narrowing(tiny):
     finite, profile = moment("neo_hookean") / moment("small"), moment("profile") / moment("small")
     assert finite < 1.0 and profile < 1.0, (finite, profile)
     assert abs(finite - profile) < 0.02, (finite, profile)
+
+
+@pytest.mark.skipif(not SLOW, reason="18 budget solves (90 s): make slow-tests runs them (WORKBENCH_SLOW_TESTS=1)")
+def test_budget_has_one_row_per_convective_or_finite_run(tmp_path):
+    """Several non-small runs: one b_over_b0_moment row each, named by the run (the small and convective runs of
+    the case only, on coarse grids, so that this takes seconds)."""
+    from workbench.pipeline.run_case import run_one
+    from workbench.scenes.halfplanes_budget import halfplanes_error_budget
+
+    text = CASE.read_text().split('[[variant]]\nlabel = "neo_hookean"')[0]
+    text = text.replace("budget_levels = [0.1, 0.05, 0.025]", "budget_levels = [0.4, 0.2, 0.1]").replace(
+        "budget_widths = [160.0, 320.0, 640.0]", "budget_widths = [20.0, 30.0, 40.0]")
+    path = tmp_path / "halfplanes_finite_parabola.toml"
+    path.write_text(text)
+    case = load_case(path)
+    assert [r.label for r in case.runs()] == ["small", "profile", "pairing"]
+
+    def solve(run, **overrides):
+        return run_one(run, name="budget", mesh_cache=tmp_path / "mesh", comm=MPI.COMM_SELF, progress=lambda s: None,
+                       **overrides)
+
+    rows = halfplanes_error_budget(case, solve=solve, progress=lambda s: None).rows
+    for label in ("profile", "pairing"):
+        row = rows[f"b_over_b0_moment[{label}]"]
+        assert 0.9 < row["fine"] < 1.0 and abs(row["theory"] - 0.97631) < 1e-4, row
+    assert "b_over_b0_moment" not in rows and rows["half_width_moment"]["theory"] == 1.0
