@@ -106,8 +106,8 @@ def _check_geometry(run: Run, where: str) -> None:
 
 
 def _check_finite(run: Run, where: str) -> None:
-    """What finite kinematics of the two half-planes supports (module docstring); the generic model check has
-    already refused a linear lower body and a traction other than 'obstacle'."""
+    """What finite kinematics of the two half-planes supports (module docstring); the generic model check that
+    follows refuses a traction other than 'obstacle' (:func:`cases.checks`)."""
     g = run.geometry
     if g.indenter != "parabola":
         raise CaseError(f"{where}: solver.kinematics = 'finite' is not available for the two-half-planes "
