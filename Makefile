@@ -52,7 +52,7 @@ done; exit 1
 endef
 
 .PHONY: help setup test run ci lint clean collect-alone mutations convergence stability validity concave-map bench report list example check-numbers fuzz faults $(CASES)
-.PHONY: slow-tests viz-check external external-ccx kratos-venv kratos-check save-baseline save-numbers emulate model-bands
+.PHONY: finite-halfplanes slow-tests viz-check external external-ccx kratos-venv kratos-check save-baseline save-numbers emulate model-bands
 
 # Exit codes: the workbench exits 1 on a tolerance FAIL (results written) and 2 on bad input (nothing written).
 # GNU make itself always exits 2 when a recipe fails, so the recipe names the workbench's own code on the last
@@ -68,6 +68,7 @@ help:
 	@echo "make convergence  error against run time study"
 	@echo "make stability    stiff/extreme-case sweep"
 	@echo "make validity     where Hertz / the wedge / Ciavarella-Hills hold, model by model -> results/validity/"
+	@echo "make finite-halfplanes  the two-half-planes case at finite strain with its error budget (slow: not in make run)"
 	@echo "make concave-map  where Hertz superposition holds over the concave design family -> results/concave_map/"
 	@echo "make bench        performance benchmark"
 	@echo "make save-baseline  make run, then save its key numbers as this machine's baseline (results/baseline/)"
@@ -108,7 +109,8 @@ test: setup
 # every test file collected alone (issue 28)
 slow-tests: setup
 	WORKBENCH_SLOW_TESTS=1 $(PY) -m pytest -q -rs tests/test_error_budget_cases.py tests/test_files_alone.py \
-	 tests/test_studies_mpi.py tests/test_two_body_finite.py tests/test_two_body_convective.py tests/test_studies_smallest.py
+	 tests/test_studies_mpi.py tests/test_two_body_finite.py tests/test_two_body_convective.py tests/test_studies_smallest.py \
+	 tests/test_halfplanes_finite.py
 
 lint: setup
 	$(VENV)/bin/ruff check .
@@ -149,6 +151,10 @@ stability: setup
 # two processes (the study's own pool), or NP MPI ranks; prints its wall time at the end
 validity: setup
 	$(STUDY) validity
+
+# cases/slow/: cases too slow for make run, make ci and make test's end-to-end runs (each its own target)
+finite-halfplanes: setup
+	$(MPIRUN) $(WB) run cases/slow/halfplanes_finite_parabola.toml; $(call explain_exit,finite-halfplanes)
 
 # one FEM run per design, in one process (55 designs x 5 loads; TINY=1: 2 x 2, the machinery)
 concave-map: setup

@@ -284,6 +284,23 @@ class FiniteContact:
             H.sum_duplicates()
         return gt, D, H, T
 
+    def current_weights(self, u: np.ndarray) -> np.ndarray:
+        """The nodal weights on the CURRENT slave length, ``W_i = int phi_i dgamma`` (mm; 0 for a contact node
+        without a partner now): ``p_i W_i`` is the node's contact force (N/mm), the pressure being per deformed
+        length."""
+        m = self.small.nodes.size
+        pts = self._points(u)
+        if pts is None:
+            return np.zeros(m)
+        k, t, wt = pts[0], pts[1], pts[2]
+        x = u.reshape(-1, 2) + self._X
+        A, B = self.s_ends[k, 0], self.s_ends[k, 1]
+        ls = np.linalg.norm(x[B] - x[A], axis=1)
+        rows = self.row_of[np.stack([A, B], axis=1)]
+        valid = rows >= 0
+        wphi = np.where(valid, wt[:, None] * np.stack([1 - t, t], axis=1), 0.0)
+        return np.bincount(np.maximum(rows, 0).ravel(), weights=(wphi * ls[:, None]).ravel(), minlength=m)
+
     def gaps(self, u: np.ndarray) -> np.ndarray:
         """The nodal weighted gaps g~ (mm) of the dof array u."""
         return self.linearise(u)[0]

@@ -104,6 +104,16 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
     def tangent(self, state: np.ndarray, d0: float):
         return None
 
+    def sample(self, degree: int | None = None, rule=None):
+        """The small-strain samples (:meth:`TwoBodyProblem.sample`: at the slave contact nodes, sorted by their
+        material abscissa X1, ``s = X1``) with the weights on the CURRENT slave length: ``p`` is the pressure per
+        deformed length, so ``sum(p weight)`` is the contact force and the moments ``sum(p weight s^k)`` are those
+        of the force per reference length of the slave body (its material abscissa, as the small-strain runs
+        measure it)."""
+        smp = super().sample(degree, rule)
+        order = np.argsort(self.gap.X[:, 0], kind="stable")
+        return smp._replace(weight=self.conv.current_weights(self.u.x.array.copy())[order])
+
     def measure(self) -> tuple[float, float]:
         """(P, P_pressure) in N/mm, full body (as :meth:`TwoBodyProblem.measure`, with the hyperelastic bulk)."""
         u = self.u.x.array.copy()

@@ -20,6 +20,20 @@ above its flat face, ``y = X1^2 / (2 R)`` or the wedge ``y = m |X1|``: :class:`f
   ``convective`` kinematics a lower-surface point meets the upper body's material point at the same current
   abscissa, and the profile travels with that point: the relative tangential displacement of dissimilar
   materials enters the gap, which is Ciavarella and Hills's model (:mod:`fem.two_body.convective`).
+* ``finite`` kinematics (issue 39; :mod:`fem.two_body.finite_problem`): both bodies hyperelastic, P1 mortar in the
+  current configuration, the traction along the deformed master normal (the case's ``traction = "obstacle"``).
+  The upper body is meshed as the real parabola, its lower face ``y = X1^2 / (2 R)`` up to ``|X1| = W/2``
+  (``build_profile_blocks(parabola_radius=R)``, the geometry ``workbench export`` gives the external codes), and
+  the gap is the distance to its deformed facets. Why not the flat block with the profile as a gap function: at
+  finite strain that is no body at all. The profile's material (a layer up to ``b0^2 / (2 R)`` thick under the
+  contact) would be missing from the bulk, and carrying ``h`` in the current-configuration gap needs a rule for
+  where on the deformed flat face to read it (the material point of Ciavarella-Hills's eq. (8), the current abscissa
+  of the pairing model, ...). That rule is exactly the modelling choice between ``profile`` and ``pairing`` that the
+  finite-strain runs are meant to decide, so it cannot be an input. The meshed parabola has no such rule: every
+  term of the same order as the convective effect (the geometry, the tangential displacements, the traction
+  direction, the material law) comes from the one body. b/b0 is measured as for the other runs, in the lower
+  body's material abscissa, with the pressure per deformed length weighted by the current slave length
+  (``p weight``: the normal force per reference length of the lower body).
 * The wedge's apex: the profile's slope jumps at X1 = 0. With ``apex = "refined"`` (the default) both contact lines
   have a node at x = 0, refined there as the block scene's apex, and the mortar segments are cut at the apex's
   projection (:func:`fem.two_body.geometry.mortar_points`), so no Gauss segment straddles the kink. That is exact for
@@ -47,6 +61,7 @@ from analytic import wedge
 from analytic.hertz import hertz_load_from_half_width
 from cases.schema import Case, Run
 from measures.contact import moment_half_width, rms_error
+from vocabulary import FINITE, MASTER_NORMAL
 from workbench.scenes.base import CaseComparison, LoadPath, Outcome, SceneMesh, Series, SolveMetrics, run_keys
 from workbench.scenes.budget_theory import curve_moment_half_width
 from workbench.scenes.halfplanes_budget import halfplanes_error_budget
@@ -68,11 +83,14 @@ from workbench.scenes.two_body import SOLVER_DEFAULTS
 declare("analytic", __name__, alpha=FRACTION_THEORY, beta=FRACTION_THEORY, b_over_b0_fem=WIDTH,
         b_over_b0_moment_fem=WIDTH)
 declare("case_errors", __name__, rms_convective=MESH_SENSITIVE)
+# a case with several convective or finite runs: each one's ratios, by its tag (run_tag)
+declare("analytic", __name__, **{f"b_over_b0{m}_fem_{tag}": WIDTH for m in ("", "_moment")
+                                 for tag in ("profile", "pairing", "neo_hookean", "saint_venant_kirchhoff")})
 
 APEX_FACTOR = 0.25  # a wedge's apex: element size over the contact size (as the block scene's apex_factor)
 
 __all__ = ["HalfplanesRun", "HalfplanesScene", "HalfplanesTheory", "bimaterial_of", "classical_theory",
-           "convective_theory", "derived", "profile_size"]
+           "convective_theory", "derived", "profile_size", "run_tag"]
 
 
 class HalfplanesRun(NamedTuple):
@@ -103,6 +121,15 @@ def derived(run: Run) -> HalfplanesRun:
                                  ld.half_width)
         return HalfplanesRun(bm, size, hertz_load_from_half_width(ld.half_width, size, bm.E_star), ld.half_width)
     return HalfplanesRun(bm, size, ld.P, classical_theory(run, ld.P).half_width)
+
+
+def run_tag(run: Run) -> str:
+    """What a convective or finite run of the scene moves, as a name: its convection (``profile``, ``pairing``) or
+    its bodies' law at finite strain (``neo_hookean``; ``<lower>_<upper>`` when the two differ)."""
+    if run.solver.kinematics == "convective":
+        return run.geometry.convection
+    models = [b.model for b in run.bodies]
+    return models[0] if len(set(models)) == 1 else "_".join(models)
 
 
 def _estimate(run: Run) -> tuple[float, float]:
@@ -142,9 +169,11 @@ class HalfplanesScene:
         shaped = g.indenter == "wedge" and g.wedge_body == "shaped"
         if shaped and apex is None:  # the shaped wedge's apex is a corner: a node of both contact lines
             apex = 1.0
+        finite = run.solver.kinematics == FINITE  # the real parabola, meshed (module docstring)
         files = build_profile_blocks(width=g.width_factor * a0, height=g.height_factor * a0, contact_half_width=a0,
                                      h_contact=disc.h_contact * a0, size_ratio=g.size_ratio, growth=disc.growth,
                                      apex_factor=apex, wedge_slope=dr.profile_size if shaped else None,
+                                     parabola_radius=dr.profile_size if finite else None,
                                      out_dir=mesh_cache, name=stem, stats_dir=stats_dir, comm=comm)
         cells = files.stats.get("cells", "?")
         return SceneMesh(files, {"P": P, "half_width": a0},
@@ -156,6 +185,8 @@ class HalfplanesScene:
         from fem.two_body.geometry import ProfileSurface
 
         g = run.geometry
+        if run.solver.kinematics == FINITE:  # the meshed parabola's facets, in the current configuration
+            return meshed_partner(run, master_surface=None, traction=MASTER_NORMAL)
         return meshed_partner(run, master_surface=ProfileSurface(g.indenter, derived(run).profile_size),
                               traction="halfplane", convection=g.convection,
                               cut_kinks=g.indenter != "wedge" or g.apex != "none")
@@ -177,13 +208,14 @@ class HalfplanesScene:
         vs_classical = {k: abs(v) for k, v in signed.items()} | {
             "rms": rms_error(smp.s, smp.p, p_th, center=0.0,
                              half_width=max(th.half_width, cmp.half_width if main else 0.0), p_ref=th.p_ref)}
-        if run.solver.kinematics == "convective":  # the classical solution ignores what this run measures: info only
+        if run.solver.kinematics != "small":  # the classical solution ignores what this run measures: info only
             vs_classical = {f"{k}_vs_classical": v for k, v in vs_classical.items()}
         solved = SolveMetrics.of(result)
         errors = solved.solve_errors() | vs_classical
         profile = {"b0_over_R": th.half_width / th.R} if th.kind == "parabola" else {"m": th.m}
         metrics = {
-            **run_keys(run, "halfplanes"), "indenter": g.indenter, "pairing": g.pairing, "traction": "halfplane",
+            **run_keys(run, "halfplanes"), "indenter": g.indenter, "pairing": g.pairing,
+            "traction": MASTER_NORMAL if run.solver.kinematics == FINITE else "halfplane",
             "convection": g.convection if run.solver.kinematics == "convective" else None,
             "bodies": {b.name: {"role": role, "E": b.E, "nu": b.nu, "model": b.model}
                        for b, role in zip(run.bodies, ("lower", "upper"), strict=True)},
@@ -201,20 +233,34 @@ class HalfplanesScene:
         return Outcome(run.label, run, metrics, [series], th, cmp, result)
 
     def judge(self, case: Case, outcomes: list[Outcome]) -> CaseComparison:
-        """b/b0 of the convective run over the small one against Ciavarella-Hills at the bodies' beta."""
-        by_kin = {o.run.solver.kinematics: o for o in outcomes}
+        """b/b0 of each convective or finite run over the small one against Ciavarella-Hills at the bodies' beta.
+
+        The first convective run (else the first finite one) is the case's main comparison (``b_over_b0_fem``,
+        ``b_over_b0_moment_fem``, the errors, the plot's converged pressure); with several such runs each also
+        gets ``b_over_b0_fem_<tag>`` and ``b_over_b0_moment_fem_<tag>`` (:func:`run_tag`: its convection or its
+        bodies' law)."""
         bodies = (" Bodies (lower, upper): " + "; ".join(f"{b.name} (E = {b.E:g} MPa, nu = {b.nu:g})"
                                                        for b in outcomes[0].run.bodies) + ".") if outcomes else ""
-        if not {"small", "convective"} <= set(by_kin):
+        small = next((o for o in outcomes if o.run.solver.kinematics == "small"), None)
+        moved = [o for o in outcomes if o.run.solver.kinematics != "small"]
+        if small is None or not moved:
             return CaseComparison({}, {}, bodies.strip(), {})
-        small, conv = by_kin["small"], by_kin["convective"]
+        moved.sort(key=lambda o: o.run.solver.kinematics != "convective")  # stable: the first convective first
+        conv = moved[0]
         th = conv.theory
         sol = convective_theory(th)
-        ratio = (conv.comparison.half_width / th.half_width) / (small.comparison.half_width
-                                                                / small.theory.half_width)
-        ratio_m = (conv.comparison.moment / th.half_width) / (small.comparison.moment / small.theory.half_width)
-        rows = [("FEM (convective / small, same load), edge", ratio),
-                ("FEM, moment half-widths", ratio_m),
+
+        def ratios(o: Outcome) -> tuple[float, float]:
+            return ((o.comparison.half_width / o.theory.half_width)
+                    / (small.comparison.half_width / small.theory.half_width),
+                    (o.comparison.moment / o.theory.half_width) / (small.comparison.moment / small.theory.half_width))
+
+        ratio, ratio_m = ratios(conv)
+        several = len(moved) > 1
+        fem_rows = ([(f"FEM {o.run.label} ({run_tag(o.run)}) / small, {what}", r) for o in moved
+                     for what, r in zip(("edge", "moment half-widths"), ratios(o), strict=True)] if several else
+                    [("FEM (convective / small, same load), edge", ratio), ("FEM, moment half-widths", ratio_m)])
+        rows = [*fem_rows,
                 ("first order (closed form)", sol.b_over_b0_first_order),
                 ("first iterate", sol.b_over_b0_first_iterate),
                 ("converged (full nonlinear)", sol.b_over_b0_converged)]
@@ -222,13 +268,19 @@ class HalfplanesScene:
         w_class = curve_moment_half_width(sol.x, sol.p_classical)
         moment_theory = curve_moment_half_width(sol.x, sol.p_converged) / w_class
         moment_first = curve_moment_half_width(sol.x, sol.p_first_order) / w_class
+        fem_moment = ([(f"FEM {o.run.label} ({run_tag(o.run)})", ratios(o)[1]) for o in moved] if several
+                      else [("FEM", ratio_m)])
         table += ["", "| moment ratio (2 sqrt(M2/M0), convective over classical) | value |", "|---|---|",
-                  f"| FEM | {ratio_m:.5f} |", f"| first order | {moment_first:.5f} |",
+                  *(f"| {k} | {v:.5f} |" for k, v in fem_moment), f"| first order | {moment_first:.5f} |",
                   f"| converged | {moment_theory:.5f} |"]
+        for o in moved:
+            sr = o.series[0]
+            sr.predictions["Ciavarella-Hills (converged)"] = np.interp(sr.x, sol.x * o.theory.half_width,
+                                                                      sol.p_converged * o.theory.P
+                                                                      / o.theory.half_width)
         sr = conv.series[0]
-        p_conv = np.interp(sr.x, sol.x * th.half_width, sol.p_converged * th.P / th.half_width)
-        sr.predictions["Ciavarella-Hills (converged)"] = p_conv
-        rms_conv = rms_error(sr.x, sr.p, p_conv, center=0.0, half_width=conv.comparison.half_width, p_ref=th.p_ref)
+        rms_conv = rms_error(sr.x, sr.p, sr.predictions["Ciavarella-Hills (converged)"], center=0.0,
+                             half_width=conv.comparison.half_width, p_ref=th.p_ref)
         profile = ({"b0_over_R": th.half_width / th.R} if th.kind == "parabola" else {"m": th.m})
         moduli = [b.E for b in conv.run.bodies]
         analytic = {"beta": sol.beta, "alpha": conv.metrics["alpha"], **profile,
@@ -238,11 +290,20 @@ class HalfplanesScene:
                     "b_over_b0_converged": sol.b_over_b0_converged, "b_over_b0_fem": ratio,
                     "b_over_b0_moment_fem": ratio_m, "b_over_b0_moment_converged": moment_theory,
                     "b_over_b0_moment_first_order": moment_first, "convection": conv.metrics["convection"]}
+        if several:
+            for o in moved:
+                r, rm = ratios(o)
+                analytic |= {f"b_over_b0_fem_{run_tag(o.run)}": r, f"b_over_b0_moment_fem_{run_tag(o.run)}": rm}
         shape = f"b0/R = {th.half_width / th.R:.4g}" if th.kind == "parabola" else f"wedge m = {th.m:.6g}"
-        headline = (f"Two half-planes, beta = {sol.beta:+.4f}, {shape}, convection "
-                    f"{conv.metrics['convection']!r}: moment ratio b/b0 FEM {ratio_m:.5f}, converged Ciavarella-Hills "
-                    f"{moment_theory:.5f}, first order {moment_first:.5f} (edges: FEM {ratio:.5f}, theory "
-                    f"{sol.b_over_b0_converged:.5f})." + bodies)
+        if several:
+            fems = ", ".join(f"{run_tag(o.run)} {ratios(o)[1]:.5f}" for o in moved)
+            headline = (f"Two half-planes, beta = {sol.beta:+.4f}, {shape}: moment ratio b/b0 FEM {fems}; converged "
+                        f"Ciavarella-Hills {moment_theory:.5f}, first order {moment_first:.5f}." + bodies)
+        else:
+            headline = (f"Two half-planes, beta = {sol.beta:+.4f}, {shape}, convection "
+                        f"{conv.metrics['convection']!r}: moment ratio b/b0 FEM {ratio_m:.5f}, converged "
+                        f"Ciavarella-Hills {moment_theory:.5f}, first order {moment_first:.5f} (edges: FEM "
+                        f"{ratio:.5f}, theory {sol.b_over_b0_converged:.5f})." + bodies)
         errors = {"b_over_b0": abs(ratio / sol.b_over_b0_converged - 1.0),
                   "b_over_b0_moment": abs(ratio_m / moment_theory - 1.0), "rms_convective": rms_conv}
         return CaseComparison(analytic, errors, headline, {"Convective ratio b/b0": table})

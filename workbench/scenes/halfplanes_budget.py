@@ -1,7 +1,7 @@
 """Error budget of two half-planes with a profile: three grids, three block sizes, the solver tolerance (issue 25).
 
-Every run of the case (a ``small`` and a ``convective`` one) is solved again on the three
-``[discretisation] budget_levels`` (h_c / b0) at the largest block ``W_max = max(budget_widths)``, on the finest
+Every run of the case (a ``small`` one and one or more ``convective`` or ``finite`` ones) is solved again on the
+three ``[discretisation] budget_levels`` (h_c / b0) at the largest block ``W_max = max(budget_widths)``, on the finest
 level at the three block sizes, and at the finest level with the solver tolerances / 100; each row goes through
 :func:`workbench.scenes.budget_rows.budget_row` (Richardson in h, the 1/W correction, the iterative error,
 round-off). Both blocks are clamped/driven W x H blocks (no half-plane far field for two bodies), so the truncation
@@ -10,7 +10,8 @@ is O(b0/W), extrapolated in 1/W where that study is asymptotic.
 Rows (dimensionless):
 
 * ``b_over_b0`` and ``b_over_b0_moment``: the convective run over the small run at the same load (edges; moment
-  half-widths), each half-width over the classical one at its own measured load. Theory: converged Ciavarella-Hills
+  half-widths; with several convective or finite runs one row per run, ``b_over_b0_moment[<label>]``), each
+  half-width over the classical one at its own measured load. Theory: converged Ciavarella-Hills
   at the bodies' beta and the fine run's b0/R (parabola) or m (wedge); alternative: the first-order theory (its
   closed form for the edge, the moment ratio of its pressure for the moments). The theory's moments are taken on
   its fine plot grid: ``theory_uncertainty`` is that grid's error on the classical moment (closed forms b0/2,
@@ -55,8 +56,9 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
     W_max, h_fine = widths[-1], levels[0]
     grid = [(h, W_max) for h in levels] + [(h_fine, W) for W in widths[:-1]]
     out: dict[str, dict] = {}
-    for run in case.runs():
-        k = run.solver.kinematics
+    runs = case.runs()
+    for run in runs:
+        k = run.label
         for h, W in grid:
             o = solve(with_grid(run, h=h, W=W, h_coarse=levels[-1]))
             progress(f"[budget {run.label}] h_c = {h:g} b0, W = {W:g} b0: {o.result.ndofs} dofs")
@@ -66,7 +68,9 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
         out[k]["tight"] = o_t
         out[k]["tight_note"] = "" if o_t is not None else str(how)
     rows: dict[str, dict] = {}
-    small = out.get("small")
+    small_run = next((r for r in runs if r.solver.kinematics == "small"), None)
+    small = None if small_run is None else out[small_run.label]
+    moved = [r.label for r in runs if r.solver.kinematics != "small"]  # convective and finite runs, each a row
     if small is not None:
         def hz(key):
             o = small[key]
@@ -82,8 +86,8 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
                                  formal_order=FORMAL_ORDER_EDGE if q == "half_width" else FORMAL_ORDER)
             for key in ("alt_theory", "alt_value", "alt_in_band"):
                 rows[q].pop(key)
-    conv = out.get("convective")
-    if small is not None and conv is not None:
+    for label in moved if small is not None else ():
+        conv = out[label]
         fine = conv[(h_fine, W_max)]
         th = fine.theory
         sol = convective_theory(th, n_plot=_THEORY_N_PLOT)
@@ -95,7 +99,7 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
         alt = {"half_width": sol.b_over_b0_first_order,
                "moment": curve_moment_half_width(sol.x, sol.p_first_order) / w_class}
 
-        def ratio(key):
+        def ratio(key, conv=conv, alt=alt):
             oc, os_ = conv[key], small[key]
             if oc is None or os_ is None:
                 return None
@@ -107,7 +111,8 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
         by_h = [ratio((h, W_max)) for h in levels]
         by_W = {W: ratio((h_fine, W)) for W in widths}
         note = "; ".join(n for n in (small["tight_note"], conv["tight_note"]) if n)
-        for key, q in (("b_over_b0", "half_width"), ("b_over_b0_moment", "moment")):
+        for name, q in (("b_over_b0", "half_width"), ("b_over_b0_moment", "moment")):
+            key = name if len(moved) == 1 else f"{name}[{label}]"
             rows[key] = budget_row(q, levels, widths, by_h, by_W, ratio("tight"), tight_note=note,
                                    theory=theory[q], theory_name="Ciavarella-Hills, converged",
                                    alt_name="first order", theory_uncertainty=theory_err if q == "moment" else None,

@@ -7,6 +7,12 @@ the profile (their body 1, the "indenter", driven through its top). Dundurs' bet
 (:func:`analytic.materials.bimaterial`, body 1 = the upper one); a rigid upper body is not a body of this scene
 (that is the block scene). Registered with the case schema by :func:`workbench.scenes.base.register_scene`.
 Units: mm, N, MPa.
+
+Kinematics ``small`` and ``convective`` take linear bodies and the traction along the flat slave's normal
+(``traction = "halfplane"``). ``finite`` (issue 39: :mod:`fem.two_body.finite_problem`) takes a hyperelastic law
+per body (``[[body]] model``, or a variant's ``body = [{model = ...}, {model = ...}]``), the traction along the
+deformed master normal (``traction = "obstacle"``: for two bodies the upper body's current normal), the parabola,
+degree 1 and mortar pairing; its upper body is meshed as the real parabola (:mod:`workbench.scenes.halfplanes`).
 """
 
 from __future__ import annotations
@@ -15,6 +21,7 @@ import math
 from dataclasses import dataclass
 
 from cases.schema import CaseError, Geometry, Run, SceneSchema
+from vocabulary import FINITE, HYPERELASTIC_MODELS
 from workbench.scenes.two_body_schema import PAIR_RANGES, PAIRINGS, check_method_and_models
 
 __all__ = ["BODY_ROLES", "HALFPLANES_SCHEMA", "HalfplanesGeometry", "PROFILES"]
@@ -77,9 +84,12 @@ def _check_geometry(run: Run, where: str) -> None:
     if g.indenter == "wedge" and g.wedge_angle is None:
         raise CaseError(f"{where}: geometry.wedge_angle is required for the two-half-planes wedge scene; "
                         "allowed: 0 < wedge_angle < pi/2 (rad)")
-    if sol.kinematics not in ("small", "convective"):
+    if sol.kinematics not in ("small", "convective", FINITE):
         raise CaseError(f"{where}: solver.kinematics = {sol.kinematics!r} is not available for two elastic "
-                        "half-planes; allowed: 'small', 'convective'")
+                        "half-planes; allowed: 'small', 'convective', 'finite'")
+    if sol.kinematics == FINITE:
+        _check_finite(run, where)
+        return
     if sol.traction != "halfplane":
         raise CaseError(f"{where}: solver.traction = {sol.traction!r} is not available for two elastic half-planes "
                         "(the contact traction acts along the flat slave's normal on both bodies); allowed: "
@@ -95,6 +105,27 @@ def _check_geometry(run: Run, where: str) -> None:
     check_method_and_models(run, where, model_reason="is not available for two elastic half-planes")
 
 
+def _check_finite(run: Run, where: str) -> None:
+    """What finite kinematics of the two half-planes supports (module docstring); the generic model check that
+    follows refuses a traction other than 'obstacle' (:func:`cases.checks`)."""
+    g = run.geometry
+    if g.indenter != "parabola":
+        raise CaseError(f"{where}: solver.kinematics = 'finite' is not available for the two-half-planes "
+                        f"{g.indenter} (the elastic wedge at finite strain is issue 39's item 4); allowed: "
+                        "indenter = 'parabola'")
+    if run.discretisation.degree != 1:
+        raise CaseError(f"{where}: discretisation.degree = {run.discretisation.degree} is not available with "
+                        "solver.kinematics = 'finite' for two elastic half-planes; allowed: 1")
+    if g.pairing != "mortar":
+        raise CaseError(f"{where}: geometry.pairing = {g.pairing!r} is not available with solver.kinematics = "
+                        "'finite' for two elastic half-planes; allowed: 'mortar'")
+    for i, body in enumerate(run.bodies):
+        if body.model not in HYPERELASTIC_MODELS:
+            raise CaseError(f"{where}: body[{i}].model = {body.model!r} is not available with solver.kinematics = "
+                            f"'finite'; allowed: {', '.join(map(repr, HYPERELASTIC_MODELS))}")
+    check_method_and_models(run, where, model_reason="", models=False)
+
+
 def _check_load(run: Run, where: str) -> None:
     if run.loading.control != "force":
         raise CaseError(f"{where}: loading.control must be 'force' (with P or half_width) for two half-planes, "
@@ -104,9 +135,10 @@ def _check_load(run: Run, where: str) -> None:
 def _check_case(case, runs, where: str) -> None:
     if "convective" in case.analytic.predictions:
         kins = sorted({r.solver.kinematics for r in runs})
-        if kins != ["convective", "small"]:
-            raise CaseError(f"{where}: analytic.predictions 'convective' compares a small and a convective run "
-                            f"of the same case; got kinematics {kins} (add [[variant]] tables for both)")
+        if "small" not in kins or len(kins) < 2:
+            raise CaseError(f"{where}: analytic.predictions 'convective' compares a small and a convective (or "
+                            f"finite) run of the same case; got kinematics {kins} (add [[variant]] tables for "
+                            "both)")
 
 
 HALFPLANES_SCHEMA = SceneSchema(
@@ -133,6 +165,7 @@ HALFPLANES_SCHEMA = SceneSchema(
     },
     band_quantities=("p_max", "half_width", "half_width_moment", "b_over_b0", "b_over_b0_moment"),
     bodies=BODY_ROLES,
+    finite=True,
     check_geometry=_check_geometry,
     check_load=_check_load,
     check_case=_check_case,

@@ -16,7 +16,8 @@ def meshed_partner(run: Run, *, master_surface, driven_components: tuple[int, ..
     """The upper body of a two-body run as the meshed contact partner (:class:`fem.two_body.problem.MeshedPartner`).
 
     Args:
-        run: The run; ``run.bodies`` is (lower, upper) with E (MPa) and nu, ``run.geometry.pairing`` the pairing.
+        run: The run; ``run.bodies`` is (lower, upper) with E (MPa), nu and the bulk law (``model``: linear, or a
+            hyperelastic law with finite kinematics), ``run.geometry.pairing`` the pairing.
         master_surface: The upper body's exact reference surface for the initial gap (e.g.
             :class:`fem.two_body.geometry.CircleSurface`), or None (its facets).
         driven_components: The displacement components prescribed on the driven facets.
@@ -26,8 +27,10 @@ def meshed_partner(run: Run, *, master_surface, driven_components: tuple[int, ..
     from fem.two_body.problem import Body, MeshedPartner
 
     lower, upper = run.bodies
-    return MeshedPartner(bodies=(Body(name="lower", E=lower.E, nu=lower.nu, label=lower.name),
-                                 Body(name="upper", E=upper.E, nu=upper.nu, label=upper.name)),
+    return MeshedPartner(bodies=(Body(name="lower", E=lower.E, nu=lower.nu, label=lower.name,
+                                      material_model=lower.model),
+                                 Body(name="upper", E=upper.E, nu=upper.nu, label=upper.name,
+                                      material_model=upper.model)),
                          slave="contact_lower", master="contact_upper", driven="driven", driven_body="upper",
                          driven_components=driven_components, pairing=run.geometry.pairing,
                          master_surface=master_surface, **options)

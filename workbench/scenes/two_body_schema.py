@@ -76,14 +76,15 @@ def _check_geometry(run: Run, where: str) -> None:
                                                       "support yet")
 
 
-def check_method_and_models(run: Run, where: str, *, model_reason: str) -> None:
-    """The contact methods two elastic bodies support (:data:`TWO_BODY_METHODS`) and linear body models; a bad value
-    is a one-line :class:`CaseError` (``model_reason``: why a non-linear model is refused on the scene)."""
+def check_method_and_models(run: Run, where: str, *, model_reason: str, models: bool = True) -> None:
+    """The contact methods two elastic bodies support (:data:`TWO_BODY_METHODS`) and (``models``) linear body
+    models; a bad value is a one-line :class:`CaseError` (``model_reason``: why a non-linear model is refused on
+    the scene)."""
     sol = run.solver
     if sol.method not in TWO_BODY_METHODS:
         raise CaseError(f"{where}: solver.method = {sol.method!r} is not available for two elastic bodies "
                         f"(nitsche needs the slave traction); allowed: {', '.join(map(repr, TWO_BODY_METHODS))}")
-    for i, body in enumerate(run.bodies):
+    for i, body in enumerate(run.bodies if models else ()):
         if body.model != "linear":
             raise CaseError(f"{where}: body[{i}].model = {body.model!r} {model_reason}; allowed: 'linear'")
 
