@@ -161,6 +161,10 @@ class LoadStepper:
         self.problem = pb = problem
         self.opts = opts = problem.options
         self.states = [ConvergedState(0.0, 0.0, pb.get_state() * 0.0, None)]
+        # the first residual norm of the last SNES solve that reached each state (None: the unloaded one): the
+        # reference of snes_rtol, which a warm re-solve of that state tests against (fem.warm_start)
+        self.first_residuals: list[float | None] = [None]
+        pb.snes.setConvergenceHistory(reset=True)
         self.records: list[dict] = []
         self.snapshots: list[Snapshot] = []
         self.on_step: list[Callable] = [] if on_step is None else [on_step]
@@ -299,6 +303,8 @@ class LoadStepper:
         P, Pp = pb.measure()
         zone_now = pb.contact_zones() if self.opts.active_set_predictor else None
         self.states.append(ConvergedState(d_new, P, pb.get_state(), zone_now))
+        history = pb.snes.getConvergenceHistory()[0]
+        self.first_residuals.append(float(history[0]) if len(history) else None)
         rec = {"d": d_new, "P": P, "P_pressure": Pp, "iterations": its, "time": time.perf_counter() - t0,
                "kind": kind, "reason": reason, **extra}
         self.records.append(rec)
