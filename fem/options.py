@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import MISSING, dataclass, fields
+from typing import Any
 
 import numpy as np
 
@@ -135,6 +136,9 @@ class LoadControl:
             the set of contact points repeats (at most :data:`fem.stepping.EDGE_FIT_MAX`), then semismooth
             Newton, which decides the answer.
         on_step: callable(dict) called after every converged solve with the load-step record.
+        warm_start: a :class:`fem.warm_start.WarmStart` (converged states of the same problem, e.g.
+            :attr:`fem.solver.ContactResult.warm_start`): each level solved once from its state, no load path
+            (the error budget's tightened re-solve); None (default): the load path from the unloaded state.
     """
 
     target: float
@@ -149,6 +153,7 @@ class LoadControl:
     active_set: str = "extrapolate"
     active_set_update: str = "newton"
     on_step: Callable | None = None
+    warm_start: Any = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -226,7 +231,7 @@ _FLAT_ORDER = (
     'quadrature_degree', 'force_rtol', 'snes_rtol', 'max_it', 'case', 'petsc_options', 'predictor',
     'sample_degree', 'active_set_predictor', 'active_set', 'active_set_update', 'first_step_fraction',
     'record_at', 'formulation', 'min_facets_across', 'uzawa_rtol', 'uzawa_max_it', 'linear_solver',
-    'split_jacobian', 'material_model'
+    'split_jacobian', 'material_model', 'warm_start'
 )
 
 

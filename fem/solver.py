@@ -43,6 +43,7 @@ from fem.options import FORMULATIONS, MIN_FACETS_ACROSS, SUPPORT_KINDS, ContactO
 from fem.partner_problem import PartnerProblem
 from fem.postprocess import Patch, SurfaceSamples, find_patches
 from fem.stepping import LoadStepper, Snapshot
+from fem.warm_start import warm_start_of
 
 __all__ = ["ContactSolveError", "ContactResult", "ContactOptions", "Snapshot", "solve_contact", "solve_problem",
            "snes_reason_name",
@@ -73,6 +74,8 @@ class ContactResult:
             patch spans fewer than ``min_facets_across`` contact facets (see
             :func:`fem.postprocess.resolution_warnings`); empty when none.
         pressure_field: the P1 pressure ``p = -lambda div u`` (MPa) of the mixed formulation, else None.
+        warm_start: the converged states this solve ends with (:func:`fem.warm_start.warm_start_of`): the
+            ``warm_start`` option of a re-solve of the same problem (e.g. at tighter tolerances).
     """
 
     ndofs: int
@@ -92,6 +95,7 @@ class ContactResult:
     snapshots: list = field(default_factory=list)
     warnings: list = field(default_factory=list)
     pressure_field: Any = field(default=None, repr=False)
+    warm_start: Any = field(default=None, repr=False)
 
 
 def solve_contact(mesh_data, obstacle, options: ContactOptions | None = None, **fields) -> ContactResult:
@@ -160,4 +164,4 @@ def _result(problem: PartnerProblem, stepper: LoadStepper) -> ContactResult:
                          d=float(stepper.states[-1].d), P=float(P), P_pressure=float(Pp), samples=samples,
                          patches=patches, u=problem.u, options=options, half=opts.symmetric_half,
                          forms=problem.forms, lame=problem.lame, snapshots=stepper.snapshots, warnings=warns,
-                         pressure_field=problem.pressure_field)
+                         pressure_field=problem.pressure_field, warm_start=warm_start_of(stepper))

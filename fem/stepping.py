@@ -161,6 +161,10 @@ class LoadStepper:
         self.problem = pb = problem
         self.opts = opts = problem.options
         self.states = [ConvergedState(0.0, 0.0, pb.get_state() * 0.0, None)]
+        # the first residual norm of the last SNES solve that reached each state (None: the unloaded one): the
+        # reference of snes_rtol, which a warm re-solve of that state tests against (fem.warm_start)
+        self.first_residuals: list[float | None] = [None]
+        pb.snes.setConvergenceHistory(reset=True)
         self.records: list[dict] = []
         self.snapshots: list[Snapshot] = []
         self.on_step: list[Callable] = [] if on_step is None else [on_step]
@@ -299,6 +303,8 @@ class LoadStepper:
         P, Pp = pb.measure()
         zone_now = pb.contact_zones() if self.opts.active_set_predictor else None
         self.states.append(ConvergedState(d_new, P, pb.get_state(), zone_now))
+        history = pb.snes.getConvergenceHistory()[0]
+        self.first_residuals.append(float(history[0]) if len(history) else None)
         rec = {"d": d_new, "P": P, "P_pressure": Pp, "iterations": its, "time": time.perf_counter() - t0,
                "kind": kind, "reason": reason, **extra}
         self.records.append(rec)
@@ -431,9 +437,14 @@ class LoadStepper:
 
     # -- drivers --------------------------------------------------------------------------------------------
     def run(self) -> None:
-        """Step to the target (displacement, recorded displacements or force control)."""
+        """Step to the target (displacement, recorded displacements or force control), or solve the levels of
+        ``warm_start`` from their converged states (:func:`fem.warm_start.run_warm`)."""
         opts = self.opts
-        if opts.control == "displacement" and opts.record_at:
+        if opts.warm_start is not None:  # from converged states: no load path (fem.warm_start)
+            from fem.warm_start import run_warm
+
+            run_warm(self, opts.warm_start)
+        elif opts.control == "displacement" and opts.record_at:
             self.run_recorded()
         elif opts.control == "displacement":
             self.run_displacement()
@@ -453,19 +464,24 @@ class LoadStepper:
     def run_recorded(self) -> None:
         """Step through the recorded displacements in turn (n_steps sub-steps to the first one, one step between
         the others, cut back as needed) and keep a snapshot of the surface at each."""
-        opts, pb = self.opts, self.problem
+        opts = self.opts
         levels = [float(v) for v in opts.record_at]
         for k in range(1, opts.n_steps + 1):
             self.reach(levels[0] * k / opts.n_steps, k, "step")
         for k, level in enumerate(levels):
             if k > 0:
                 self.reach(level, opts.n_steps + k, "step")
-            smp = pb.sample()
-            P_k, Pp_k = pb.measure()
-            self.snapshots.append(Snapshot(d=level, P=float(P_k), P_pressure=float(Pp_k), samples=smp,
-                                           patches=find_patches(smp, half=opts.symmetric_half),
-                                           iterations=int(self.records[-1]["iterations"]) if self.records else 0,
-                                           warnings=tuple(pb.quality_warnings(smp, level))))
+            self.snapshot(level)
+
+    def snapshot(self, level: float) -> None:
+        """Keep a :class:`Snapshot` of the current (converged) state at the recorded displacement ``level``."""
+        opts, pb = self.opts, self.problem
+        smp = pb.sample()
+        P_k, Pp_k = pb.measure()
+        self.snapshots.append(Snapshot(d=level, P=float(P_k), P_pressure=float(Pp_k), samples=smp,
+                                       patches=find_patches(smp, half=opts.symmetric_half),
+                                       iterations=int(self.records[-1]["iterations"]) if self.records else 0,
+                                       warnings=tuple(pb.quality_warnings(smp, level))))
 
     def run_force(self) -> None:
         """Load levels ``P_k = target k / n_steps``: d from the Hertz predictor or the secant."""

@@ -144,32 +144,45 @@ def test_wide_contact_rows_from_the_measured_sequences():
 
 def test_tight_resolve_divides_every_tolerance_and_falls_back():
     """The tight re-solve passes the tolerances / 100 (SNES atol 1e-13 E L / 100), then / 10, then gives up with
-    the solver's reason (the row then says so in ``iterative_status``)."""
+    the solver's reason (the row then says so in ``iterative_status``); it starts warm, from the finest run's
+    converged states, and scales the atol by the stiffest body's E."""
     from types import SimpleNamespace
 
     import numpy as np
     from mpi4py import MPI
 
     from fem.solver import ContactSolveError
-    from workbench.error_budget import tight_resolve
+    from workbench.error_budget import WARM_MAX_IT, tight_resolve
 
     mesh = SimpleNamespace(comm=MPI.COMM_SELF, geometry=SimpleNamespace(x=np.array([[0.0, 0.0, 0], [20.0, 5.0, 0]])))
-    outcome = SimpleNamespace(result=SimpleNamespace(u=SimpleNamespace(function_space=SimpleNamespace(mesh=mesh))))
-    run = SimpleNamespace(label="base", material=SimpleNamespace(E=100.0))
+    warm = object()
+    outcome = SimpleNamespace(result=SimpleNamespace(u=SimpleNamespace(function_space=SimpleNamespace(mesh=mesh)),
+                                                     warm_start=warm))
+    run = SimpleNamespace(label="base", material=SimpleNamespace(E=100.0), bodies=())
+    tight = SimpleNamespace(result=SimpleNamespace(newton_iterations=[1, 0], wall_time_s=0.1))
     calls = []
 
     def solve(r, **kw):
         calls.append(kw)
         if len(calls) == 1:
             raise ContactSolveError("load step 1 diverged")
-        return "tight outcome"
+        return tight
 
     o, how = tight_resolve(solve, run, outcome, progress=lambda m: None)
-    assert o == "tight outcome" and how == 10.0
+    assert o is tight and how == 10.0
     assert calls[0]["snes_rtol"] == pytest.approx(1e-12) and calls[0]["force_rtol"] == pytest.approx(1e-12)
     assert calls[0]["uzawa_rtol"] == pytest.approx(1e-12)
     assert calls[0]["petsc_options"]["snes_atol"] == pytest.approx(1e-13 * 100.0 * 20.0 / 100)
     assert calls[1]["snes_rtol"] == pytest.approx(1e-11)
+    # warm: from the converged states of the finest run, a few Newton iterations per solve (issue 38)
+    assert all(c["warm_start"] is warm and c["max_it"] == WARM_MAX_IT for c in calls)
+    # two bodies: the SNES atol scale is the stiffer body's E, as the problem's own (fem/two_body/problem.py)
+    calls.clear()
+    stiff = SimpleNamespace(material=SimpleNamespace(E=1e8))
+    two = SimpleNamespace(label="small", material=SimpleNamespace(E=100.0),
+                          bodies=(SimpleNamespace(material=SimpleNamespace(E=100.0)), stiff))
+    tight_resolve(lambda r, **kw: calls.append(kw) or tight, two, outcome, progress=lambda m: None)
+    assert calls[0]["petsc_options"]["snes_atol"] == pytest.approx(1e-13 * 1e8 * 20.0 / 100)
 
     def never(r, **kw):
         raise ContactSolveError("diverged: SNES reason -5")

@@ -35,6 +35,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["FS", "FS_FORMAL", "FORMAL_ORDER", "FORMAL_ORDER_EDGE", "ITERATIVE_FLOOR", "ROUNDOFF_FLOOR", "TIGHTENING",
+           "WARM_MAX_IT",
            "GridStudy", "grid_study", "iterative_error", "tight_resolve", "uncertainty"]
 
 FS = 1.25  # safety factor of the GCI for a three-grid study (Roache)
@@ -56,6 +57,10 @@ FORMAL_ORDER = 2.0
 FORMAL_ORDER_EDGE = 1.5
 # The iterative error is measured by solving the finest level again with every solver tolerance divided by this.
 TIGHTENING = 100.0
+# Newton iterations allowed per solve of that re-solve (it starts from the converged state: measured 1-3 where the
+# tight tolerances are reachable; where they are not, the round-off floor of the residual, a cold re-solve spent
+# 40 iterations and 5 cut-backs per tolerance before failing)
+WARM_MAX_IT = 10
 # Relative floor of the measured iterative error: the tight solve's own tolerance (default 1e-10 / TIGHTENING).
 # Newton converges quadratically, so a default solve often already meets the tight tolerance: then the two
 # values are identical and what is known is only that the error is below that tolerance.
@@ -180,10 +185,15 @@ def iterative_error(value: float, tight: float | None) -> float | None:
 
 def tight_resolve(solve, run, outcome, *, progress=print):
     """The finest run solved again with the solver tolerances divided by ``TIGHTENING`` (then by 10 if that does
-    not converge): ``(outcome, tightening)``, or ``(None, reason)``.
+    not converge), warm: ``(outcome, tightening)``, or ``(None, reason)``.
 
     ``solve(run, **overrides)`` is the pipeline's solve; the tolerances are ``snes_rtol``, ``force_rtol`` and
-    ``uzawa_rtol`` (defaults 1e-10) and the SNES absolute tolerance ``1e-13 E L`` (L = the mesh's extent).
+    ``uzawa_rtol`` (defaults 1e-10) and the SNES absolute tolerance ``1e-13 E L`` (L = the mesh's extent, E the
+    stiffest body's Young's modulus, as the problem scales it). The
+    re-solve starts from the converged states of ``outcome`` (``warm_start``, :mod:`fem.warm_start`: the final
+    state, or every recorded displacement's) on the same mesh, and continues the same Newton (and Uzawa)
+    iteration to the tighter tolerances, at most ``WARM_MAX_IT`` Newton iterations per solve: no load path is
+    repeated. The difference of a value between the two solves is the iterative error of the stopped one.
     """
     from mpi4py import MPI
 
@@ -195,16 +205,23 @@ def tight_resolve(solve, run, outcome, *, progress=print):
     # every rank must set the same absolute tolerance (the SNES test is collective): the body's extent, as
     # fem/problem.py measures it
     L = mesh.comm.allreduce(float(np.max(np.ptp(x[:, :2], axis=0))) if x.size else 0.0, op=MPI.MAX) or 1.0
-    E = run.material.E
+    # the problem's own scale (fem/problem.py; two bodies: the stiffer body's E, fem/two_body/problem.py). The
+    # first body's E made the "tolerances / 100" of the rigid limit (E ratio 1e6) a tolerance / 1e8, below the
+    # residual's round-off: that re-solve could only diverge.
+    E = max([b.material.E for b in run.bodies] or [run.material.E])
     d = ContactOptions.defaults()
+    warm = {"warm_start": outcome.result.warm_start, "max_it": WARM_MAX_IT}
     last = ""
     for k in (TIGHTENING, 10.0):
         kw = {name: d[name] / k for name in ("snes_rtol", "force_rtol", "uzawa_rtol")}
         try:
-            o = solve(run, **kw, petsc_options={"snes_atol": 1e-13 * E * L / k})
+            o = solve(run, **kw, **warm, petsc_options={"snes_atol": 1e-13 * E * L / k})
         except ContactSolveError as exc:
             last = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             progress(f"[budget {run.label}] tight re-solve at tolerances / {k:g} did not converge: {last}")
             continue
+        its = sum(o.result.newton_iterations)
+        progress(f"[budget {run.label}] tight re-solve (warm, tolerances / {k:g}): {its} Newton its in "
+                 f"{len(o.result.newton_iterations)} solve(s), {o.result.wall_time_s:.2f} s")
         return o, k
     return None, f"tight re-solve failed: {last}"
