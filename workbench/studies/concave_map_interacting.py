@@ -107,8 +107,8 @@ def reevaluate(points: list[dict], cfg, *, progress=print) -> int:
     designs re-evaluated. ``cfg``: the map's :class:`workbench.studies.concave_map_config.ConcaveMapConfig` (its
     designs, its cases for the material, its ``past_limit_slope``)."""
     from analytic import materials
-    from workbench.studies.concave_map import design_run
     from workbench.studies.concave_map_config import MapDesign
+    from workbench.studies.concave_map_design import design_run
 
     want = {d.label for d in cfg.designs}
     by: dict[str, list[dict]] = {}
