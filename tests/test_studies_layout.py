@@ -40,7 +40,8 @@ OWN = {"workbench.studies.bench": {"workbench.studies.bench_config", "workbench.
                                       "workbench.studies.validity_elastic_wedge"},
        "workbench.studies.concave_map": {"workbench.studies.concave_map_config", "workbench.studies.concave_map_models",
                                          "workbench.studies.concave_map_report", "workbench.studies.concave_map_band",
-                                         "workbench.studies.concave_map_interacting", "workbench.studies.concave_map_design"}}
+                                         "workbench.studies.concave_map_interacting",
+                                         "workbench.studies.concave_map_design"}}
 # the shared pieces every study may import: config and rates, the point runner and its executor (local processes or
 # mpi4py.futures ranks), the reference solve measured in the same run, the block scene's point helpers, and the
 # time-and-where section every report ends with
