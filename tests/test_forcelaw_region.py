@@ -83,16 +83,16 @@ def test_a_point_within_the_fem_band_counts_as_within():
 
 
 def test_the_command_writes_the_region_from_a_map_folder(tmp_path, monkeypatch, capsys):
-    """``workbench concave-map --out DIR --write-region`` reads DIR's points (no FEM) and writes the region file;
-    without a solved map it refuses in one line and creates nothing."""
+    """``workbench concave-map --out DIR --write-region`` reads DIR's points (no FEM) and writes the region file
+    inside DIR (never the shipped one); without a solved map it refuses in one line and creates nothing."""
     import json
 
     import workbench.forcelaw_region as fr
     from workbench.owned import ensure_dir
     from workbench.studies.concave_map import main
 
-    target = tmp_path / "region.json"
-    monkeypatch.setattr(fr, "REGION_FILE", target)
+    shipped = tmp_path / "shipped.json"
+    monkeypatch.setattr(fr, "REGION_FILE", shipped)
     assert main(["--out", str(tmp_path / "none"), "--write-region"]) == 2
     assert "missing" in capsys.readouterr().err and not (tmp_path / "none").exists()
     out = tmp_path / "map"
@@ -101,6 +101,7 @@ def test_the_command_writes_the_region_from_a_map_folder(tmp_path, monkeypatch, 
     (out / "concave_map.json").write_text(json.dumps(
         {"summary": {"points": len(pts), "designs": 2, "failed_designs": 0}, "points": pts, "failures": []}))
     assert main(["--out", str(out), "--write-region"]) == 0
-    region = json.loads(target.read_text())
+    assert not shipped.exists()
+    region = json.loads((out / "forcelaw_region.json").read_text())
     assert {n["design"]: n["approach_max_mm"] for n in region["nodes"]} == {"a": 0.04, "c": 0.002}
     assert "0 points with the FEM's band" in region["source"]

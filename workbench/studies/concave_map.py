@@ -93,12 +93,13 @@ def run_map(cfg: ConcaveMapConfig, *, progress=print) -> tuple[list[dict], list[
 
 
 def _write_region(out: Path) -> Path:
-    """``workbench/forcelaw_region.json`` from the solved map in ``out`` (with the FEM's band where the coarse pass
-    exists): :func:`workbench.forcelaw_region.region_from_points`."""
+    """``<out>/forcelaw_region.json`` from the solved map in ``out`` (with the FEM's band where the coarse pass
+    exists): :func:`workbench.forcelaw_region.region_from_points`. Written inside the output folder only; the
+    shipped region (:data:`workbench.forcelaw_region.REGION_FILE`) is a maintainer's copy of it."""
     import json
 
     from workbench.atomic import write_json
-    from workbench.forcelaw_region import REGION_FILE, region_from_points
+    from workbench.forcelaw_region import region_from_points
     from workbench.studies.concave_map_band import attach_bands
 
     data = json.loads((out / "concave_map.json").read_text(encoding="utf-8"))
@@ -108,8 +109,9 @@ def _write_region(out: Path) -> Path:
     s = data["summary"]
     source = (f"workbench concave-map: {s['points']} points, {s['designs'] - s['failed_designs']} of {s['designs']} "
               f"designs solved, {banded} points with the FEM's band")
-    write_json(REGION_FILE, region_from_points(data["points"], data.get("failures", []), source=source))
-    return REGION_FILE
+    target = out / "forcelaw_region.json"
+    write_json(target, region_from_points(data["points"], data.get("failures", []), source=source))
+    return target
 
 
 class _Parser(argparse.ArgumentParser):
@@ -153,7 +155,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--no-past-limit", action="store_true", help="refuse the interacting-patch model beyond its "
                     "analytic slope limit (the map's first runs)")
     ap.add_argument("--write-region", action="store_true", help="solve nothing; write the region the map validated "
-                    "for the force law into workbench/forcelaw_region.json (read by workbench forcelaw)")
+                    "for the force law into <out>/forcelaw_region.json (copy it into workbench/ to ship it)")
     args = ap.parse_args(argv)
     try:
         opts = dict(TINY if args.tiny else {})
