@@ -139,6 +139,10 @@ class LoadControl:
         warm_start: a :class:`fem.warm_start.WarmStart` (converged states of the same problem, e.g.
             :attr:`fem.solver.ContactResult.warm_start`): each level solved once from its state, no load path
             (the error budget's tightened re-solve); None (default): the load path from the unloaded state.
+        nested_start: a :class:`fem.nested_start.NestedStart` (the converged state of a coarser mesh of the same
+            problem, :attr:`fem.solver.ContactResult.nested_start`): the target solved once from its
+            interpolation, with its active set and d, then force control's correction; no load path (nested
+            iteration, the error budget's grid hierarchy). Not with ``warm_start`` or ``record_at``.
     """
 
     target: float
@@ -154,6 +158,7 @@ class LoadControl:
     active_set_update: str = "newton"
     on_step: Callable | None = None
     warm_start: Any = None
+    nested_start: Any = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -231,7 +236,7 @@ _FLAT_ORDER = (
     'quadrature_degree', 'force_rtol', 'snes_rtol', 'max_it', 'case', 'petsc_options', 'predictor',
     'sample_degree', 'active_set_predictor', 'active_set', 'active_set_update', 'first_step_fraction',
     'record_at', 'formulation', 'min_facets_across', 'uzawa_rtol', 'uzawa_max_it', 'linear_solver',
-    'split_jacobian', 'material_model', 'warm_start'
+    'split_jacobian', 'material_model', 'warm_start', 'nested_start'
 )
 
 

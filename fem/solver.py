@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from fem.errors import ContactSolveError, snes_reason_name
+from fem.nested_start import nested_start_of
 from fem.options import FORMULATIONS, MIN_FACETS_ACROSS, SUPPORT_KINDS, ContactOptions
 from fem.partner_problem import PartnerProblem
 from fem.postprocess import Patch, SurfaceSamples, find_patches
@@ -76,6 +77,8 @@ class ContactResult:
         pressure_field: the P1 pressure ``p = -lambda div u`` (MPa) of the mixed formulation, else None.
         warm_start: the converged states this solve ends with (:func:`fem.warm_start.warm_start_of`): the
             ``warm_start`` option of a re-solve of the same problem (e.g. at tighter tolerances).
+        nested_start: the converged state as the ``nested_start`` of a finer mesh of the same problem
+            (:func:`fem.nested_start.nested_start_of`; None where the problem has no hook).
     """
 
     ndofs: int
@@ -96,6 +99,7 @@ class ContactResult:
     warnings: list = field(default_factory=list)
     pressure_field: Any = field(default=None, repr=False)
     warm_start: Any = field(default=None, repr=False)
+    nested_start: Any = field(default=None, repr=False)
 
 
 def solve_contact(mesh_data, obstacle, options: ContactOptions | None = None, **fields) -> ContactResult:
@@ -164,4 +168,5 @@ def _result(problem: PartnerProblem, stepper: LoadStepper) -> ContactResult:
                          d=float(stepper.states[-1].d), P=float(P), P_pressure=float(Pp), samples=samples,
                          patches=patches, u=problem.u, options=options, half=opts.symmetric_half,
                          forms=problem.forms, lame=problem.lame, snapshots=stepper.snapshots, warnings=warns,
-                         pressure_field=problem.pressure_field, warm_start=warm_start_of(stepper))
+                         pressure_field=problem.pressure_field, warm_start=warm_start_of(stepper),
+                         nested_start=nested_start_of(problem, stepper))

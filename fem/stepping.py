@@ -440,10 +440,14 @@ class LoadStepper:
         """Step to the target (displacement, recorded displacements or force control), or solve the levels of
         ``warm_start`` from their converged states (:func:`fem.warm_start.run_warm`)."""
         opts = self.opts
+        if opts.nested_start is not None and (opts.warm_start is not None or opts.record_at):
+            raise ValueError("nested_start starts one solve of the target: not with warm_start or record_at")
         if opts.warm_start is not None:  # from converged states: no load path (fem.warm_start)
             from fem.warm_start import run_warm
 
             run_warm(self, opts.warm_start)
+        elif opts.nested_start is not None:  # from a coarser mesh's solution: no load path (fem.nested_start)
+            self.run_nested(opts.nested_start)
         elif opts.control == "displacement" and opts.record_at:
             self.run_recorded()
         elif opts.control == "displacement":
@@ -452,6 +456,23 @@ class LoadStepper:
             self.run_force()
             self.correct_force()
         self.wall_time_s = time.perf_counter() - self.t_start
+
+    def run_nested(self, start) -> None:
+        """The target solved once from a coarser mesh's converged state (:mod:`fem.nested_start`): its
+        interpolation, its contact runs as the first prescribed active set and, in force control, its d, then the
+        force correction."""
+        opts, pb = self.opts, self.problem
+        guess = getattr(pb, "nested_guess", None)
+        if guess is None:
+            raise ValueError(f"nested_start: {type(pb).__name__} has no nested_guess (two meshed bodies only)")
+        x0 = guess(start)
+        zone = tuple(start.zones) or None
+        if opts.control == "force":
+            pb.set_load_level(opts.target)
+            self.reach(start.d, 1, "nested", x0, zone)
+            self.correct_force()
+        else:
+            self.reach(opts.target, 1, "nested", x0, zone)
 
     def run_displacement(self) -> None:
         """``d_k = target k / n_steps`` (after a first step at ``first_step_fraction`` of the first one)."""

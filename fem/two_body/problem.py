@@ -430,6 +430,35 @@ class TwoBodyProblem(NewtonControls):
             guess[2 * self.body_nodes[self.setup.driven_body] + c] += d_value * self.setup.direction[c]
         return guess
 
+    def nested_source(self, *, d: float, P: float):
+        """The converged state as the start of a finer mesh's solve (:class:`fem.nested_start.NestedStart`)."""
+        from fem.nested_start import NestedStart
+
+        md = self.mesh_data
+        cells = tuple(md.cell_tags.find(md.physical_groups[b.name].tag) for b in self.setup.bodies)
+        X1 = self.gap.X[:, 0]
+        order = np.argsort(X1, kind="stable")
+        surface = self.method.state()
+        u = dolfinx.fem.Function(self.V, name="nested_start")
+        u.x.array[:] = self.u.x.array
+        return NestedStart(d=d, P=P, u=u, body_cells=cells, X1=X1[order].copy(),
+                           surface=surface[order].copy() if surface.size else surface, zones=self.contact_zones())
+
+    def nested_guess(self, start) -> np.ndarray:
+        """The state interpolated from a coarser mesh's converged one (:mod:`fem.nested_start`): each body's
+        displacement from its own coarse cells, the method's nodal unknowns linearly in X1 (0 outside)."""
+        from fem.nested_start import evaluate_in_cells
+
+        X = self.V.tabulate_dof_coordinates()
+        u = np.zeros((X.shape[0], 2))
+        for body, cells in zip(self.setup.bodies, start.body_cells, strict=True):
+            nodes = self.body_nodes[body.name]
+            u[nodes] = evaluate_in_cells(start.u, X[nodes], cells)[:, :2]
+        surface = self.method.state()
+        if surface.size and start.surface.size:
+            surface = np.interp(self.gap.X[:, 0], start.X1, start.surface, left=0.0, right=0.0)
+        return np.concatenate([u.ravel(), surface])
+
     def set_state(self, arr: np.ndarray, rest: np.ndarray | None = None) -> None:
         n = self.n_u
         self.u.x.array[:] = arr[:n]

@@ -47,6 +47,33 @@ def _classical_ratios(o) -> dict[str, float]:
     return {k: 1.0 + v for k, v in o.comparison.signed(o.theory).items()}
 
 
+def _solve_grid(run, levels, widths, *, solve, progress) -> dict:
+    """One run on the budget's grids, ``{(h, W): outcome}``, by nested iteration (issue 38,
+    :mod:`fem.nested_start`): the levels at the largest block from the coarsest up, each started from the last
+    one's solution; each smaller block's finest level from that block's coarsest level (solved for it, not a row).
+    Each level converges to its own tolerances; only the iterations differ from a cold solve."""
+    W_max, h_fine, h_coarse = widths[-1], levels[0], levels[-1]
+    grid: dict = {}
+
+    def one(h, W, start, row=True):
+        extra = {} if start is None else {"nested_start": start}
+        o = solve(with_grid(run, h=h, W=W, h_coarse=h_coarse), **extra)
+        r = o.result
+        progress(f"[budget {run.label}] h_c = {h:g} b0, W = {W:g} b0: {r.ndofs} dofs, "
+                 f"{sum(r.newton_iterations)} Newton its{' (nested)' if start is not None else ''}, "
+                 f"{r.wall_time_s:.1f} s{'' if row else ' (start of the finest level)'}")
+        if row:
+            grid[(h, W)] = o
+        return r.nested_start
+
+    start = None
+    for h in reversed(levels):
+        start = one(h, W_max, start)
+    for W in widths[:-1]:
+        one(h_fine, W, one(h_coarse, W, None, row=False))
+    return grid
+
+
 def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget:
     """The budget (module docstring); empty without ``budget_levels``."""
     disc = case.discretisation
@@ -54,15 +81,11 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
     if not levels or not widths:
         return SceneBudget({}, title=_TITLE)
     W_max, h_fine = widths[-1], levels[0]
-    grid = [(h, W_max) for h in levels] + [(h_fine, W) for W in widths[:-1]]
     out: dict[str, dict] = {}
     runs = case.runs()
     for run in runs:
         k = run.label
-        for h, W in grid:
-            o = solve(with_grid(run, h=h, W=W, h_coarse=levels[-1]))
-            progress(f"[budget {run.label}] h_c = {h:g} b0, W = {W:g} b0: {o.result.ndofs} dofs")
-            out.setdefault(k, {})[(h, W)] = o
+        out[k] = _solve_grid(run, levels, widths, solve=solve, progress=progress)
         o_t, how = tight_resolve(solve, with_grid(run, h=h_fine, W=W_max, h_coarse=levels[-1]),
                                  out[k][(h_fine, W_max)], progress=progress)
         out[k]["tight"] = o_t
