@@ -14,6 +14,7 @@ KSTAMP := $(KVENV)/.stamp-$(shell cat requirements-kratos.txt 2>/dev/null | cksu
 NP     ?= 1
 # cases that `make run` solves at once (each case is one process with one thread): the 2 cores of the machine
 JOBS   ?= 2
+TEST_JOBS ?= 2
 # NP is a whole number >= 1 (MPI processes): anything else stops here with one line (make exits 2)
 _np_rest := $(NP)
 $(foreach d,0 1 2 3 4 5 6 7 8 9,$(eval _np_rest := $$(subst $(d),,$$(_np_rest))))
@@ -21,6 +22,11 @@ ifneq ($(strip $(_np_rest))$(words $(NP))$(filter 0%,$(NP)),1)
 $(error NP = '$(NP)' is not allowed; allowed: a whole number >= 1 (MPI processes))
 endif
 MPIRUN := $(if $(filter-out 1,$(NP)),$(VENV)/bin/mpiexec -n $(NP),)
+_tj_rest := $(TEST_JOBS)
+$(foreach d,0 1 2 3 4 5 6 7 8 9,$(eval _tj_rest := $$(subst $(d),,$$(_tj_rest))))
+ifneq ($(strip $(_tj_rest))$(words $(TEST_JOBS))$(filter 0%,$(TEST_JOBS)),1)
+$(error TEST_JOBS = '$(TEST_JOBS)' is not allowed; allowed: a whole number >= 1 (pytest workers))
+endif
 
 CASES  := $(basename $(notdir $(wildcard cases/*.toml)))
 METRICS := $(foreach c,$(CASES),results/$(c)/metrics.json)
@@ -102,8 +108,10 @@ $(STAMP): requirements.txt pyproject.toml
 	$(PY) -c "import dolfinx_solver, dolfinx, gmsh, meshio, scipy; print('dolfinx', dolfinx.__version__, 'gmsh', gmsh.__version__)"
 	@rm -f $(VENV)/.stamp-*; touch $@
 
+# two pytest workers (pytest-xdist), one test file per worker at a time (--dist loadfile: a file's module
+# fixtures are built once); TEST_JOBS=1 runs the suite in one process
 test: setup
-	$(PY) -m pytest -q tests
+	$(PY) -m pytest -q $(if $(filter-out 1,$(TEST_JOBS)),-n $(TEST_JOBS) --dist loadfile,-p no:xdist) tests
 
 # The slow checks `make test` leaves out (each names this target when it skips): concave_symmetric's error budget,
 # every test file collected alone (issue 28)
