@@ -51,7 +51,11 @@ def _solve_grid(run, levels, widths, *, solve, progress) -> dict:
     """One run on the budget's grids, ``{(h, W): outcome}``, by nested iteration (issue 38,
     :mod:`fem.nested_start`): the levels at the largest block from the coarsest up, each started from the last
     one's solution; each smaller block's finest level from that block's coarsest level (solved for it, not a row).
-    Each level converges to its own tolerances; only the iterations differ from a cold solve."""
+    Each level converges to its own tolerances; only the iterations differ from a cold solve.
+
+    Finite-strain runs too: measured (neo-Hookean, W = 20 b0, b0/5 -> b0/10) the nested level converged in 219
+    Newton iterations (13 solves, with cut-backs), where the cold solve of that level diverged in its first load
+    step (docs/error_budget.md)."""
     W_max, h_fine, h_coarse = widths[-1], levels[0], levels[-1]
     grid: dict = {}
 
