@@ -59,6 +59,8 @@ Sections:
 8. Start-up and output (issue 27): one CI-level case as a whole process (default and ``--no-pictures``) against
    its mesh and solve in one process, and the interpreter-and-imports floor
    (:mod:`workbench.studies.bench_startup`; alone: ``workbench bench --sections startup``).
+9. Nested iteration (issue 38): the error budget's levels of a two-body case solved cold and each from the
+   coarser one, side by side, with their Newton iterations (:mod:`workbench.studies.bench_nested`).
 
 Internal worker modes (``workbench bench --worker scale|cold``, the config passed as JSON) run one
 measurement in a subprocess and print one line ``BENCH_JSON {...}``.
@@ -147,6 +149,11 @@ def run_bench(cfg: BenchConfig | None = None, *, progress: Callable[[str], None]
         from workbench.studies.bench_startup import startup_cost
 
         out["startup"] = startup_cost(cfg.case, repeats=cfg.repeats, progress=progress)
+    if "nested" in sections:  # issue 38 item 1: the budget's levels cold against nested iteration
+        from workbench.studies.bench_nested import NestedBench, run_nested_bench
+
+        out["nested"] = run_nested_bench(NestedBench(repeats=cfg.repeats, mesh_cache=cfg.cache_dir), comm=comm,
+                                         progress=progress)
     out["load_avg_end"] = os.getloadavg()
     out["bench_wall_time_s"] = time.perf_counter() - t0
     from workbench.studies.executor import ExecutorChoice

@@ -29,7 +29,8 @@ def _solver_variants() -> dict:
     }
 
 
-BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free", "two_body", "startup")
+BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free", "two_body", "startup",
+                  "nested")
 SCALE_PREDICTORS = ("auto", "hertz_zone")  # the force-control predictors of the cost-growth rows
 SCALE_FAMILIES = ("graded", "uniform")
 

@@ -406,6 +406,26 @@ def two_body_markdown(tb: dict, targets: list) -> list[str]:
     return L + [""]
 
 
+def nested_markdown(ne: dict) -> list[str]:
+    """The ``nested`` section (:mod:`workbench.studies.bench_nested`): the budget's levels cold and nested."""
+    cfg = ne.get("config") or {}
+    L = ["## Nested iteration: the error budget's levels (issue 38)", "",
+         f"`{cfg.get('case')}` [{cfg.get('run')}] at W = {_f(ne.get('width'), 'g')} of its unit, the levels coarse to "
+         f"fine: cold (each from the unloaded state, the case's load path) against nested (each from the coarser "
+         f"level's converged state; the coarsest cold). Solver wall time, best of {cfg.get('repeats')}; "
+         f"load average {_f(ne['load_avg'][0], '.2f')} at the end. Total nested / cold: "
+         f"**{_f(ne.get('ratio'), '.2f')}** ({_f(ne.get('total_nested_s'), '.1f')} s against "
+         f"{_f(ne.get('total_cold_s'), '.1f')} s).", "",
+         "| h_c | dofs | cold s | cold Newton its (solves) | nested s | nested Newton its (solves) | nested / cold | "
+         "moment half-width, nested / cold - 1 |", "|---|---|---|---|---|---|---|---|"]
+    for r in ne.get("rows", []):
+        c, n = r["cold"], r["nested"]
+        L.append(f"| {r['h']:g} | {r['ndofs']} | {c['solve_s']:.2f} | {c['newton_iterations']} ({c['solves']}) | "
+                 f"{n['solve_s']:.2f} | {n['newton_iterations']} ({n['solves']}) | {_f(r['ratio'], '.2f')} | "
+                 f"{r['moment_rel_diff']:.1e} |")
+    return L + [""]
+
+
 def to_markdown(data: dict) -> str:
     """The benchmark report (Markdown) from the benchmark JSON (its ``config``; defaults where it has none)."""
     cfg = from_json(BenchConfig, data.get("config"))
@@ -438,6 +458,8 @@ def to_markdown(data: dict) -> str:
         L += _md_predictor_free(data["predictor_free"], targets)
     if data.get("two_body"):
         L += two_body_markdown(data["two_body"], targets)
+    if data.get("nested"):
+        L += nested_markdown(data["nested"])
     if data.get("startup"):
         from workbench.studies.bench_startup_report import startup_markdown
 
