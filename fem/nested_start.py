@@ -54,12 +54,14 @@ class NestedStart(NamedTuple):
 
 
 def nested_start_of(problem, stepper) -> NestedStart | None:
-    """The :class:`NestedStart` a finished solve hands to a finer mesh (None: the problem has no hook)."""
+    """The :class:`NestedStart` a finished solve hands to a finer mesh (None: the problem has no hook). Called
+    after every solve: it reuses what the solve already holds (the last converged state's d, P and contact runs,
+    the result's displacement Function), so it adds no surface sampling and no copy of u."""
     source = getattr(problem, "nested_source", None)
     if source is None:
         return None
     last = stepper.states[-1]
-    return source(d=float(last.d), P=float(last.P))
+    return source(d=float(last.d), P=float(last.P), zones=last.zone)
 
 
 def evaluate_in_cells(u, points: np.ndarray, cells: np.ndarray) -> np.ndarray:

@@ -438,7 +438,8 @@ class LoadStepper:
     # -- drivers --------------------------------------------------------------------------------------------
     def run(self) -> None:
         """Step to the target (displacement, recorded displacements or force control), or solve the levels of
-        ``warm_start`` from their converged states (:func:`fem.warm_start.run_warm`)."""
+        ``warm_start`` from their converged states (:func:`fem.warm_start.run_warm`), or the target once from a
+        coarser mesh's solution (``nested_start``, :meth:`run_nested`)."""
         opts = self.opts
         if opts.nested_start is not None and (opts.warm_start is not None or opts.record_at):
             raise ValueError("nested_start starts one solve of the target: not with warm_start or record_at")

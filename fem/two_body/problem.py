@@ -430,19 +430,20 @@ class TwoBodyProblem(NewtonControls):
             guess[2 * self.body_nodes[self.setup.driven_body] + c] += d_value * self.setup.direction[c]
         return guess
 
-    def nested_source(self, *, d: float, P: float):
-        """The converged state as the start of a finer mesh's solve (:class:`fem.nested_start.NestedStart`)."""
+    def nested_source(self, *, d: float, P: float, zones: tuple | None = None):
+        """The converged state as the start of a finer mesh's solve (:class:`fem.nested_start.NestedStart`):
+        ``u`` is this problem's displacement Function itself (the result's; the solve is over), ``zones`` the
+        stepper's contact runs of that state (None: sampled here)."""
         from fem.nested_start import NestedStart
 
         md = self.mesh_data
         cells = tuple(md.cell_tags.find(md.physical_groups[b.name].tag) for b in self.setup.bodies)
         X1 = self.gap.X[:, 0]
         order = np.argsort(X1, kind="stable")
-        surface = self.method.state()
-        u = dolfinx.fem.Function(self.V, name="nested_start")
-        u.x.array[:] = self.u.x.array
-        return NestedStart(d=d, P=P, u=u, body_cells=cells, X1=X1[order].copy(),
-                           surface=surface[order].copy() if surface.size else surface, zones=self.contact_zones())
+        surface = self.method.state()  # a copy (the law's own)
+        return NestedStart(d=d, P=P, u=self.u, body_cells=cells, X1=X1[order],
+                           surface=surface[order] if surface.size else surface,
+                           zones=self.contact_zones() if zones is None else zones)
 
     def nested_guess(self, start) -> np.ndarray:
         """The state interpolated from a coarser mesh's converged one (:mod:`fem.nested_start`): each body's
