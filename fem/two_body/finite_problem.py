@@ -27,6 +27,8 @@ from __future__ import annotations
 
 import dolfinx_solver  # noqa: F401  (MPI ordering, before dolfinx)
 
+from typing import ClassVar
+
 import dolfinx
 import dolfinx.fem.petsc
 import numpy as np
@@ -46,7 +48,17 @@ __all__ = ["FiniteTwoBodyProblem"]
 
 
 class FiniteTwoBodyProblem(TwoBodyProblem):
-    """Two hyperelastic bodies (module docstring): a :class:`fem.partner_problem.PartnerProblem`."""
+    """Two hyperelastic bodies (module docstring): a :class:`fem.partner_problem.PartnerProblem`.
+
+    ``finite_line_search``: the SNES line search the load stepper sets (unless ``petsc_options`` names one):
+    ``"l2"`` (the rigid obstacle's finite runs use ``"bt"``, :data:`fem.stepping.FINITE_LINESEARCH`). Measured on
+    the two-half-planes case at its CI level (h_c = b0/10, W = 160 b0, 2.5k unknowns, force control to 3299 N/mm):
+    neo-Hookean 17 solve attempts (cut-backs included) in 23 s with "l2" against 52 in 85 s with "bt"; Saint
+    Venant-Kirchhoff, both at once, 43 attempts in 61 s against 62 in 118 s; "basic" and "cp" did not reach the
+    load (5 cut-backs).
+    """
+
+    finite_line_search: ClassVar[str] = "l2"
 
     def _build_space(self) -> None:
         super()._build_space()
@@ -75,6 +87,11 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
         out = vec.getArray().copy()
         vec.destroy()
         return out
+
+    def contact_residual(self, u: np.ndarray) -> np.ndarray:
+        """``F_c = -T^T p`` (N/mm per dof): the traction's virtual-work matrix and the gaps only (no derivatives)."""
+        g, _, _, T = self.conv.linearise(u, derivatives=False)
+        return -(T.T @ self.method.pressure(g)[0])
 
     def _residual(self, snes, x, b) -> None:
         arr = self._take(x).copy()
