@@ -310,3 +310,22 @@ def test_small_loads_reproduce_small_strain_patch(stacked):
     print(f"P finite/small - 1: d = 2e-3 {rel[2e-3]:.4e}, d = 1e-3 {rel[1e-3]:.4e}")
     assert abs(rel[1e-3]) < abs(rel[2e-3]) < 1e-2
     assert 1.9 < rel[2e-3] / rel[1e-3] < 2.1
+
+
+def test_shared_node_pairs_match_the_dense_definition():
+    """The contact search's pairs of candidate facets sharing a node (found by sorting) are those of the dense test
+    ``np.nonzero(np.triu(shares, 1))``, in its order (k, then i1, then i2), padding excluded: random polylines with
+    repeated, reversed and degenerate facets."""
+    from fem.two_body.finite_contact import _shared_node_pairs
+
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        K, C = int(rng.integers(1, 6)), int(rng.integers(1, 9))
+        ends = rng.integers(0, 6, size=(K, C, 2))
+        valid = rng.random((K, C)) < 0.8
+        shares = (ends[:, :, None, :, None] == ends[:, None, :, None, :]).any(axis=(3, 4))
+        shares &= valid[:, :, None] & valid[:, None, :]
+        want = np.nonzero(np.triu(shares, 1))
+        got = _shared_node_pairs(ends, valid)
+        for w, g in zip(want, got, strict=True):
+            np.testing.assert_array_equal(g, w)
