@@ -155,10 +155,7 @@ class FiniteContact:
         for C in np.unique(width[width > 0]):
             ks = np.flatnonzero(width == C)
             kk, jj = np.nonzero(near[ks])  # row-major: each facet's candidates in ascending order (as before)
-            slot = np.arange(kk.size) - np.searchsorted(kk, kk)
-            cand = np.zeros((ks.size, C), dtype=np.int64)
-            valid = np.zeros((ks.size, C), dtype=bool)
-            cand[kk, slot], valid[kk, slot] = jj, True
+            valid, cand = _padded(kk, (ks.size, C), jj)
             piece = self._pieces(ks, cand, valid, x, xA[ks], xB[ks])
             if piece is not None:
                 out.append(piece)
@@ -215,19 +212,14 @@ class FiniteContact:
         inside = (r >= 0.0) & (r <= 1.0) & valid[:, None, :]
         ends = self.m_ends[cand]  # (K, C, 2)
         pk, i1, i2 = _shared_node_pairs(ends, valid)
-        npair = np.bincount(pk, minlength=K)
-        Pm = int(npair.max(initial=0))
+        Pm = int(np.bincount(pk, minlength=K).max(initial=0))
+        kr = np.arange(K)[:, None]
         excluded = np.zeros((K, S, C), dtype=bool)
         score_v = np.full((K, S, max(Pm, 1)), np.inf)
         V = np.zeros((K, max(Pm, 1)), dtype=np.int64)
         vsign = np.ones((K, S, max(Pm, 1)))
         if Pm:
-            slot = np.arange(pk.size) - np.searchsorted(pk, pk)
-            I1 = np.zeros((K, Pm), dtype=np.int64)
-            I2 = np.zeros((K, Pm), dtype=np.int64)
-            pv = np.zeros((K, Pm), dtype=bool)
-            I1[pk, slot], I2[pk, slot], pv[pk, slot] = i1, i2, True
-            kr = np.arange(K)[:, None]
+            pv, I1, I2 = _padded(pk, (K, Pm), i1, i2)
             e1, e2 = ends[kr, I1], ends[kr, I2]  # (K, Pm, 2)
             V = np.where((e1[..., 0] == e2[..., 0]) | (e1[..., 0] == e2[..., 1]), e1[..., 0], e1[..., 1])
             ra, rb = _per_point(r, I1), _per_point(r, I2)
@@ -250,7 +242,6 @@ class FiniteContact:
         fi = np.minimum(best, C - 1)
         pi = np.maximum(best - C, 0)
         kind = np.where(none, -1, np.where(is_v, 1, 0))
-        kr = np.arange(K)[:, None]
         fe = ends[kr, fi]  # (K, S, 2)
         vv = V[kr, pi]
         n1 = np.where(is_v, vv, fe[..., 0])
@@ -421,6 +412,20 @@ def _shared_node_pairs(ends: np.ndarray, valid: np.ndarray):
     key = (pk * C + i1) * C + i2
     key, first = np.unique(key, return_index=True)  # two facets sharing both ends: one pair, sorted
     return pk[first], i1[first], i2[first]
+
+
+def _padded(row: np.ndarray, shape: tuple[int, int], *values: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Ragged rows as padded arrays: entry i of each of ``values`` goes to row ``row[i]`` (sorted), in the next free
+    slot of that row; (valid (shape, bool), then one int64 array per value, 0 in the padding)."""
+    slot = np.arange(row.size) - np.searchsorted(row, row)
+    valid = np.zeros(shape, dtype=bool)
+    valid[row, slot] = True
+    out = []
+    for v in values:
+        a = np.zeros(shape, dtype=np.int64)
+        a[row, slot] = v
+        out.append(a)
+    return (valid, *out)
 
 
 def _per_point(a: np.ndarray, idx: np.ndarray) -> np.ndarray:
