@@ -39,12 +39,13 @@ the master nodes: the gradient of the distance, whose foot-variation vanishes). 
 
 The slave facets are cut (in the current configuration, every evaluation) where the foot of the perpendicular
 meets a master facet end (``r_c(t) = rho``, rho = 0 or 1, linear in t) and where they cross the bisector of two
-neighbouring candidate facets (``(x_s(t) - x_v) . (n_j - n_j') = 0``; none where the facets turn by less than
-:data:`_KINK`), and carry two Gauss points per piece: the integrands are polynomials of t on the facet pieces
-(2-point Gauss is exact there), so a uniform pressure is carried exactly on non-matching meshes (the patch test);
-only the vertex pieces (width ~ |g| times the angle between neighbouring facets) are integrated inexactly. The cuts
-move with u, and the integrands jump across the bisectors (and change their master nodes across every cut), so
-every derivative carries the moving bounds (Leibniz's rule, per piece [t0, t1]):
+neighbouring candidate facets within the overlap (``(x_s(t) - x_v) . (n_j - n_j') = 0`` with both feet within
+their facets; none where the facets turn by less than :data:`_KINK`), and carry two Gauss points per piece: the
+integrands are polynomials of t on the facet pieces (2-point Gauss is exact there), so a uniform pressure is carried
+exactly on non-matching meshes (the patch test); only the vertex pieces (width ~ |g| times the angle between
+neighbouring facets) are integrated inexactly. The cuts move with u, and the integrands jump across the bisectors
+(and change their master nodes across every cut), so every derivative carries the moving bounds (Leibniz's
+rule, per piece [t0, t1]):
 
     d/du int_t0^t1 f dt = int_t0^t1 df/du dt + f(t1) dt1/du - f(t0) dt0/du ,   dt_c/du = -(d phi/du) / (d phi/dt) ,
     phi = (x_s(t) - x_a) . e_c - rho |e_c|^2  (a foot at an end of e_c = x_b - x_a) ,
@@ -259,7 +260,10 @@ class FiniteContact:
         with np.errstate(divide="ignore", invalid="ignore"):
             tb = -np.einsum("kpj,kpj->kp", xA[:, None, :] - xv, dn) / np.einsum("kj,kpj->kp", xB - xA, dn)
         kinked = np.linalg.norm(dn, axis=2) > _KINK  # (a straight master: no kink, and dn is round-off)
-        tb = np.where(pv & kinked & np.isfinite(tb) & (tb > 1e-13) & (tb < 1 - 1e-13), tb, np.inf)
+        with np.errstate(invalid="ignore"):  # only where both feet fall within their facets (an overlap's kink)
+            rb1, rb2 = r0[kr, I1] + tb * r1[kr, I1], r0[kr, I2] + tb * r1[kr, I2]
+            both = (rb1 >= -1e-12) & (rb1 <= 1 + 1e-12) & (rb2 >= -1e-12) & (rb2 <= 1 + 1e-12)
+        tb = np.where(pv & kinked & both & np.isfinite(tb) & (tb > 1e-13) & (tb < 1 - 1e-13), tb, np.inf)
         allc = np.concatenate([np.zeros((K, 1)), np.ones((K, 1)), tc, tb], axis=1)
         src = np.argsort(allc, axis=1, kind="stable")  # 0, 1: the facet's ends; 2 + slot: a cut; 2 + 2C + p: pair p
         br = np.take_along_axis(allc, src, axis=1)
@@ -270,7 +274,7 @@ class FiniteContact:
         tm = np.where(seg, 0.5 * (t0 + t1), 0.5)  # (K, S)
         xs = xA[:, None, :] + tm[:, :, None] * (xB - xA)[:, None, :]
         r = r0[:, None, :] + tm[:, :, None] * r1[:, None, :]  # (K, S, C)
-        kind, n1, n2, sgn = self._features(xs, cand, valid, xa, e, r, x)
+        kind, n1, n2, sgn = self._features(xs, cand, valid, xa, e, r, x, (Pm, pv, I1, I2))
         ok = seg & (kind >= 0)
         if not ok.any():
             return None
@@ -286,11 +290,12 @@ class FiniteContact:
             ends += [facet[ok], np.where(cut, slot // C, np.where(bis, 2, 0))[ok], other[ok]]
         return (kf, t0[ok], t1[ok], kind[ok], n1[ok], n2[ok], sgn[ok], *ends)
 
-    def _features(self, xs, cand, valid, xa, e, r, x):
+    def _features(self, xs, cand, valid, xa, e, r, x, pairs):
         """The master feature of each slave point xs (K, S, 2) among its facet's candidate facets ``cand`` (K, C)
         (module docstring): arrays (K, S) of kind (0 facet, 1 vertex, -1 none), node 1, node 2 and the sign of the
-        gap formula. r: (K, S, C) foot parameters. Ties go to the first facet, then the first vertex, in the order
-        of the candidates."""
+        gap formula. r: (K, S, C) foot parameters; pairs: (Pm, pv, I1, I2), the candidates that share a node
+        (:func:`_shared_node_pairs`, padded to (K, max(Pm, 1))). Ties go to the first facet, then the first vertex,
+        in the order of the candidates."""
         K, S, C = r.shape
         sig = self.sigma[cand]
         ell = np.linalg.norm(e, axis=2)
@@ -298,14 +303,12 @@ class FiniteContact:
         dist = np.einsum("ksj,kcj->ksc", xs, nrm) - np.einsum("kcj,kcj->kc", xa, nrm)[:, None, :]
         inside = (r >= 0.0) & (r <= 1.0) & valid[:, None, :]
         ends = self.m_ends[cand]  # (K, C, 2)
-        pk, i1, i2 = _shared_node_pairs(ends, valid)
-        Pm = int(np.bincount(pk, minlength=K).max(initial=0))
+        Pm, pv, I1, I2 = pairs
         kr = np.arange(K)[:, None]
         score_v = np.full((K, S, max(Pm, 1)), np.inf)
         V = np.zeros((K, max(Pm, 1)), dtype=np.int64)
         vsign = np.ones((K, S, max(Pm, 1)))
         if Pm:
-            pv, I1, I2 = _padded(pk, (K, Pm), i1, i2)
             e1, e2 = ends[kr, I1], ends[kr, I2]  # (K, Pm, 2)
             V = _shared_node(e1, e2)
             ra, rb = _per_point(r, I1), _per_point(r, I2)
