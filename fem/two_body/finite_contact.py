@@ -254,7 +254,7 @@ class FiniteContact:
         Pm = int(np.bincount(pk, minlength=K).max(initial=0))
         pv, I1, I2 = _padded(pk, (K, max(Pm, 1)), i1, i2)
         kr = np.arange(K)[:, None]
-        nrm = self.sigma[cand][:, :, None] * _rot(e) / np.sqrt(ee)[:, :, None]
+        nrm = self.sigma[cand][:, :, None] * _rot(e) / np.sqrt(ee)[:, :, None]  # (K, C, 2): outward, unit
         dn = nrm[kr, I1] - nrm[kr, I2]  # (K, Pm, 2)
         xv = x[_shared_node(ends_c[kr, I1], ends_c[kr, I2])]
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -274,7 +274,7 @@ class FiniteContact:
         tm = np.where(seg, 0.5 * (t0 + t1), 0.5)  # (K, S)
         xs = xA[:, None, :] + tm[:, :, None] * (xB - xA)[:, None, :]
         r = r0[:, None, :] + tm[:, :, None] * r1[:, None, :]  # (K, S, C)
-        kind, n1, n2, sgn = self._features(xs, cand, valid, xa, e, r, x, (Pm, pv, I1, I2))
+        kind, n1, n2, sgn = self._features(xs, cand, valid, xa, nrm, r, x, (Pm, pv, I1, I2))
         ok = seg & (kind >= 0)
         if not ok.any():
             return None
@@ -290,16 +290,14 @@ class FiniteContact:
             ends += [facet[ok], np.where(cut, slot // C, np.where(bis, 2, 0))[ok], other[ok]]
         return (kf, t0[ok], t1[ok], kind[ok], n1[ok], n2[ok], sgn[ok], *ends)
 
-    def _features(self, xs, cand, valid, xa, e, r, x, pairs):
+    def _features(self, xs, cand, valid, xa, nrm, r, x, pairs):
         """The master feature of each slave point xs (K, S, 2) among its facet's candidate facets ``cand`` (K, C)
         (module docstring): arrays (K, S) of kind (0 facet, 1 vertex, -1 none), node 1, node 2 and the sign of the
-        gap formula. r: (K, S, C) foot parameters; pairs: (Pm, pv, I1, I2), the candidates that share a node
-        (:func:`_shared_node_pairs`, padded to (K, max(Pm, 1))). Ties go to the first facet, then the first vertex,
-        in the order of the candidates."""
+        gap formula. nrm: (K, C, 2) the candidates' outward unit normals; r: (K, S, C) foot parameters; pairs:
+        (Pm, pv, I1, I2), the candidates that share a node (:func:`_shared_node_pairs`, padded to (K, max(Pm, 1))).
+        Ties go to the first facet, then the first vertex, in the order of the candidates."""
         K, S, C = r.shape
         sig = self.sigma[cand]
-        ell = np.linalg.norm(e, axis=2)
-        nrm = sig[:, :, None] * _rot(e) / np.where(valid, ell, 1.0)[:, :, None]  # (K, C, 2)
         dist = np.einsum("ksj,kcj->ksc", xs, nrm) - np.einsum("kcj,kcj->kc", xa, nrm)[:, None, :]
         inside = (r >= 0.0) & (r <= 1.0) & valid[:, None, :]
         ends = self.m_ends[cand]  # (K, C, 2)
