@@ -381,37 +381,33 @@ class FiniteContact:
         A, B = self.s_ends[k, 0], self.s_ends[k, 1]
         a, b = self.m_ends[cut, 0], self.m_ends[cut, 1]
         bis = rho == 2
+        rho = np.where(bis, 0, rho)  # (a bisector has no end)
         oth = np.where(bis, other, cut)
         a2, b2 = self.m_ends[oth, 0], self.m_ends[oth, 1]
         xs = x[A] + t[:, None] * (x[B] - x[A])
         e, e2 = x[b] - x[a], x[b2] - x[a2]
-        # a foot at an end: phi = (x_s - x_a) . e - rho |e|^2, in (x_A, x_B, x_a, x_b)
-        rh = np.where(bis, 0.0, rho)
+        # phi = (x_s - x_a) . e - rho |e|^2 (a foot at an end) or (x_s - x_v) . (n - n2) (a bisector): linear in
+        # x_s along c = e or n - n2, so d phi/dx_A = (1 - t) c, d phi/dx_B = t c, d phi/dt = (x_B - x_A) . c
+        c = e.copy()
+        dphi = np.zeros((i.size, 7, 2))  # in (x_A, x_B, x_a, x_b, x_a2, x_b2, x_v)
         d = xs - x[a]
-        dphi = np.zeros((i.size, 7, 2))
-        dphi[:, 0], dphi[:, 1] = (1 - t)[:, None] * e, t[:, None] * e
-        dphi[:, 2], dphi[:, 3] = (2 * rh - 1)[:, None] * e - d, d - 2 * rh[:, None] * e
-        dphidt = np.einsum("nj,nj->n", x[B] - x[A], e)
-        if bis.any():  # a bisector: phi = (x_s - x_v) . (n - n2), with the facets' normals n = sigma rot(e) / |e|
-            j = np.flatnonzero(bis)
-            v = _shared_node(np.stack([a[j], b[j]], axis=1), np.stack([a2[j], b2[j]], axis=1))
-            q = xs[j] - x[v]
+        dphi[:, 2], dphi[:, 3] = (2 * rho - 1)[:, None] * e - d, d - 2 * rho[:, None] * e
+        v_col = A.copy()  # the bisector's vertex (a zero column elsewhere)
+        j = np.flatnonzero(bis)
+        if j.size:  # the facets' normals n = sigma rot(e) / |e| turn with their nodes: w = d(q . n)/de, q = x_s - x_v
+            v_col[j] = _shared_node(np.stack([a[j], b[j]], axis=1), np.stack([a2[j], b2[j]], axis=1))
+            q = xs[j] - x[v_col[j]]
             grads = []
             for ee, sg in ((e[j], self.sigma[cut[j]]), (e2[j], self.sigma[oth[j]])):
                 ell = np.linalg.norm(ee, axis=1)
                 n = sg[:, None] * _rot(ee) / ell[:, None]
                 grads.append((n, sg[:, None] * np.stack([-q[:, 1], q[:, 0]], axis=1) / ell[:, None]
                               - np.einsum("nj,nj->n", q, n)[:, None] * ee / ell[:, None] ** 2))
-            (n_1, w1), (n_2, w2) = grads  # w: d(q . n)/de
-            dn = n_1 - n_2
-            dphi[j] = 0.0
-            dphi[j, 0], dphi[j, 1] = (1 - t[j])[:, None] * dn, t[j][:, None] * dn
-            dphi[j, 2], dphi[j, 3], dphi[j, 4], dphi[j, 5], dphi[j, 6] = -w1, w1, w2, -w2, -dn
-            dphidt[j] = np.einsum("nj,nj->n", x[B[j]] - x[A[j]], dn)
-            v_col = np.where(bis, 0, A)
-            v_col[j] = v
-        else:
-            v_col = A
+            (n_1, w1), (n_2, w2) = grads
+            c[j] = n_1 - n_2
+            dphi[j, 2], dphi[j, 3], dphi[j, 4], dphi[j, 5], dphi[j, 6] = -w1, w1, w2, -w2, -c[j]
+        dphi[:, 0], dphi[:, 1] = (1 - t)[:, None] * c, t[:, None] * c
+        dphidt = np.einsum("nj,nj->n", x[B] - x[A], c)
         dt = -dphi.reshape(i.size, 14) / dphidt[:, None]
         cols = (2 * np.stack([A, B, a, b, a2, b2, v_col], axis=1)[:, :, None] + np.arange(2)).reshape(i.size, 14)
         return it, sign, dt, cols
