@@ -30,11 +30,12 @@ class NewtonControls:
         finally:
             self.snes.setTolerances(max_it=self.options.max_it)
 
-    def predictor_iteration(self, zones: Sequence[tuple[float, float]]) -> None:
-        """One Newton iteration with the prescribed active set ``lo_k < X1 < hi_k``; the law is the true one
-        afterwards."""
+    def predictor_iteration(self, zones: Sequence[tuple[float, float]]) -> int:
+        """One Newton iteration with the prescribed active set ``lo_k < X1 < hi_k`` (the solve of that set where the
+        equations are linear in u); the law is the true one afterwards. Returns the Newton iterations (1)."""
         with self.prescribed_active_set(zones), self.max_iterations(1):
             self.newton()
+        return 1
 
     def refresh(self) -> None:
         """Hook before a solve (a problem whose gap data depend on the state refreshes them); default nothing."""
@@ -50,9 +51,6 @@ class NewtonControls:
         self.d.value = d_value
         self.set_state(state, rest)
         self.refresh()
-        pre = 0
-        if zone is not None:
-            self.predictor_iteration(zone)
-            pre = 1
+        pre = 0 if zone is None else self.predictor_iteration(zone)
         reason, its, extra = self.method.solve(self.newton)
         return reason, its + pre, extra

@@ -96,8 +96,9 @@ class PartnerProblem(Protocol):
     def solve_once(self, d_value: float, state: np.ndarray, *, rest=None, zone=None) -> tuple[int, int, dict]:
         """One load level at ``d_value`` from ``state`` (:class:`fem.newton_controls.NewtonControls`)."""
 
-    def predictor_iteration(self, zones: Sequence[tuple[float, float]]) -> None:
-        """One Newton iteration on the prescribed active set ``lo_k < X1 < hi_k``."""
+    def predictor_iteration(self, zones: Sequence[tuple[float, float]]) -> int:
+        """The solve on the prescribed active set ``lo_k < X1 < hi_k`` (one Newton iteration where the equations are
+        linear in u): its Newton iterations."""
 
     def max_iterations(self, n: int) -> AbstractContextManager:
         """While inside: at most ``n`` Newton iterations."""

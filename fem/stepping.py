@@ -336,11 +336,11 @@ class LoadStepper:
         pb.d.value = d_new
         pb.set_state(x_pred, self.states[-1].x)
         pb.refresh()
-        pre, hist = 0, None
-        while zone is not None and pre < EDGE_FIT_MAX:
+        pre, sets, hist = 0, 0, None  # Newton iterations, prescribed sets solved
+        while zone is not None and sets < EDGE_FIT_MAX:
             if not solved:
-                pb.predictor_iteration(zone)
-                pre += 1
+                pre += pb.predictor_iteration(zone)
+                sets += 1
             solved = False
             smp = pb.law_samples()
             sign = sign_runs(smp.s, smp.q)

@@ -216,8 +216,9 @@ def build_cylinder_on_block(*, radius: float, width: float, height: float, conta
 def build_profile_blocks(*, width: float, height: float, contact_half_width: float, h_contact: float,
                          size_ratio: float = 0.77, h_far: float | None = None, growth: float = 1.3,
                          margin: float = 0.5, apex_factor: float | None = None, wedge_slope: float | None = None,
-                         parabola_radius: float | None = None, out_dir=DEFAULT_CACHE_DIR, name: str = "profile_blocks",
-                         write_xdmf: bool = False, stats_dir=None, comm=None) -> MeshFiles:
+                         parabola_radius: float | None = None, parabola_cap: float | None = None,
+                         out_dir=DEFAULT_CACHE_DIR, name: str = "profile_blocks", write_xdmf: bool = False,
+                         stats_dir=None, comm=None) -> MeshFiles:
     """Two graded blocks W x H, one above the other, flat at y = 0 (module docstring): two half-planes.
 
     Args:
@@ -235,6 +236,11 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
         parabola_radius: None, or R > 0 of a parabola-shaped upper body: its lower face is ``y = x^2 / (2 R)`` up to
             ``|x| = W/2``, vertical sides up to ``y = W^2 / (8 R) + H`` (the real geometry the parabolic gap of the
             half-plane theory idealises; ``workbench export`` of the halfplanes cases). Not with ``wedge_slope``.
+        parabola_cap: None (the parabola up to ``|x| = W/2``), or x_c (mm, above the upper window's end
+            ``ARC_SPLIT[1] a (1 + margin)`` and below W/2) with ``parabola_radius``: the parabola over ``|x| <= x_c``
+            and flat beyond, at ``y = x_c^2 / (2 R)``, the sides up to ``y = x_c^2 / (2 R) + H``: a block with a
+            parabolic bump, a half-plane with the profile meshed (the finite-strain runs, issue 39: the whole
+            parabola up to W/2 is a nose W^2 / (8 R) tall, whose tip is laterally soft).
     """
     _positive(width=width, height=height, contact_half_width=contact_half_width, h_contact=h_contact)
     if apex_factor is not None and not 0.0 < apex_factor <= 1.0:
@@ -249,6 +255,10 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
     a = float(contact_half_width)
     if not width / 2.0 > ARC_SPLIT[1] * a * (1.0 + margin):
         raise ValueError(f"width / 2 must be > {ARC_SPLIT[1]} a (1 + margin) = {ARC_SPLIT[1] * a * (1 + margin)} (mm)")
+    if parabola_cap is not None and not (parabola_radius is not None
+                                         and ARC_SPLIT[1] * a * (1.0 + margin) < parabola_cap < width / 2.0):
+        raise ValueError(f"parabola_cap must be in ({ARC_SPLIT[1] * a * (1 + margin):g}, {width / 2.0:g}) mm, with "
+                         f"parabola_radius, got {parabola_cap}")
     gi = GmshInputs(scale=max(width, height))
     W, H, a = gi.length(width), gi.length(height), gi.length(a)
     b = gi.length(a * (1.0 + margin))
@@ -264,10 +274,16 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
     R = None if parabola_radius is None else gi.length(parabola_radius)
     if R is not None:  # only then, as wedge_slope
         params["parabola_radius"] = R
+    cap = None if parabola_cap is None else gi.length(parabola_cap)
+    if cap is not None:  # only then, as wedge_slope
+        params["parabola_cap"] = cap
 
     def face(x: float) -> float:
-        """The upper body's lower face y(x): flat, the wedge m |x| or the parabola x^2 / (2 R)."""
-        return x * x / (2.0 * R) if R is not None else m * abs(x)
+        """The upper body's lower face y(x): flat, the wedge m |x| or the parabola x^2 / (2 R) (flat beyond the
+        cap)."""
+        if R is None:
+            return m * abs(x)
+        return min(x * x, math.inf if cap is None else cap * cap) / (2.0 * R)
 
     # the upper window's length, to sample its distance field (the flat and wedge blocks keep their value)
     window_length = sum(ARC_SPLIT) * b * math.hypot(1.0, m)
@@ -284,20 +300,26 @@ def build_profile_blocks(*, width: float, height: float, contact_half_width: flo
             one quadratic Bezier curve per segment: the control point where the end tangents meet makes it the
             parabola itself."""
             cuts = [split[0], 0.0, split[1]] if apex_factor is not None else list(split)
+            capped = shaped and cap is not None
+            if capped:
+                cuts = [-cap, *cuts, cap]
             xs = [-W / 2, *cuts, W / 2]
             ys = [face(x) if shaped else 0.0 for x in xs]
             p = ([geo.addPoint(x, y, 0.0) for x, y in zip(xs, ys, strict=True)]
                  + [geo.addPoint(W / 2, ys[-1] + y_far, 0.0), geo.addPoint(-W / 2, ys[0] + y_far, 0.0)])
             n = len(cuts) + 2
-            if shaped and R is not None:
-                mid = [geo.addPoint(0.5 * (xs[i] + xs[i + 1]), xs[i] * xs[i + 1] / (2.0 * R), 0.0)
-                       for i in range(n - 1)]
-                near = [geo.addBezier([p[i], mid[i], p[i + 1]]) for i in range(n - 1)]
-            else:
-                near = [geo.addLine(p[i], p[i + 1]) for i in range(n - 1)]
+            near = []
+            for i in range(n - 1):
+                flat_cap = capped and (i == 0 or i == n - 2)
+                if shaped and R is not None and not flat_cap:
+                    mid = geo.addPoint(0.5 * (xs[i] + xs[i + 1]), xs[i] * xs[i + 1] / (2.0 * R), 0.0)
+                    near.append(geo.addBezier([p[i], mid, p[i + 1]]))
+                else:
+                    near.append(geo.addLine(p[i], p[i + 1]))
             right, far, left = geo.addLine(p[n - 1], p[n]), geo.addLine(p[n], p[n + 1]), geo.addLine(p[n + 1], p[0])
             surf = geo.addPlaneSurface([geo.addCurveLoop([*near, right, far, left])])
-            return surf, near, near[1:-1], far, [left, right], (p[2] if apex_factor is not None else None)
+            k = 2 if capped else 1  # the refined lines: between the split points
+            return surf, near, near[k:-k], far, [left, right], (p[k + 1] if apex_factor is not None else None)
 
         low, top, top_window, bottom, low_sides, low_apex = block(-H, (-b, b))
         up, under, under_window, lid, up_sides, up_apex = block(H, (-ARC_SPLIT[0] * b, ARC_SPLIT[1] * b),

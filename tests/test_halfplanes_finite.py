@@ -51,8 +51,8 @@ REFUSALS = [
     ('pairing = "mortar"', 'pairing = "node_to_segment"', "geometry.pairing"),
     ('body = [{ model = "neo_hookean" }, { model = "neo_hookean" }]', 'body = [{ model = "neo_hookean" }, {}]',
      "body[1].model"),
-    ('solver = { kinematics = "finite", traction = "obstacle" }\nbody = [{ model = "neo_hookean" }',
-     'solver = { kinematics = "finite" }\nbody = [{ model = "neo_hookean" }', "solver.traction"),
+    ('solver = { kinematics = "finite", traction = "obstacle", kappa0 = 100.0 }\nbody = [{ model = "neo_hookean" }',
+     'solver = { kinematics = "finite", kappa0 = 100.0 }\nbody = [{ model = "neo_hookean" }', "solver.traction"),
 ]
 
 
@@ -61,6 +61,37 @@ def test_bad_finite_values_are_refused_in_one_line(tmp_path, old, new, field):
     text = CASE.read_text()
     assert old in text
     assert_case_refused(tmp_path, text.replace(old, new, 1), field)
+
+
+def test_the_capped_parabola_is_a_bump_on_a_block(tmp_path):
+    """The finite runs' upper body (``parabola_cap``): its contact nodes lie on y = x^2 / (2 R) where |x| <= x_c and
+    on y = x_c^2 / (2 R) beyond, to round-off; its top is H above that; a cap inside the refined window is
+    refused, naming the field."""
+    from meshes.two_body import build_profile_blocks
+
+    R, cap, W = 10.0, 3.0, 20.0
+    files = build_profile_blocks(width=W, height=W, contact_half_width=1.0, h_contact=0.2, parabola_radius=R,
+                                 parabola_cap=cap, out_dir=tmp_path)
+    md = read_mesh(files.msh, MPI.COMM_SELF)
+    mesh = md.mesh
+    fdim = mesh.topology.dim - 1
+    mesh.topology.create_connectivity(fdim, 0)
+    f2v = mesh.topology.connectivity(fdim, 0)
+    x = mesh.geometry.x
+
+    def group_nodes(name):
+        facets = md.facet_tags.find(md.physical_groups[name].tag)
+        return x[np.unique(np.concatenate([f2v.links(f) for f in facets]))]
+
+    face = group_nodes("contact_upper")
+    y_face = np.minimum(face[:, 0] ** 2, cap**2) / (2 * R)
+    assert np.max(np.abs(face[:, 1] - y_face)) < 1e-9
+    assert face[:, 0].min() == pytest.approx(-W / 2) and np.sum(np.abs(face[:, 0]) > cap + 1e-9) >= 2
+    top = group_nodes("driven")
+    assert np.allclose(top[:, 1], cap**2 / (2 * R) + W)
+    with pytest.raises(ValueError, match="parabola_cap"):
+        build_profile_blocks(width=W, height=W, contact_half_width=1.0, h_contact=0.2, parabola_radius=R,
+                             parabola_cap=1.5, out_dir=tmp_path)
 
 
 def test_the_finite_wedge_is_refused_in_one_line(tmp_path):

@@ -59,6 +59,7 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
     """
 
     finite_line_search: ClassVar[str] = "l2"
+    prescribed_max_it: ClassVar[int] = 12
 
     def _build_space(self) -> None:
         super()._build_space()
@@ -69,6 +70,9 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
                 * dx(md.physical_groups[b.name].tag) for b in self.setup.bodies)
         forms = compile_forms({"F": F, "J": ufl.derivative(F, self.u, du)}, comm=self.comm)
         self.F_form, self.J_form = forms["F"], forms["J"]
+
+    _small = False
+    start_iterations = 0
 
     def _build_pairing(self) -> None:
         super()._build_pairing()  # the reference mortar pairing: the contact nodes, W_ref, the law
@@ -94,12 +98,16 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
         return -(T.T @ self.method.pressure(g)[0])
 
     def _residual(self, snes, x, b) -> None:
+        if self._small:
+            return self._small_residual(x, b)
         arr = self._take(x).copy()
         out = b.getArray()
         out[:] = self.bulk_residual(arr) + self.contact_residual(arr)
         out[self.bc_dofs] = arr[self.bc_dofs] - self.d.value * self.bc_per_d
 
     def _jacobian(self, snes, x, J, P) -> None:
+        if self._small:
+            return self._small_jacobian(x, J)
         arr = self._take(x).copy()
         J.zeroEntries()
         dolfinx.fem.petsc.assemble_matrix(J, self.J_form)
@@ -112,7 +120,66 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
         J.assemble()
         J.zeroRowsColumns(self.bc_dofs.astype(np.int32), diag=1.0)
 
+    # -- the small-strain start ----------------------------------------------------------------------------
+    def _small_residual(self, x, b) -> None:
+        """Linear elasticity and the reference pairing's gap (small kinematics on this mesh):
+        ``K0 u - D^T p(g~(u))`` with the support rows."""
+        arr = self._take(x)
+        self.K0.mult(x, b)
+        out = b.getArray()
+        out -= self.gap.D.T @ self.method.pressure(self.gap.gap(arr))[0]
+        out[self.bc_dofs] = arr[self.bc_dofs] - self.d.value * self.bc_per_d
+
+    def _small_jacobian(self, x, J) -> None:
+        arr = self._take(x)
+        J.zeroEntries()
+        self.K_bc.copy(J, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+        _, dp = self.method.pressure(self.gap.gap(arr))
+        D = self.gap.D
+        free = sp.diags(self.free.astype(float))
+        Jc = (free @ D.T @ sp.diags(-dp / self.gap.W) @ D @ free).tocsr()
+        Jc.eliminate_zeros()
+        J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+        _add_csr(J, Jc)
+        J.assemble()
+
+    def unloaded_guess(self, d_value: float, unloaded: np.ndarray) -> np.ndarray:
+        """The small-strain solution at ``d_value`` on this mesh (linear elasticity, the reference pairing, the
+        penalty branch of the law; from the rigid translation of :meth:`TwoBodyProblem.unloaded_guess`), with the
+        law's multiplier set to its pressure: the start of the first finite-strain solve. The rigid translation
+        when that solve fails."""
+        guess = super().unloaded_guess(d_value, unloaded)
+        ls = self.snes.getLineSearch()
+        kind = ls.getType()
+        self._small = True
+        ls.setType("basic")
+        try:
+            self.d.value = d_value
+            self.set_state(guess)
+            reason, its = self.newton()
+        finally:
+            self._small = False
+            ls.setType(kind)
+        self.start_iterations += int(its)
+        if reason <= 0:
+            return guess
+        u = self.u.x.array.copy()
+        has_lam = self.method.state().size > 0
+        lam = self.method.pressure(self.gap.gap(u))[0] if has_lam else np.zeros(0)
+        return np.concatenate([u, lam])
+
     # -- the partner protocol --------------------------------------------------------------------------------
+    def predictor_iteration(self, zones) -> int:
+        """The solve on the prescribed active set ``lo_k < X1 < hi_k`` (at most :attr:`prescribed_max_it` Newton
+        iterations; converged or not, the law is the true one afterwards): its Newton iterations.
+
+        At finite strain one Newton iteration does not solve a prescribed set (the equations are not linear in u),
+        and the load stepper's edge fit (:meth:`fem.stepping.LoadStepper.solve_edge_fit`) would read its next set
+        from the pressure of an unconverged iterate."""
+        with self.prescribed_active_set(zones), self.max_iterations(self.prescribed_max_it):
+            _, its = self.newton()
+        return max(int(its), 1)
+
     @property
     def tangent_applies(self) -> bool:
         """False: at finite strain P is not linear in u for a fixed active set."""

@@ -88,6 +88,9 @@ declare("analytic", __name__, **{f"b_over_b0{m}_fem_{tag}": WIDTH for m in ("", 
                                  for tag in ("profile", "pairing", "neo_hookean", "saint_venant_kirchhoff")})
 
 APEX_FACTOR = 0.25  # a wedge's apex: element size over the contact size (as the block scene's apex_factor)
+# finite strain: the meshed parabola over |X1| <= PARABOLA_CAP b0, flat beyond (a half-plane with a parabolic bump;
+# module docstring)
+PARABOLA_CAP = 3.0
 
 __all__ = ["HalfplanesRun", "HalfplanesScene", "HalfplanesTheory", "bimaterial_of", "classical_theory",
            "convective_theory", "derived", "profile_size", "run_tag"]
@@ -174,6 +177,7 @@ class HalfplanesScene:
                                      h_contact=disc.h_contact * a0, size_ratio=g.size_ratio, growth=disc.growth,
                                      apex_factor=apex, wedge_slope=dr.profile_size if shaped else None,
                                      parabola_radius=dr.profile_size if finite else None,
+                                     parabola_cap=PARABOLA_CAP * a0 if finite else None,
                                      out_dir=mesh_cache, name=stem, stats_dir=stats_dir, comm=comm)
         cells = files.stats.get("cells", "?")
         return SceneMesh(files, {"P": P, "half_width": a0},
