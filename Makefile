@@ -74,7 +74,7 @@ help:
 	@echo "make convergence  error against run time study"
 	@echo "make stability    stiff/extreme-case sweep"
 	@echo "make validity     where Hertz / the wedge / Ciavarella-Hills hold, model by model -> results/validity/"
-	@echo "make finite-halfplanes  the two-half-planes case at finite strain with its error budget (slow: not in make run)"
+	@echo "make finite-halfplanes  the two-half-planes case at finite strain with its error budget (one case of make run)"
 	@echo "make concave-map  where Hertz superposition holds over the concave design family -> results/concave_map/"
 	@echo "make bench        performance benchmark"
 	@echo "make save-baseline  make run, then save its key numbers as this machine's baseline (results/baseline/)"
@@ -160,9 +160,9 @@ stability: setup
 validity: setup
 	$(STUDY) validity
 
-# cases/slow/: cases too slow for make run, make ci and make test's end-to-end runs (each its own target)
+# the two-half-planes case at finite strain alone (also part of make run)
 finite-halfplanes: setup
-	$(MPIRUN) $(WB) run cases/slow/halfplanes_finite_parabola.toml; $(call explain_exit,finite-halfplanes)
+	$(MPIRUN) $(WB) run halfplanes_finite_parabola; $(call explain_exit,finite-halfplanes)
 
 # one FEM run per design, in one process (55 designs x 5 loads; TINY=1: 2 x 2, the machinery)
 concave-map: setup

@@ -19,7 +19,18 @@ __all__ = ["NewtonControls"]
 
 
 class NewtonControls:
-    """Mixin: temporary iteration limits, the prescribed-active-set predictor iteration and one load level's solve."""
+    """Mixin: temporary iteration limits, the prescribed-active-set predictor iteration and one load level's solve.
+
+    ``start_iterations``: Newton iterations a problem spent building the start of its next solve (e.g. the
+    small-strain solve of :meth:`fem.two_body.finite_problem.FiniteTwoBodyProblem.unloaded_guess`); the load stepper
+    counts them with that solve (:meth:`take_start_iterations`)."""
+
+    start_iterations: int = 0
+
+    def take_start_iterations(self) -> int:
+        """The Newton iterations spent on the next solve's start since the last call (then reset to 0)."""
+        n, self.start_iterations = self.start_iterations, 0
+        return n
 
     @contextmanager
     def max_iterations(self, n: int):

@@ -100,6 +100,9 @@ class PartnerProblem(Protocol):
         """The solve on the prescribed active set ``lo_k < X1 < hi_k`` (one Newton iteration where the equations are
         linear in u): its Newton iterations."""
 
+    def take_start_iterations(self) -> int:
+        """The Newton iterations spent on the next solve's start (e.g. a small-strain solve) since the last call."""
+
     def max_iterations(self, n: int) -> AbstractContextManager:
         """While inside: at most ``n`` Newton iterations."""
 

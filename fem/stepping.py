@@ -291,7 +291,7 @@ class LoadStepper:
         else:
             reason, its, extra = pb.solve_once(d_new, x_pred, rest=self.states[-1].x,
                                                zone=zone if use_zone else None)
-        its += done_its
+        its += done_its + pb.take_start_iterations()
         self.factored = self.factored or its > 0
         if reason <= 0:
             if self.finite:

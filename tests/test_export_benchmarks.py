@@ -1,4 +1,4 @@
-"""``workbench export`` for all 14 cases (issue 36): every case as a benchmark another code can run.
+"""``workbench export`` for every case (issue 36; 15 cases): every case as a benchmark another code can run.
 
 Requirements: every shipped case exports at its CI level into ``export_<case>/h<level>/`` (the wedge: one sub-folder
 per indenter angle); the ``.msh`` reads back with its named groups (the scene's, plus ``indenter`` and
@@ -59,7 +59,7 @@ def exported(tmp_path_factory):
 
 def test_every_case_exports_one_folder_per_level_with_its_groups(exported):
     out, found = exported
-    assert len(found) == 14
+    assert len(found) == 15
     for name, parts in found.items():
         case = load_case(name)
         lv = level_sequence(case)[0]

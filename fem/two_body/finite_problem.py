@@ -18,6 +18,10 @@ Jacobian, with the supports' rows and columns set to the identity. P (the load) 
 reaction along ``direction`` of the driven group (or of the softer body's supports). Degree 1 (P1) and mortar only.
 The load stepper's tangent force correction does not apply (P is not linear in u).
 
+Two hooks of the load stepper differ from small strain (docs/models.md, the finite-strain section): the first start
+from the unloaded state is the small-strain solution of the same grid at that d (:meth:`unloaded_guess`), and a
+prescribed active set is solved to convergence, not with one Newton iteration (:meth:`predictor_iteration`).
+
 Measured (force control, one step with the stepper's cut-backs, P1, h_c = a/10, penalty kappa0 = 1e3): the shipped
 elastic cylinder loads (R = 40 mm, a = 0.5 mm, W = H = 40 a) are reached, steel on steel (neo-Hookean) in 48 s,
 aluminium on steel (Saint Venant-Kirchhoff) in 60 s, with 12 and 14 Newton solves (cut-backs included).
@@ -72,7 +76,6 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
         self.F_form, self.J_form = forms["F"], forms["J"]
 
     _small = False
-    start_iterations = 0
 
     def _build_pairing(self) -> None:
         super()._build_pairing()  # the reference mortar pairing: the contact nodes, W_ref, the law

@@ -74,7 +74,11 @@ def budget_table(budget: dict) -> list[str]:
                      f"{r['status']} | {f(r['gci'], '.2e')} | {f(r['truncation'], '.2e')} ({r['truncation_status']})"
                      f" | {f(r.get('iterative'), '.1e')} | {f(r.get('roundoff'), '.0e')} "
                      f"| {f(r.get('uncertainty'), '.2e')} | {f(r['theory'])} | {ib} | {alt} | {alt_in} |")
-    return lines
+    notes = [f"- {q}: band {r['extrapolated']:.5f} +- {r['uncertainty'] * abs(r['fine']):.1e}; the small-strain "
+             "models' extrapolated values: " + ", ".join(
+                 f"{c} {v:.5f} ({'in' if r['models_in_band'][c] else 'outside'})" for c, v in r["models"].items())
+             for q, r in budget.items() if r.get("models")]
+    return lines + ([""] + notes if notes else [])
 
 
 def write_subsurface(folder: Path, sub: dict) -> None:

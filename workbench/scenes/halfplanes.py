@@ -22,9 +22,11 @@ above its flat face, ``y = X1^2 / (2 R)`` or the wedge ``y = m |X1|``: :class:`f
   materials enters the gap, which is Ciavarella and Hills's model (:mod:`fem.two_body.convective`).
 * ``finite`` kinematics (issue 39; :mod:`fem.two_body.finite_problem`): both bodies hyperelastic, P1 mortar in the
   current configuration, the traction along the deformed master normal (the case's ``traction = "obstacle"``).
-  The upper body is meshed as the real parabola, its lower face ``y = X1^2 / (2 R)`` up to ``|X1| = W/2``
-  (``build_profile_blocks(parabola_radius=R)``, the geometry ``workbench export`` gives the external codes), and
-  the gap is the distance to its deformed facets. Why not the flat block with the profile as a gap function: at
+  The upper body is meshed: a block whose lower face is the parabola ``y = X1^2 / (2 R)`` over
+  ``|X1| <= PARABOLA_CAP b0`` and flat beyond (``build_profile_blocks(parabola_radius=R, parabola_cap=...)``; the
+  whole parabola up to W/2, which ``workbench export`` still gives the external codes, is a nose W^2 / (8 R) tall
+  whose laterally soft tip kept Newton from converging on the budget's grids: docs/models.md), and the gap is the
+  distance to its deformed facets. Why not the flat block with the profile as a gap function: at
   finite strain that is no body at all. The profile's material (a layer up to ``b0^2 / (2 R)`` thick under the
   contact) would be missing from the bulk, and carrying ``h`` in the current-configuration gap needs a rule for
   where on the deformed flat face to read it (the material point of Ciavarella-Hills's eq. (8), the current abscissa

@@ -146,5 +146,23 @@ def halfplanes_error_budget(case: Case, *, solve, progress=print) -> SceneBudget
                                    formal_order=FORMAL_ORDER_EDGE if q == "half_width" else FORMAL_ORDER)
             rows[key]["beta"] = th.beta
             rows[key] |= {"b0_over_R": th.half_width / th.R} if th.kind == "parabola" else {"m": th.m}
+    _models_in_finite_bands(rows, runs)
     return SceneBudget(rows, title=_TITLE)
+
+
+def _models_in_finite_bands(rows: dict, runs) -> None:
+    """Each finite run's moment row gains ``models`` (each small-strain convective run's extrapolated moment ratio,
+    by label) and ``models_in_band`` (whether it lies in the finite row's band): which small-strain convective model,
+    if any, the finite-strain answer follows (issue 39)."""
+    conv = [r.label for r in runs if r.solver.kinematics == "convective"]
+    for r in runs:
+        key = f"b_over_b0_moment[{r.label}]"
+        if r.solver.kinematics != "finite" or key not in rows:
+            continue
+        row = rows[key]
+        band = row["uncertainty"] * abs(row["fine"])
+        models = {c: rows[f"b_over_b0_moment[{c}]"]["extrapolated"] for c in conv
+                  if f"b_over_b0_moment[{c}]" in rows}
+        row["models"] = models
+        row["models_in_band"] = {c: bool(abs(v - row["extrapolated"]) <= band) for c, v in models.items()}
 
