@@ -196,3 +196,33 @@ def test_a_finite_row_says_which_small_strain_model_its_band_holds():
     notes = [line for line in budget_table(rows) if line.startswith("- ")]
     assert notes == ["- b_over_b0_moment[nh]: band 0.97600 +- 4.9e-04; the small-strain models' extrapolated "
                      "values: profile 0.97630 (in), pairing 0.97350 (outside)"]
+
+
+def test_validity_finite_rows_band_and_verdict():
+    """The validity study's finite rows (``_hp_finite``): F = the law's extrapolated moment over the small run's;
+    ``inside`` against the converged theory and the profile model within the combined band; the spread of two laws
+    and the verdict against the convective correction |R_ch - 1|. Constant levels (no discretisation error): the
+    band is the small run's alone."""
+    from workbench.studies.validity_assemble import HP_COMPLETE, _hp_finite
+    from workbench.studies.validity_config import ValidityConfig
+
+    cfg = ValidityConfig(halfplanes_beta=(0.3,), halfplanes_b0_over_R=(0.1,), rigid=False, elastic_wedge_theta=())
+
+    def levels(v):
+        return {k: {"moment": v} for k in ("h0", "h1", "h2", "far")}
+
+    theories = {"ch_converged": {"moment": 0.976}, "ch_first_order": {"moment": 0.977}}
+    models = {"halfplane/small": {"moment": {"value": 1.0, "uncertainty": 1e-4}},
+              HP_COMPLETE: {"moment": {"value": 0.9762, "uncertainty": 1e-4}}}
+    ml = {"obstacle/finite/neo_hookean": levels(0.984), "obstacle/finite/saint_venant_kirchhoff": levels(1.0155)}
+    out = _hp_finite(cfg, ml, models, theories)
+    nh = out["laws"]["neo_hookean"]
+    assert nh["ratio"]["value"] == pytest.approx(0.984) and nh["ratio"]["uncertainty"] == pytest.approx(1e-4)
+    assert nh["inside"] == {"ch_converged": False, "ch_first_order": False, "profile": False}
+    assert nh["split"]["finite_strain_and_traction"] == pytest.approx(0.984 - 0.9762)
+    assert out["spread"]["value"] == pytest.approx(0.984 - 1.0155) and out["spread"]["verdict"] == "material law"
+    ml = {"obstacle/finite/neo_hookean": levels(0.9761), "obstacle/finite/saint_venant_kirchhoff": levels(0.9765)}
+    out = _hp_finite(cfg, ml, models, theories)
+    assert out["spread"]["verdict"] == "convective" and out["laws"]["neo_hookean"]["inside"]["profile"]
+    out = _hp_finite(cfg, {"obstacle/finite/neo_hookean": {}}, models, theories)
+    assert out["laws"]["neo_hookean"]["ratio"]["value"] is None and "spread" not in out

@@ -193,12 +193,21 @@ def test_halfplanes_tasks_cover_both_signs_every_kinematics_and_level():
     from workbench.studies.validity_halfplanes import halfplanes_tasks
 
     cfg = ValidityConfig(halfplanes_beta=(-0.3, 0.3), halfplanes_b0_over_R=(0.1, 0.2))
-    todo = halfplanes_tasks(cfg)
+    every = halfplanes_tasks(cfg)
+    todo = [t for t in every if t.kinematics != "finite"]
     assert len(todo) == 2 * 2 * 2 * 4
     assert {t.beta for t in todo} == {-0.3, 0.3} and {t.kinematics for t in todo} == {"small", "convective"}
     assert {t.mesh_name for t in todo} == {f"validity_halfplanes_h{h:g}_W{w:g}"
                                            for h, w in ((6, 160), (10, 160), (16, 160), (10, 640))}
     assert [t.level for t in todo[:4]] == ["h0", "h1", "h2", "far"]  # a chunk of 4 shares its forms
+    # finite strain (issue 39): both laws, P1, the obstacle traction, a mesh of its own per b0/R (the meshed parabola)
+    finite = [t for t in every if t.kinematics == "finite"]
+    assert len(finite) == 2 * 2 * 2 * 4 and {t.material for t in finite} == {"neo_hookean", "saint_venant_kirchhoff"}
+    assert {(t.degree, t.traction) for t in finite} == {(1, "obstacle")}
+    assert {t.mesh_name for t in finite} == {f"validity_halfplanes_finite_R{R:g}_h{h:g}_W{w:g}" for R in (10, 5)
+                                             for h, w in ((10, 160), (16, 160), (25, 160), (16, 640))}
+    assert [t.level for t in finite[:4]] == ["h0", "h1", "h2", "far"] and len({t.model for t in finite[:4]}) == 1
+    assert not [t for t in halfplanes_tasks(ValidityConfig(halfplanes_finite_laws=())) if t.kinematics == "finite"]
     assert v.tasks(ValidityConfig(rigid=False))[0] == []
 
 
@@ -253,7 +262,11 @@ def test_halfplanes_points_bands_split_report_and_map(tmp_path):
     assert "Two elastic half-planes" in md and "map_halfplanes.png" in md
     assert "| 0.1 | -0.3 |" in md and "| 0.1 | +0.3 | no value:" in md
     assert "b0/R = 0.1, beta = +0.3" in md and "DIVERGED_LINEAR_SOLVE" in md
-    assert [p.name for p in draw_maps(data, tmp_path)] == ["map_halfplanes.png"]
+    assert [p.name for p in draw_maps(data, tmp_path)] == ["map_halfplanes.png", "map_halfplanes_finite.png"]
+    # the finite rows (issue 39): synthetic finite runs equal to the small ones, so F = 1 and the two laws agree:
+    # at beta = -0.3 the convective correction (2.4 %) outweighs their spread (0); beta = +0.3 has no R, no split
+    assert "### At finite strain" in md and "**Verdict: at 0 of 2 points the spread" in md
+    assert neg["finite"]["spread"]["verdict"] == "convective" and "split" not in pos["finite"]["laws"]["neo_hookean"]
     from workbench.reports.summary import trust_markdown
 
     (tmp_path / "validity").mkdir()

@@ -333,6 +333,7 @@ def main(argv: list[str] | None = None) -> int:
         kw = {"cylinder_a_over_R": (0.1,), "wedge_theta": (math.pi / 10,), "nu": (0.0,), "h_ratios": (2.0, 3.0, 4.0),
               "width_factor": 20.0, "width_factor_far": 40.0, "halfplanes_beta": (-0.3, 0.3),
               "halfplanes_b0_over_R": (0.1,), "halfplanes_h_ratios": (2.0, 3.0, 4.0),
+              "halfplanes_finite_h_ratios": (3.0, 4.0, 5.0),
               "elastic_wedge_theta": (math.pi / 5,), "elastic_wedge_h_ratios": (2.0, 3.0, 4.5),
               "elastic_wedge_width": 12.0, "elastic_wedge_width_far": 24.0}
     if args.halfplanes_only:

@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from analytic import convective, halfplane, materials
+from vocabulary import FINITE, OBSTACLE
 from workbench.error_budget import grid_study
 from workbench.studies.validity_config import ValidityConfig
 from workbench.studies.validity_halfplanes import halfplanes_theories
@@ -264,10 +265,60 @@ def assemble_halfplanes(cfg: ValidityConfig, records: list[dict]) -> tuple[list[
         else:
             dropped.append(here | {"what": "point unused", "reason": "no moment ratio (convective over small) at "
                                                                      "this point: " + mv["reason"]})
+        finite = _hp_finite(cfg, ml, models, theories)
+        for law, f in finite.get("laws", {}).items():
+            if f["ratio"].get("value") is None:
+                dropped.append(here | {"model": f"{OBSTACLE}/{FINITE}/{law}", "quantity": "moment",
+                                       "what": "value dropped", "reason": f["ratio"]["reason"]})
         points.append(here | {"models": models, "theories": theories,
                               "complete_model": HP_COMPLETE if mv.get("value") is not None else None,
-                              "bands": bands, "split": _hp_split(models, theories)})
+                              "bands": bands, "split": _hp_split(models, theories), "finite": finite})
     return points, dropped
+
+
+def _hp_finite(cfg: ValidityConfig, ml: dict, models: dict, theories: dict) -> dict:
+    """A point's finite-strain rows (issue 39), each law's moment ratio F = M / S: its moment half-width over Hertz
+    (P1, extrapolated over ``cfg.halfplanes_finite_h_ratios`` and the far block, :func:`_value`) over the small
+    run's S (P2), relative uncertainty the root sum of squares of both. Against it: the converged theory, the first
+    order and the small-strain convective (profile) model R, each ``inside`` when within the combined band; the
+    split of F - 1 into the convective model's R - 1 and the rest F - R (finite strain and the traction along the
+    deformed normal together: finite strain with the vertical traction is refused, so they are not separated).
+    With two laws: their spread F_1 - F_2 and the verdict ``convective`` (|R_ch - 1| > |spread| + its band: the
+    convective correction outweighs the material law), ``material law`` (the reverse) or ``comparable``."""
+    laws = cfg.halfplanes_finite_laws
+    if not laws:
+        return {}
+    S = models["halfplane/small"]["moment"]
+    R = models[HP_COMPLETE]["moment"]
+    r_ch, r_first = theories["ch_converged"]["moment"], theories["ch_first_order"]["moment"]
+    out: dict = {"laws": {}, "convective_correction": r_ch - 1.0}
+    for law in laws:
+        M = _value(ml.get(f"{OBSTACLE}/{FINITE}/{law}", {}), "moment", cfg.halfplanes_finite_h_ratios)
+        if M.get("value") is None or S.get("value") is None:
+            why = M.get("reason") if M.get("value") is None else "the small run has no value: " + S["reason"]
+            out["laws"][law] = {"moment": M, "ratio": {"value": None, "reason": why}}
+            continue
+        F, u = M["value"] / S["value"], math.hypot(M["uncertainty"], S["uncertainty"])
+        row = {"moment": M, "ratio": {"value": F, "uncertainty": u},
+               "inside": {"ch_converged": abs(F - r_ch) <= u * abs(F),
+                          "ch_first_order": abs(F - r_first) <= u * abs(F)},
+               "minus_converged": F - r_ch}
+        if R.get("value") is not None:
+            u_r = math.hypot(u * abs(F), R["uncertainty"] * abs(R["value"]))
+            row["inside"]["profile"] = abs(F - R["value"]) <= u_r
+            row["split"] = {"convective_model": R["value"] - 1.0, "finite_strain_and_traction": F - R["value"],
+                            "uncertainty": u_r}
+        out["laws"][law] = row
+    done = [(law, r["ratio"]) for law, r in out["laws"].items() if r["ratio"].get("value") is not None]
+    if len(done) >= 2:
+        (l1, a), (l2, b) = done[0], done[1]
+        spread = a["value"] - b["value"]
+        u_s = math.hypot(a["uncertainty"] * abs(a["value"]), b["uncertainty"] * abs(b["value"]))
+        c = abs(r_ch - 1.0)
+        verdict = ("convective" if c > abs(spread) + u_s else "material law" if abs(spread) > c + u_s
+                   else "comparable")
+        out["spread"] = {"laws": [l1, l2], "value": spread, "uncertainty": u_s, "verdict": verdict}
+    return out
 
 
 def claim_points(cfg: ValidityConfig, records: list[dict]) -> dict:

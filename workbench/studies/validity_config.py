@@ -58,6 +58,10 @@ class ValidityConfig(StudyFolders):
             no such part.
         halfplanes_b0_over_R: The parabolic gaps b0/R of that part (b0 = 1 mm, Hertz's half-width at the load).
         halfplanes_h_ratios: b0/h_c of its three levels (the far run on the middle one, W as above).
+        halfplanes_finite_laws: The hyperelastic laws of that part's finite-strain runs (issue 39: both bodies the
+            law, P1, the upper body the meshed parabola capped at 3 b0, the traction along the deformed master
+            normal); empty: no finite runs.
+        halfplanes_finite_h_ratios: b0/h_c of their three levels (P1; the far run on the middle one).
         rigid: Run the rigid-indenter part (the circle and the wedge); False: the two-half-planes part alone.
         elastic_wedge_theta: The paper's theta < pi/5 claim as stated (issue 25,
             :mod:`workbench.studies.validity_elastic_wedge`): the angles (rad, slope tan theta) of the elastic wedge
@@ -92,6 +96,8 @@ class ValidityConfig(StudyFolders):
     halfplanes_beta: tuple[float, ...] = (-0.45, -0.3, -0.15, 0.0, 0.15, 0.3, 0.45)
     halfplanes_b0_over_R: tuple[float, ...] = (0.03, 0.1, 0.2)
     halfplanes_h_ratios: tuple[float, ...] = (6.0, 10.0, 16.0)
+    halfplanes_finite_laws: tuple[str, ...] = ("neo_hookean", "saint_venant_kirchhoff")
+    halfplanes_finite_h_ratios: tuple[float, ...] = (10.0, 16.0, 25.0)
     rigid: bool = True
     elastic_wedge_theta: tuple[float, ...] = (math.pi / 10, 3 * math.pi / 20, math.pi / 5, math.pi / 4)
     elastic_wedge_nu: float = 0.3
@@ -130,10 +136,15 @@ class ValidityConfig(StudyFolders):
             raise _bad("rigid", self.rigid, "True or False")
         if not self.rigid and not self.halfplanes_beta:
             raise _bad("rigid", self.rigid, "True, or False with halfplanes_beta given (else nothing runs)")
-        hp = self.halfplanes_h_ratios
-        if (not isinstance(hp, tuple) or len(hp) != 3 or not all(isinstance(v, num) and 1.0 <= v <= 100.0 for v in hp)
-                or not all(b > a for a, b in zip(hp, hp[1:], strict=False))):
-            raise _bad("halfplanes_h_ratios", hp, "three increasing numbers in [1, 100]")
+        for name in ("halfplanes_h_ratios", "halfplanes_finite_h_ratios"):
+            hp = getattr(self, name)
+            if (not isinstance(hp, tuple) or len(hp) != 3
+                    or not all(isinstance(v, num) and 1.0 <= v <= 100.0 for v in hp)
+                    or not all(b > a for a, b in zip(hp, hp[1:], strict=False))):
+                raise _bad(name, hp, "three increasing numbers in [1, 100]")
+        laws = self.halfplanes_finite_laws
+        if not isinstance(laws, tuple) or not all(v in _HYPERELASTIC for v in laws) or len(set(laws)) != len(laws):
+            raise _bad("halfplanes_finite_laws", laws, f"distinct names of {', '.join(_HYPERELASTIC)} (or none)")
         if list(self.thresholds) != sorted(self.thresholds):
             raise _bad("thresholds", self.thresholds, "increasing numbers in (0, 1)")
         for name, lo, hi in (("E", 1e-6, 1e12), ("growth", 1.0 + 1e-9, 3.0), ("width_factor", 10.0, 1e4),

@@ -16,6 +16,12 @@ Measure (dimensionless): the moment half-width 2 sqrt(M2/M0) of each run over He
 measured load, and their ratio convective over small on the same mesh (``ratio``), which the theories give as the
 moment ratio of the converged Ciavarella-Hills pressure over the classical one (and of the first-order pressure),
 at the point's beta and b0/R (:func:`analytic.convective.solve`). Units: mm, N/mm, MPa.
+
+Finite strain (issue 39; ``cfg.halfplanes_finite_laws``): per point and law, both bodies that hyperelastic law, P1
+on the levels ``cfg.halfplanes_finite_h_ratios``, the upper body meshed as the parabola capped at 3 b0 (the scene's
+``finite`` geometry, so each b0/R has meshes of its own), the traction along the deformed master normal, the
+augmented Lagrangian at kappa0 = :data:`FINITE_KAPPA0` (as ``cases/halfplanes_finite_parabola.toml``). Their moment
+half-width over Hertz's is divided by the small run's (P2, extrapolated) in the assembly.
 """
 
 from __future__ import annotations
@@ -26,15 +32,17 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from analytic import convective, materials
+from vocabulary import FINITE, OBSTACLE
 from workbench.studies.scene_point import run_failure, run_point
 
-__all__ = ["HP_LABEL", "HalfplanesTask", "bodies_for", "build_mesh", "halfplanes_tasks", "halfplanes_theories",
-           "solve_task"]
+__all__ = ["FINITE_KAPPA0", "HP_LABEL", "HalfplanesTask", "bodies_for", "build_mesh", "halfplanes_tasks",
+           "halfplanes_theories", "solve_task"]
 
 HP_LABEL = "hp"  # the runs' label: the scene names its mesh <name>_<label>, shared by both kinematics
 HP_STEPS = 3  # load steps (force control), as the halfplanes cases
 HP_METHOD = "augmented_lagrangian"  # as the halfplanes cases (nitsche needs one slave traction; penalty leaves 1.8e-4)
 THEORY_N_PLOT = 64001  # the theory's plot grid for its moments (the halfplanes budget's: ~1e-7 on the moments)
+FINITE_KAPPA0 = 100.0  # the finite runs' augmentation factor (cases/halfplanes_finite_parabola.toml: same answer)
 
 
 @dataclass(frozen=True)
@@ -46,8 +54,9 @@ class HalfplanesTask:
         kinematics: ``small`` or ``convective``.  level: ``h0``, ``h1``, ``h2`` or ``far``.
         h_ratio, width_factor, growth: b0/h_c, W/b0 (both blocks, W = H) and the grading.
         E_star: the pair's plane-strain modulus E* (MPa).  n_steps: load steps.
-        scene, nu, traction: constants (``halfplanes``, 0, ``halfplane``) that keep the records' shape of the
-            rigid scenes' (:class:`workbench.studies.validity.Task`).
+        scene, nu, traction: constants (``halfplanes``, 0; ``halfplane``, ``obstacle`` for finite runs) that keep
+            the records' shape of the rigid scenes' (:class:`workbench.studies.validity.Task`).
+        material: both bodies' law (``linear``; a finite run's hyperelastic law).  degree: 2 (finite runs: 1).
     """
 
     param: float
@@ -62,14 +71,19 @@ class HalfplanesTask:
     scene: str = "halfplanes"
     nu: float = 0.0
     traction: str = "halfplane"
+    material: str = "linear"
+    degree: int = 2
 
     @property
     def mesh_name(self) -> str:
+        if self.kinematics == FINITE:  # the meshed parabola: its own mesh per b0/R
+            return f"validity_halfplanes_finite_R{1.0 / self.param:g}_h{self.h_ratio:g}_W{self.width_factor:g}"
         return f"validity_halfplanes_h{self.h_ratio:g}_W{self.width_factor:g}"
 
     @property
     def model(self) -> str:
-        return f"{self.traction}/{self.kinematics}"
+        own = f"{self.traction}/{self.kinematics}"
+        return f"{own}/{self.material}" if self.kinematics == FINITE else own
 
 
 def bodies_for(beta: float, *, E_star: float) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -83,13 +97,23 @@ def bodies_for(beta: float, *, E_star: float) -> tuple[tuple[float, float], tupl
 def halfplanes_tasks(cfg) -> list[HalfplanesTask]:
     """Every run of the part: per (b0/R, beta, kinematics) the three levels and the far block, listed together
     (the executor sends them in chunks of 4, which share their forms)."""
-    levels = [(f"h{i}", h, cfg.width_factor) for i, h in enumerate(cfg.halfplanes_h_ratios)]
-    levels.append(("far", cfg.halfplanes_h_ratios[1], cfg.width_factor_far))
-    h0 = cfg.halfplanes_h_ratios[0]
-    return [HalfplanesTask(float(b0R), float(beta), kin, level, float(h), float(W), 1.0 + (cfg.growth - 1.0) * h0 / h,
-                           float(cfg.E))
-            for b0R in cfg.halfplanes_b0_over_R for beta in cfg.halfplanes_beta for kin in ("small", "convective")
-            for level, h, W in levels]
+    def levels(ratios):
+        out = [(f"h{i}", h, cfg.width_factor) for i, h in enumerate(ratios)]
+        return out + [("far", ratios[1], cfg.width_factor_far)]
+
+    def growth(ratios, h):
+        return 1.0 + (cfg.growth - 1.0) * ratios[0] / h
+
+    hp, fin = cfg.halfplanes_h_ratios, cfg.halfplanes_finite_h_ratios
+    out = []
+    for b0R in cfg.halfplanes_b0_over_R:
+        for beta in cfg.halfplanes_beta:
+            out += [HalfplanesTask(float(b0R), float(beta), kin, level, float(h), float(W), growth(hp, h), float(cfg.E))
+                    for kin in ("small", "convective") for level, h, W in levels(hp)]
+            out += [HalfplanesTask(float(b0R), float(beta), FINITE, level, float(h), float(W), growth(fin, h),
+                                   float(cfg.E), traction=OBSTACLE, material=law, degree=1)
+                    for law in cfg.halfplanes_finite_laws for level, h, W in levels(fin)]
+    return out
 
 
 def _run(task: HalfplanesTask):
@@ -98,13 +122,16 @@ def _run(task: HalfplanesTask):
     from workbench.scenes.halfplanes_schema import HalfplanesGeometry
 
     (E_lo, nu_lo), (E_up, nu_up) = bodies_for(task.beta, E_star=task.E_star)
-    bodies = (Body("lower", E_lo, nu_lo), Body("upper", E_up, nu_up))
+    bodies = (Body("lower", E_lo, nu_lo, model=task.material), Body("upper", E_up, nu_up, model=task.material))
+    finite = task.kinematics == FINITE
     geo = HalfplanesGeometry(scene="halfplanes", indenter="parabola", radius=1.0 / task.param,
                              width_factor=task.width_factor, height_factor=task.width_factor, convection="profile")
+    solver = Solver(method=HP_METHOD, kinematics=task.kinematics, traction=task.traction,
+                    **({"kappa0": FINITE_KAPPA0} if finite else {}))
     return Run(label=HP_LABEL, material=bodies[0].material, geometry=geo,
                loading=Loading(control="force", half_width=1.0, steps=task.n_steps),
-               discretisation=Discretisation(degree=2, h_contact=1.0 / task.h_ratio, growth=task.growth),
-               solver=Solver(method=HP_METHOD, kinematics=task.kinematics, traction=task.traction), bodies=bodies)
+               discretisation=Discretisation(degree=task.degree, h_contact=1.0 / task.h_ratio, growth=task.growth),
+               solver=solver, bodies=bodies)
 
 
 def build_mesh(task: HalfplanesTask, mesh_cache: str) -> dict:

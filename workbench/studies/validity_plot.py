@@ -4,7 +4,8 @@ One PNG per scene (``map_cylinder.png``, ``map_wedge.png``, ``map_halfplanes.png
 over (a/R, theta or b0/R) x beta, coloured by the band of the theory's difference from the most complete FEM model
 (within 0.1 %, 1 %, 5 %, beyond 5 %, or unresolved: the FEM uncertainty is not well below the difference), the
 difference printed in each cell. Two elastic half-planes (beta of both signs): the model is the moment ratio
-convective over small, and a cell whose theory lies outside the FEM's U is hatched.
+convective over small, and a cell whose theory lies outside the FEM's U is hatched. At finite strain
+(``map_halfplanes_finite.png``): whether the convective correction outweighs the spread between the material laws.
 """
 
 from __future__ import annotations
@@ -93,7 +94,46 @@ def draw_maps(data: dict, folder: Path) -> list[Path]:
         fig.savefig(path, dpi=110)
         plt.close(fig)
         written.append(path)
-    return written
+    finite = _finite_map(data, folder, plt, Patch)
+    return written + ([finite] if finite else [])
+
+
+VERDICT_COLOURS = {"convective": "#1a7f37", "comparable": "#f2d45c", "material law": "#d9534f"}
+
+
+def _finite_map(data: dict, folder: Path, plt, Patch) -> Path | None:
+    """``map_halfplanes_finite.png`` (issue 39): over (b0/R, beta), whether the convective correction |R_ch - 1|
+    outweighs the spread between the finite-strain laws (green), the reverse (red) or neither beyond the bands
+    (yellow); each cell prints the correction and the spread (%)."""
+    pts = [p for p in data["points"] if p["scene"] == "halfplanes" and p.get("finite", {}).get("laws")]
+    if not pts:
+        return None
+    xs, betas = sorted({p["param"] for p in pts}), sorted({p["beta"] for p in pts})
+    fig, ax = plt.subplots(figsize=(max(7.0, 1.2 * len(xs) + 3.0), 0.55 * len(betas) + 2.0))
+    for p in pts:
+        i, j = xs.index(p["param"]), betas.index(p["beta"])
+        sp = p["finite"].get("spread")
+        colour = VERDICT_COLOURS.get(sp["verdict"]) if sp else "white"
+        ax.add_patch(plt.Rectangle((i, j), 1, 1, facecolor=colour, edgecolor="white", linewidth=2))
+        c = 100 * abs(p["finite"]["convective_correction"])
+        text = f"{c:.2g} | {100 * abs(sp['value']):.2g}" if sp else "no spread"
+        ax.text(i + 0.5, j + 0.5, text, ha="center", va="center", fontsize=8)
+    ax.set_xlim(0, len(xs))
+    ax.set_ylim(0, len(betas))
+    ax.set_xticks([i + 0.5 for i in range(len(xs))], [f"{v:g}" for v in xs], fontsize=8)
+    ax.set_yticks([j + 0.5 for j in range(len(betas))], [f"{b:.2g}" for b in betas], fontsize=8)
+    ax.set_xlabel("b0/R (two elastic half-planes, finite strain)")
+    ax.set_ylabel("beta")
+    ax.set_title("convective correction | law spread (%, moment half-width)", fontsize=9)
+    handles = [Patch(facecolor=VERDICT_COLOURS["convective"], label="convective > spread + band"),
+               Patch(facecolor=VERDICT_COLOURS["comparable"], label="within the bands"),
+               Patch(facecolor=VERDICT_COLOURS["material law"], label="spread > convective + band")]
+    fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    path = Path(folder) / "map_halfplanes_finite.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
 
 
 def main(argv: list[str] | None = None) -> int:

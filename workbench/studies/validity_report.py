@@ -147,6 +147,80 @@ def _hp_sections(points: list[dict], cfg: dict) -> list[str]:
         c = s["convective"]
         md.append(f"| {p['param']:g} | {p['beta']:+g} | {cell('total')} | {cell('profile')} | {cell('convective')} "
                   f"| {_pct(c['theory'])}; {_pct(c['theory_first_order'])} | {cell('remainder')} |")
+    return md + _hp_finite_section(pts, cfg)
+
+
+_MAP_SYMBOL = {"convective": "C", "material law": "M", "comparable": "="}
+
+
+def _hp_finite_section(pts: list[dict], cfg: dict) -> list[str]:
+    """The finite-strain rows of the two-half-planes part (issue 39): the verdict sentence, the map over (b0/R,
+    beta), the rows per point and law."""
+    rows = [p for p in pts if p.get("finite", {}).get("laws")]
+    if not rows:
+        return []
+    laws = list(cfg.get("halfplanes_finite_laws", []))
+    verdicts = [p["finite"].get("spread", {}).get("verdict") for p in rows]
+    n = {v: sum(x == v for x in verdicts) for v in _MAP_SYMBOL}
+    missing = sum(v is None for v in verdicts)
+    outside = sum(not r["inside"]["ch_converged"] for p in rows for r in p["finite"]["laws"].values()
+                  if r["ratio"].get("value") is not None)
+    total = sum(r["ratio"].get("value") is not None for p in rows for r in p["finite"]["laws"].values())
+    head = (f"**Verdict: at {n['material law']} of {len(rows)} points the spread between the two material laws is "
+            f"larger than the whole convective correction (beyond the bands), at {n['convective']} the convective "
+            f"correction is the larger, at {n['comparable']} they are within the bands of each other"
+            + (f" ({missing} without both laws)" if missing else "") + f"; {outside} of {total} finite-strain "
+            "values lie outside the band of the converged Ciavarella-Hills theory.**")
+    hr = cfg.get("halfplanes_finite_h_ratios", [])
+    md = ["", "### At finite strain: both bodies hyperelastic (issue 39)", "", head, "",
+          f"Each point and law ({', '.join(f'`{x}`' for x in laws)}): both bodies that law, P1 on levels b0/h_c = "
+          f"{', '.join(f'{h:g}' for h in hr)} and the middle one on the wide block, the upper body meshed as the "
+          "parabola capped at 3 b0, the traction along the deformed master normal (docs/models.md). F = its moment "
+          "half-width over Hertz's (extrapolated) over the small run's, U the root sum of squares of both relative "
+          "bands. Against F: the converged theory R_ch and its first order, and the small-strain convective model "
+          "R (the table above), each `in` when within the combined band. F - R is finite strain and the traction "
+          "direction together (finite strain with the vertical traction is refused). The spread is F of the first "
+          "law minus F of the second; the verdict compares |R_ch - 1| with |spread| +- its band.", "",
+          "Map (rows b0/R, columns beta): C the convective correction outweighs the law spread, M the law spread "
+          "outweighs the convective correction, = neither beyond the bands, . no verdict "
+          "(`map_halfplanes_finite.png`: the same, coloured, with |R_ch - 1| and |spread| in %).", "",
+          "![map_halfplanes_finite](map_halfplanes_finite.png)", ""]
+    params = sorted({p["param"] for p in rows})
+    betas = sorted({p["beta"] for p in rows})
+    grid = {(p["param"], p["beta"]): _MAP_SYMBOL.get(p["finite"].get("spread", {}).get("verdict"), ".")
+            for p in rows}
+    md += ["| b0/R \\ beta | " + " | ".join(f"{b:+g}" for b in betas) + " |",
+           "|---|" + "---|" * len(betas)]
+    md += [f"| {q:g} | " + " | ".join(grid.get((q, b), ".") for b in betas) + " |" for q in params]
+    md += ["", "| b0/R | beta | law | F +- U | status | R_ch; in | 1st order; in | R (profile); in | F - R_ch | "
+           "R - 1 (conv. model) | F - R (finite strain + traction) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for p in rows:
+        th, fin = p["theories"], p["finite"]
+        R = p["models"].get(p.get("complete_model") or "", {}).get("moment", {})
+        for law, r in fin["laws"].items():
+            f = r["ratio"]
+            if f.get("value") is None:
+                md.append(f"| {p['param']:g} | {p['beta']:+g} | {law} | no value: {f['reason']} | | | | | | | |")
+                continue
+            ins = r["inside"]
+
+            def yn(k, ins=ins):
+                return "-" if k not in ins else ("in" if ins[k] else "out")
+
+            sp = r.get("split", {})
+            md.append(f"| {p['param']:g} | {p['beta']:+g} | {law} | {f['value']:.5f} +- "
+                      f"{f['uncertainty'] * f['value']:.1e} | {r['moment'].get('status', '-')} | "
+                      f"{th['ch_converged']['moment']:.5f}; {yn('ch_converged')} | "
+                      f"{th['ch_first_order']['moment']:.5f}; {yn('ch_first_order')} | "
+                      + (f"{R['value']:.5f}; {yn('profile')}" if R.get("value") is not None else "-")
+                      + f" | {_pct(r['minus_converged'])} | "
+                      + (f"{_pct(sp['convective_model'])} | {_pct(sp['finite_strain_and_traction'])} +- "
+                         f"{100 * sp['uncertainty']:.2g} %" if sp else "- | -") + " |")
+        if "spread" in fin:
+            sp = fin["spread"]
+            md.append(f"| {p['param']:g} | {p['beta']:+g} | spread {' - '.join(sp['laws'])} | "
+                      f"{sp['value']:+.5f} +- {sp['uncertainty']:.1e} | verdict: {sp['verdict']} | "
+                      f"R_ch - 1 = {_pct(fin['convective_correction'])} | | | | | |")
     return md
 
 
