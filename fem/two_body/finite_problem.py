@@ -59,11 +59,13 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
     the two-half-planes case at its CI level (h_c = b0/10, W = 160 b0, 2.5k unknowns, force control to 3299 N/mm):
     neo-Hookean 17 solve attempts (cut-backs included) in 23 s with "l2" against 52 in 85 s with "bt"; Saint
     Venant-Kirchhoff, both at once, 43 attempts in 61 s against 62 in 118 s; "basic" and "cp" did not reach the
-    load (5 cut-backs).
+    load (5 cut-backs). ``prescribed_max_it``: the Newton iterations of one prescribed-set solve
+    (:meth:`predictor_iteration`).
     """
 
     finite_line_search: ClassVar[str] = "l2"
     prescribed_max_it: ClassVar[int] = 12
+    _small: bool = False  # while True, the SNES solves the small-strain equations (:meth:`unloaded_guess`)
 
     def _build_space(self) -> None:
         super()._build_space()
@@ -74,8 +76,6 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
                 * dx(md.physical_groups[b.name].tag) for b in self.setup.bodies)
         forms = compile_forms({"F": F, "J": ufl.derivative(F, self.u, du)}, comm=self.comm)
         self.F_form, self.J_form = forms["F"], forms["J"]
-
-    _small = False
 
     def _build_pairing(self) -> None:
         super()._build_pairing()  # the reference mortar pairing: the contact nodes, W_ref, the law
