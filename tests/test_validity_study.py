@@ -23,7 +23,10 @@ from workbench.studies.validity_config import ValidityConfig
                                 dict(n_steps=1.5), dict(halfplanes_beta=(0.6,)), dict(halfplanes_b0_over_R=(0.9,)),
                                 dict(halfplanes_h_ratios=(8.0, 4.0, 16.0)), dict(rigid=False, halfplanes_beta=()),
                                 dict(elastic_wedge_theta=(2.0,)), dict(elastic_wedge_h_ratios=(4.0, 8.0, 12.0)),
-                                dict(elastic_wedge_nu=0.49), dict(elastic_wedge_width_far=30.0)])
+                                dict(elastic_wedge_nu=0.49), dict(elastic_wedge_width_far=30.0),
+                                dict(halfplanes_finite_laws=("linear",)),
+                                dict(halfplanes_finite_laws=("neo_hookean", "neo_hookean")),
+                                dict(halfplanes_finite_h_ratios=(10.0, 5.0, 20.0))])
 def test_config_rejects_bad_values_in_one_line(kw):
     with pytest.raises(ValueError) as exc:
         ValidityConfig(**kw)
