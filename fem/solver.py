@@ -143,8 +143,15 @@ def solve_problem(problem: PartnerProblem, *, step_callbacks: Sequence[Callable[
     stepper = LoadStepper(problem, on_step=problem.options.on_step)
     for fn in step_callbacks:
         stepper.add_step_callback(fn)
-    stepper.run()
-    return _result(problem, stepper)
+    try:
+        stepper.run()
+        return _result(problem, stepper)
+    finally:
+        # the SNES's callbacks (bound methods of the problem) keep the problem, its mesh, spaces and MPI
+        # communicators alive after the solve; destroyed, the problem is freed with the last reference to it.
+        # Measured: without this every problem of a worker stayed alive (4 of 4 after 4 runs, gc.collect), and a
+        # validity worker aborted after ~125 runs with MPICH's "Too many communicators (0/2048 free)"; with it, 0 of 4.
+        problem.snes.destroy()
 
 
 def _result(problem: PartnerProblem, stepper: LoadStepper) -> ContactResult:

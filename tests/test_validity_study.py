@@ -277,3 +277,34 @@ def test_halfplanes_points_bands_split_report_and_map(tmp_path):
     section = "\n".join(trust_markdown(tmp_path))
     assert "validity/map_halfplanes.png" in section and "Ciavarella-Hills converged (two half-planes) | 1 |" in section
     assert "contains converged Ciavarella-Hills at 1 of 1 points" in section
+
+
+def test_a_finished_run_frees_its_problem(tmp_path):
+    """``fem.solver.solve_problem`` destroys the SNES, whose callbacks otherwise keep every problem (its mesh, spaces
+    and MPI communicators) alive: a study worker then ran out of MPICH's 2048 communicators. A small and a finite
+    two-body run of the validity study at tiny size: no problem is left alive after them."""
+    import gc
+    import weakref
+
+    from fem.two_body.problem import TwoBodyProblem
+    from workbench.studies.validity_halfplanes import build_mesh, halfplanes_tasks, solve_task
+
+    cfg = ValidityConfig(halfplanes_beta=(0.3,), halfplanes_b0_over_R=(0.1,), rigid=False, elastic_wedge_theta=(),
+                         halfplanes_h_ratios=(2.0, 3.0, 4.0), halfplanes_finite_h_ratios=(3.0, 4.0, 5.0),
+                         halfplanes_finite_laws=("neo_hookean",), width_factor=20.0, width_factor_far=40.0)
+    alive = []
+    init = TwoBodyProblem.__init__
+
+    def tracked(self, *a, **k):
+        alive.append(weakref.ref(self))
+        init(self, *a, **k)
+
+    TwoBodyProblem.__init__ = tracked
+    try:
+        for t in [t for t in halfplanes_tasks(cfg) if t.level == "h0" and t.kinematics in ("small", "finite")]:
+            build_mesh(t, str(tmp_path))
+            assert solve_task(t, str(tmp_path))["converged"], t
+    finally:
+        TwoBodyProblem.__init__ = init
+    gc.collect()
+    assert len(alive) == 2 and not [w for w in alive if w() is not None]
