@@ -347,20 +347,27 @@ class TwoBodyProblem(NewtonControls):
         """``F_c = -T^T p`` (N/mm per dof) of the dof array u (T = D for small kinematics; convective: the traction's
         virtual-work matrix of :mod:`fem.two_body.convective`)."""
         if self.conv is None:
-            g, T = self.gap.gap(u), self.gap.D
-        else:
-            g, _, _, T = self.conv.linearise(u)
+            return self.reference_contact_residual(u)
+        g, _, _, T = self.conv.linearise(u)
         p, _ = self.method.pressure(g)
         return -(T.T @ p)
+
+    def reference_contact_residual(self, u: np.ndarray) -> np.ndarray:
+        """``F_c = -D^T p`` with the reference pairing's gaps (small kinematics; :mod:`fem.two_body.weighted_gap`)."""
+        return -(self.gap.D.T @ self.method.pressure(self.gap.gap(u))[0])
+
+    def reference_contact_jacobian(self, u: np.ndarray) -> sp.csr_matrix:
+        """``D^T diag(-dp/dg~ / W) D`` of the reference pairing (small kinematics), all dofs."""
+        _, dp = self.method.pressure(self.gap.gap(u))
+        D = self.gap.D
+        return (D.T @ sp.diags(-dp / self.gap.W) @ D).tocsr()
 
     def contact_jacobian(self, u: np.ndarray) -> sp.csr_matrix:
         """``dF_c/du = D^T diag(-dp/dg~ / W) D`` (small); convective (:mod:`fem.two_body.convective`):
         ``T^T diag(-dp/dg~ / W) D - sum_i p_i dT_i/du`` with the traction's virtual-work matrix T; exact, sparse,
         all dofs."""
         if self.conv is None:
-            _, dp = self.method.pressure(self.gap.gap(u))
-            D = self.gap.D
-            return (D.T @ sp.diags(-dp / self.gap.W) @ D).tocsr()
+            return self.reference_contact_jacobian(u)
         g, D, H, T = self.conv.linearise(u, hessian_weights=lambda gaps: -self.method.pressure(gaps)[0])
         _, dp = self.method.pressure(g)
         J = T.T @ sp.diags(-dp / self.gap.W) @ D
