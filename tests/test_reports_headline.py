@@ -71,3 +71,23 @@ def test_the_residual_is_against_the_theory_the_checked_rms_names():
     assert judged_prediction("base", names, m) == "exact circle (at measured P)"
     assert judged_prediction("base", names, {"checked_errors": {"rms": "rms"}}) == "hertz (at measured P)"
     assert judged_prediction("base", [], m) is None
+
+
+def test_each_convective_panel_heads_with_its_own_run():
+    """Several convective runs (profile, pairing): each panel's headline and FEM edge mark give that run's own
+    value (``b_over_b0_moment_fem_<convection>``); only the run whose value the check reads says "judged by" and
+    carries the error and tolerance."""
+    from workbench.reports.case_report import _b_marks
+
+    an = {"b_over_b0_moment_fem": 0.97613, "b_over_b0_moment_fem_profile": 0.97613,
+          "b_over_b0_moment_fem_pairing": 0.97409, "b_over_b0_moment_converged": 0.97631,
+          "runs": {"small": {"half_width": 1.0}}}
+    m = {"analytic": an, "tolerances": {"b_over_b0_moment": 2e-3}, "errors": {"b_over_b0_moment": 1.8e-4},
+         "checks": {"b_over_b0_moment": True},
+         "runs": [{"label": "small", "kinematics": "small"},
+                  {"label": "profile", "kinematics": "convective", "convection": "profile"},
+                  {"label": "pairing", "kinematics": "convective", "convection": "pairing"}]}
+    assert b_headline(m, "profile") == ["judged by the moment ratio b/b0: FEM 0.97613 against converged theory "
+                                        "0.97631 (error 1.8e-04, tolerance 2e-03 PASS)"]
+    assert b_headline(m, "pairing") == ["moment ratio b/b0: FEM 0.97409 against converged theory 0.97631"]
+    assert ("moment ratio b/b0 FEM = 0.97409", 0.97409) in _b_marks(m, "pairing")

@@ -87,10 +87,19 @@ def _is_convective(metrics: dict | None, label: str) -> bool:
     return _run_of(metrics, label).get("kinematics", label) == "convective"
 
 
-def b_headline(metrics: dict | None) -> list[str]:
+def _fem_key(metrics: dict, b: BMeasure, label: str | None) -> str:
+    """The key of run ``label``'s own FEM value of measure ``b``: ``<fem>_<convection>`` where the case records one
+    per convective run (several convective runs), else the case's ``b.fem``."""
+    tag = _run_of(metrics, label).get("convection") if label is not None else None
+    own = f"{b.fem}_{tag}"
+    return own if tag and metrics["analytic"].get(own) is not None else b.fem
+
+
+def b_headline(metrics: dict | None, label: str | None = None) -> list[str]:
     """The convective panel's headline (issue 37): first the measure the verdict reads (:func:`judged_b_measure`),
     FEM against the converged theory with its error and tolerance, then each other b/b0 measure the case records,
-    named as such. Empty for a case with no b/b0."""
+    named as such. Empty for a case with no b/b0. With ``label``, the FEM values are that run's own
+    (:func:`_fem_key`); the error and tolerance only where its value is the one the check reads."""
     judged = judged_b_measure(metrics)
     if judged is None:
         return []
@@ -98,16 +107,18 @@ def b_headline(metrics: dict | None) -> list[str]:
     errors, checks = metrics.get("errors") or {}, metrics.get("checks") or {}
 
     def line(b: BMeasure, lead: str) -> str:
-        text = f"{lead}{b.name} b/b0: FEM {an[b.fem]:.5f}"
+        fem = an[_fem_key(metrics, b, label)]
+        text = f"{lead}{b.name} b/b0: FEM {fem:.5f}"
         if an.get(b.converged) is not None:
             text += f" against converged theory {an[b.converged]:.5f}"
-        if errors.get(b.check) is not None and b.check in tol:
+        if errors.get(b.check) is not None and b.check in tol and fem == an[b.fem]:
             verdict = {True: "PASS", False: "FAIL"}.get(checks.get(b.check), "")
             text += f" (error {errors[b.check]:.1e}, tolerance {tol[b.check]:.0e}{' ' + verdict if verdict else ''})"
         return text
 
     others = [b for b in B_MEASURES if b is not judged and an.get(b.fem) is not None]
-    return [line(judged, "judged by the " if judged.check in tol else ""),
+    read = judged.check in tol and an[_fem_key(metrics, judged, label)] == an[judged.fem]
+    return [line(judged, "judged by the " if read else ""),
             *[line(b, "also: ") for b in others]]
 
 
@@ -122,7 +133,7 @@ def _b_marks(metrics: dict | None, label: str) -> list[tuple[str, float]]:
     b0 = ((an.get("runs") or {}).get("small") or {}).get("half_width")
     if not b0:
         return []
-    names = ((b.fem, "FEM"), (b.converged, "converged theory"), (b.first_order, "first order"),
+    names = ((_fem_key(metrics, b, label), "FEM"), (b.converged, "converged theory"), (b.first_order, "first order"),
              (b.paper, "paper (printed)"))
     return [(f"{b.name} b/b0 {text} = {an[key]:.5g}", b0 * an[key]) for key, text in names
             if key is not None and an.get(key) is not None]
@@ -157,7 +168,7 @@ def pressure_panels(series: list[dict], metrics: dict | None = None) -> list[dic
     panels = []
     for sr in series:
         preds = {k: (sr["x"], v) for k, v in sr["predictions"].items() if v is not None}
-        headline = b_headline(metrics) if _is_convective(metrics, sr["label"]) else []
+        headline = b_headline(metrics, sr["label"]) if _is_convective(metrics, sr["label"]) else []
         panels.append({"label": sr["label"], "x": sr["x"], "p_fem": sr["p"], "sigma_nn": sr["sigma_nn"],
                        "xlabel": sr["xlabel"], "xlim": sr["xlim"], "marks": _b_marks(metrics, sr["label"]),
                        "headline": headline, "residual": judged_prediction(sr["label"], list(preds), metrics),
