@@ -36,7 +36,6 @@ from typing import ClassVar
 import dolfinx
 import dolfinx.fem.petsc
 import numpy as np
-import scipy.sparse as sp
 import ufl
 from petsc4py import PETSc
 
@@ -45,7 +44,7 @@ from fem.elasticity import lame
 from fem.hyperelastic import first_piola
 from fem.two_body.finite_contact import FiniteContact
 from fem.two_body.geometry import mortar_points
-from fem.two_body.problem import TwoBodyProblem, _add_csr
+from fem.two_body.problem import TwoBodyProblem
 from fem.two_body.surfaces import cell_data
 
 __all__ = ["FiniteTwoBodyProblem"]
@@ -115,12 +114,7 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
         J.zeroEntries()
         dolfinx.fem.petsc.assemble_matrix(J, self.J_form)
         J.assemble()
-        free = sp.diags(self.free.astype(float))
-        Jc = (free @ self.contact_jacobian(arr) @ free).tocsr()
-        Jc.eliminate_zeros()
-        J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-        _add_csr(J, Jc)
-        J.assemble()
+        self.add_free_block(J, self.contact_jacobian(arr), new_nonzeros=True)
         J.zeroRowsColumns(self.bc_dofs.astype(np.int32), diag=1.0)
 
     # -- the small-strain start ----------------------------------------------------------------------------
@@ -137,12 +131,7 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
         arr = self._take(x)
         J.zeroEntries()
         self.K_bc.copy(J, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
-        free = sp.diags(self.free.astype(float))
-        Jc = (free @ self.reference_contact_jacobian(arr) @ free).tocsr()
-        Jc.eliminate_zeros()
-        J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-        _add_csr(J, Jc)
-        J.assemble()
+        self.add_free_block(J, self.reference_contact_jacobian(arr), new_nonzeros=True)
 
     def unloaded_guess(self, d_value: float, unloaded: np.ndarray) -> np.ndarray:
         """The small-strain solution at ``d_value`` on this mesh (linear elasticity, the reference pairing, the

@@ -385,11 +385,15 @@ class TwoBodyProblem(NewtonControls):
         structure = PETSc.Mat.Structure  # convective pairs may couple beyond the window: K_bc's pattern is a subset
         self.K_bc.copy(J, structure=structure.SAME_NONZERO_PATTERN if self.conv is None
                        else structure.SUBSET_NONZERO_PATTERN)
-        Jc = self.contact_jacobian(arr)
-        Jc = sp.diags(self.free.astype(float)) @ Jc @ sp.diags(self.free.astype(float))
-        Jc = Jc.tocsr()
+        self.add_free_block(J, self.contact_jacobian(arr), new_nonzeros=self.conv is not None)
+
+    def add_free_block(self, J, Jc: sp.spmatrix, *, new_nonzeros: bool) -> None:
+        """Add the contact Jacobian ``Jc`` (all dofs) to J on the free dofs only (rows and columns of the supports
+        dropped), then assemble J; ``new_nonzeros``: entries outside J's pattern are allowed (else an error)."""
+        free = sp.diags(self.free.astype(float))
+        Jc = (free @ Jc @ free).tocsr()
         Jc.eliminate_zeros()
-        J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, self.conv is None)
+        J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, not new_nonzeros)
         _add_csr(J, Jc)
         J.assemble()
 
