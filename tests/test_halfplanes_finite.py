@@ -203,7 +203,7 @@ def test_validity_finite_rows_band_and_verdict():
     ``inside`` against the converged theory and the profile model within the combined band; the spread of two laws
     and the verdict against the convective correction |R_ch - 1|. Constant levels (no discretisation error): the
     band is the small run's alone."""
-    from workbench.studies.validity_assemble import HP_COMPLETE, _hp_finite
+    from workbench.studies.validity_assemble import HP_COMPLETE, HP_PAIRING, _hp_finite
     from workbench.studies.validity_config import ValidityConfig
 
     cfg = ValidityConfig(halfplanes_beta=(0.3,), halfplanes_b0_over_R=(0.1,), rigid=False, elastic_wedge_theta=())
@@ -213,16 +213,28 @@ def test_validity_finite_rows_band_and_verdict():
 
     theories = {"ch_converged": {"moment": 0.976}, "ch_first_order": {"moment": 0.977}}
     models = {"halfplane/small": {"moment": {"value": 1.0, "uncertainty": 1e-4}},
-              HP_COMPLETE: {"moment": {"value": 0.9762, "uncertainty": 1e-4}}}
+              HP_COMPLETE: {"moment": {"value": 0.9762, "uncertainty": 1e-4}},
+              HP_PAIRING: {"moment": {"value": 0.9735, "uncertainty": 1e-4}}}
     ml = {"obstacle/finite/neo_hookean": levels(0.984), "obstacle/finite/saint_venant_kirchhoff": levels(1.0155)}
     out = _hp_finite(cfg, ml, models, theories)
     nh = out["laws"]["neo_hookean"]
     assert nh["ratio"]["value"] == pytest.approx(0.984) and nh["ratio"]["uncertainty"] == pytest.approx(1e-4)
-    assert nh["inside"] == {"ch_converged": False, "ch_first_order": False, "profile": False}
+    assert nh["inside"] == {"ch_converged": False, "ch_first_order": False, "profile": False, "pairing": False}
+    # which small-strain model: nearer profile, the two told apart (2.7e-3 against a band of 1.4e-4), in neither band
+    assert nh["follows"]["model"] == "profile" and nh["follows"]["resolved"] and not nh["follows"]["alone"]
+    assert nh["follows"]["distance"]["pairing"]["difference"] == pytest.approx(0.984 - 0.9735)
     assert nh["split"]["finite_strain_and_traction"] == pytest.approx(0.984 - 0.9762)
     assert out["spread"]["value"] == pytest.approx(0.984 - 1.0155) and out["spread"]["verdict"] == "material law"
     ml = {"obstacle/finite/neo_hookean": levels(0.9761), "obstacle/finite/saint_venant_kirchhoff": levels(0.9765)}
     out = _hp_finite(cfg, ml, models, theories)
     assert out["spread"]["verdict"] == "convective" and out["laws"]["neo_hookean"]["inside"]["profile"]
+    f = out["laws"]["neo_hookean"]["follows"]
+    assert f["alone"] and f["model"] == "profile"
+    ml = {"obstacle/finite/neo_hookean": levels(0.9736)}
+    f = _hp_finite(cfg, ml, models, theories)["laws"]["neo_hookean"]["follows"]
+    assert f["model"] == "pairing" and f["alone"]
+    close = models | {HP_PAIRING: {"moment": {"value": 0.9761, "uncertainty": 1e-4}}}  # within each other's bands
+    f = _hp_finite(cfg, ml, close, theories)["laws"]["neo_hookean"]["follows"]
+    assert not f["resolved"] and not f["alone"]
     out = _hp_finite(cfg, {"obstacle/finite/neo_hookean": {}}, models, theories)
     assert out["laws"]["neo_hookean"]["ratio"]["value"] is None and "spread" not in out

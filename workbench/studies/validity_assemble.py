@@ -13,11 +13,11 @@ import numpy as np
 from analytic import convective, halfplane, materials
 from vocabulary import FINITE, OBSTACLE
 from workbench.error_budget import grid_study
-from workbench.studies.validity_config import ValidityConfig
+from workbench.studies.validity_config import HP_COMPLETE, HP_PAIRING, ValidityConfig
 from workbench.studies.validity_halfplanes import halfplanes_theories
 
-__all__ = ["CLAIM_X", "CLAIM_Z", "HP_COMPLETE", "assemble", "assemble_halfplanes", "beta_of", "claim_points",
-           "classify", "point_theories"]
+__all__ = ["CLAIM_X", "CLAIM_Z", "HP_COMPLETE", "HP_PAIRING", "assemble", "assemble_halfplanes", "beta_of",
+           "claim_points", "classify", "point_theories"]
 
 CLAIM_X = (0.0, 0.25, 0.5, 0.75, 1.0, 1.5)  # stress probes of the paper's claim, x / b (half model, x >= 0)
 CLAIM_Z = (0.25, 0.5, 0.75, 1.0, 1.5, 2.0)  # and depths z / b
@@ -189,7 +189,6 @@ def assemble(cfg: ValidityConfig, records: list[dict], skipped: list[dict]) -> t
     return points + hp_points, dropped + hp_dropped
 
 
-HP_COMPLETE = "halfplane/convective over halfplane/small"  # the two-half-planes part's measured model
 
 
 def _hp_split(models: dict, theories: dict) -> dict | None:
@@ -237,13 +236,19 @@ def assemble_halfplanes(cfg: ValidityConfig, records: list[dict]) -> tuple[list[
     points = []
     for (param, beta), ml in sorted(by_point.items()):
         small, conv = ml.get("halfplane/small", {}), ml.get("halfplane/convective", {})
-        ratio_levels = {}
-        for level in ("h0", "h1", "h2", "far"):
-            s_, c_ = small.get(level, {}).get("moment"), conv.get(level, {}).get("moment")
-            ratio_levels[level] = {"moment": c_ / s_} if s_ and c_ is not None else {}
-        models = {k: {"moment": _value(levels, "moment", cfg.halfplanes_h_ratios)}
-                  for k, levels in (("halfplane/small", small), ("halfplane/convective", conv),
-                                    (HP_COMPLETE, ratio_levels))}
+
+        def ratio_levels(conv, small=small):
+            out = {}
+            for level in ("h0", "h1", "h2", "far"):
+                s_, c_ = small.get(level, {}).get("moment"), conv.get(level, {}).get("moment")
+                out[level] = {"moment": c_ / s_} if s_ and c_ is not None else {}
+            return out
+
+        runs = [("halfplane/small", small), ("halfplane/convective", conv), (HP_COMPLETE, ratio_levels(conv))]
+        if cfg.halfplanes_pairing:
+            pairing = ml.get("halfplane/convective/pairing", {})
+            runs += [("halfplane/convective/pairing", pairing), (HP_PAIRING, ratio_levels(pairing))]
+        models = {k: {"moment": _value(levels, "moment", cfg.halfplanes_h_ratios)} for k, levels in runs}
         here = {"scene": "halfplanes", "param": param, "nu": 0.0, "beta": beta}
         for model, v in models.items():
             if v["moment"].get("value") is None:
@@ -283,6 +288,8 @@ def _hp_finite(cfg: ValidityConfig, ml: dict, models: dict, theories: dict) -> d
     order and the small-strain convective (profile) model R, each ``inside`` when within the combined band; the
     split of F - 1 into the convective model's R - 1 and the rest F - R (finite strain and the traction along the
     deformed normal together: finite strain with the vertical traction is refused, so they are not separated).
+    ``follows``: which small-strain convective model (profile, and pairing when run) F is nearer, and whether the
+    two are told apart (:func:`_follows`); ``inside["pairing"]`` as for profile.
     With two laws: their spread F_1 - F_2 and the verdict ``convective`` (|R_ch - 1| > |spread| + its band: the
     convective correction outweighs the material law), ``material law`` (the reverse) or ``comparable``."""
     laws = cfg.halfplanes_finite_laws
@@ -308,6 +315,9 @@ def _hp_finite(cfg: ValidityConfig, ml: dict, models: dict, theories: dict) -> d
             row["inside"]["profile"] = abs(F - R["value"]) <= u_r
             row["split"] = {"convective_model": R["value"] - 1.0, "finite_strain_and_traction": F - R["value"],
                             "uncertainty": u_r}
+        row["follows"] = _follows(F, u, {"profile": R, "pairing": models.get(HP_PAIRING, {}).get("moment", {})})
+        if "pairing" in row["follows"]["distance"]:
+            row["inside"]["pairing"] = row["follows"]["distance"]["pairing"]["inside"]
         out["laws"][law] = row
     done = [(law, r["ratio"]) for law, r in out["laws"].items() if r["ratio"].get("value") is not None]
     if len(done) >= 2:
@@ -318,6 +328,30 @@ def _hp_finite(cfg: ValidityConfig, ml: dict, models: dict, theories: dict) -> d
         verdict = ("convective" if c > abs(spread) + u_s else "material law" if abs(spread) > c + u_s
                    else "comparable")
         out["spread"] = {"laws": [l1, l2], "value": spread, "uncertainty": u_s, "verdict": verdict}
+    return out
+
+
+def _follows(F: float, u: float, small_models: dict) -> dict:
+    """Which small-strain convective model a finite-strain ratio F (relative band u) follows: per model with a
+    value, the difference F - R and the combined absolute band (root sum of squares), ``inside`` when within it;
+    ``model`` the nearer one, ``resolved`` when the two models' own difference exceeds their combined band (else the
+    measurement cannot tell them apart), ``alone`` when F lies in the band of that model and not of the other."""
+    dist = {}
+    for name, R in small_models.items():
+        if R.get("value") is None:
+            continue
+        band = math.hypot(u * abs(F), R["uncertainty"] * abs(R["value"]))
+        dist[name] = {"difference": F - R["value"], "uncertainty": band, "inside": abs(F - R["value"]) <= band}
+    if not dist:
+        return {"distance": dist, "model": None}
+    model = min(dist, key=lambda k: abs(dist[k]["difference"]))
+    out = {"distance": dist, "model": model}
+    if len(dist) == 2:
+        other = next(k for k in dist if k != model)
+        a, b = small_models[model], small_models[other]
+        apart = math.hypot(a["uncertainty"] * abs(a["value"]), b["uncertainty"] * abs(b["value"]))
+        out["resolved"] = abs(a["value"] - b["value"]) > apart
+        out["alone"] = dist[model]["inside"] and not dist[other]["inside"]
     return out
 
 

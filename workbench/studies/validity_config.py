@@ -19,6 +19,10 @@ __all__ = ["VALIDITY_MODELS", "ValidityConfig"]
 VALIDITY_MODELS = ((HALFPLANE, SMALL), (HALFPLANE, CONVECTIVE), (OBSTACLE, SMALL), (OBSTACLE, CONVECTIVE),
                    (OBSTACLE, FINITE))
 _HYPERELASTIC = HYPERELASTIC_MODELS
+# the two-half-planes part's measured ratios (model keys of the points): the profile model over small (the complete
+# model) and the pairing model over small (issue 39)
+HP_COMPLETE = "halfplane/convective over halfplane/small"
+HP_PAIRING = "halfplane/convective/pairing over halfplane/small"
 
 
 def _bad(name: str, value: Any, allowed: str) -> ValueError:
@@ -62,6 +66,8 @@ class ValidityConfig(StudyFolders):
             law, P1, the upper body the meshed parabola capped at 3 b0, the traction along the deformed master
             normal); empty: no finite runs.
         halfplanes_finite_h_ratios: b0/h_c of their three levels (P1; the far run on the middle one).
+        halfplanes_pairing: Also run the ``pairing`` convective model at every point of that part (issue 39: which
+            small-strain model the finite-strain runs follow); False: ``profile`` alone.
         rigid: Run the rigid-indenter part (the circle and the wedge); False: the two-half-planes part alone.
         elastic_wedge_theta: The paper's theta < pi/5 claim as stated (issue 25,
             :mod:`workbench.studies.validity_elastic_wedge`): the angles (rad, slope tan theta) of the elastic wedge
@@ -98,6 +104,7 @@ class ValidityConfig(StudyFolders):
     halfplanes_h_ratios: tuple[float, ...] = (6.0, 10.0, 16.0)
     halfplanes_finite_laws: tuple[str, ...] = ("neo_hookean", "saint_venant_kirchhoff")
     halfplanes_finite_h_ratios: tuple[float, ...] = (10.0, 16.0, 25.0)
+    halfplanes_pairing: bool = True
     rigid: bool = True
     elastic_wedge_theta: tuple[float, ...] = (math.pi / 10, 3 * math.pi / 20, math.pi / 5, math.pi / 4)
     elastic_wedge_nu: float = 0.3
@@ -132,8 +139,9 @@ class ValidityConfig(StudyFolders):
         if (not isinstance(ew, tuple) or len(ew) != 3 or not all(isinstance(v, num) and 1.0 <= v <= 100.0 for v in ew)
                 or not ew[1] > ew[0] or abs(ew[2] / ew[1] - ew[1] / ew[0]) > 1e-9 * ew[2] / ew[1]):
             raise _bad("elastic_wedge_h_ratios", ew, "three numbers in [1, 100] in a constant ratio > 1")
-        if not isinstance(self.rigid, bool):
-            raise _bad("rigid", self.rigid, "True or False")
+        for name in ("rigid", "halfplanes_pairing"):
+            if not isinstance(getattr(self, name), bool):
+                raise _bad(name, getattr(self, name), "True or False")
         if not self.rigid and not self.halfplanes_beta:
             raise _bad("rigid", self.rigid, "True, or False with halfplanes_beta given (else nothing runs)")
         for name in ("halfplanes_h_ratios", "halfplanes_finite_h_ratios"):

@@ -3,8 +3,9 @@
 Each point is a Dundurs beta and a parabolic gap b0/R (:class:`workbench.studies.validity_config.ValidityConfig`
 ``halfplanes_beta`` x ``halfplanes_b0_over_R``), solved through the registered ``halfplanes`` scene
 (:mod:`workbench.scenes.halfplanes`: two graded blocks, non-matching meshes, the upper one carrying the profile)
-with ``small`` and ``convective`` kinematics (``convection = "profile"``: Ciavarella and Hills's eq. (8)), on three
-levels b0/h_c and once on the middle level with the wider block, as the rigid scenes of the study.
+with ``small`` and ``convective`` kinematics (``convection = "profile"``: Ciavarella and Hills's eq. (8); with
+``cfg.halfplanes_pairing`` also ``"pairing"``, issue 39), on three levels b0/h_c and once on the middle level with the
+wider block, as the rigid scenes of the study.
 
 Materials: both bodies nu = 0 (plane strain), so beta = (mu_1 - mu_2) sign-corrected by
 :func:`analytic.materials.bimaterial` (body 1 = the upper body) is (r - 1) / (2 (r + 1)) with r = E_lower / E_upper:
@@ -57,6 +58,8 @@ class HalfplanesTask:
         scene, nu, traction: constants (``halfplanes``, 0; ``halfplane``, ``obstacle`` for finite runs) that keep
             the records' shape of the rigid scenes' (:class:`workbench.studies.validity.Task`).
         material: both bodies' law (``linear``; a finite run's hyperelastic law).  degree: 2 (finite runs: 1).
+        convection: a convective run's model (``profile``, or ``pairing``: the particles that touch carry the
+            displacements and forces, docs/models.md); the others keep ``profile`` (unused).
     """
 
     param: float
@@ -73,6 +76,7 @@ class HalfplanesTask:
     traction: str = "halfplane"
     material: str = "linear"
     degree: int = 2
+    convection: str = "profile"
 
     @property
     def mesh_name(self) -> str:
@@ -83,7 +87,9 @@ class HalfplanesTask:
     @property
     def model(self) -> str:
         own = f"{self.traction}/{self.kinematics}"
-        return f"{own}/{self.material}" if self.kinematics == FINITE else own
+        if self.kinematics == FINITE:
+            return f"{own}/{self.material}"
+        return f"{own}/{self.convection}" if self.kinematics == "convective" and self.convection != "profile" else own
 
 
 def bodies_for(beta: float, *, E_star: float) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -105,11 +111,14 @@ def halfplanes_tasks(cfg) -> list[HalfplanesTask]:
         return 1.0 + (cfg.growth - 1.0) * ratios[0] / h
 
     hp, fin = cfg.halfplanes_h_ratios, cfg.halfplanes_finite_h_ratios
+    runs = [("small", "profile"), ("convective", "profile")] + ([("convective", "pairing")]
+                                                                 if cfg.halfplanes_pairing else [])
     out = []
     for b0R in cfg.halfplanes_b0_over_R:
         for beta in cfg.halfplanes_beta:
-            out += [HalfplanesTask(float(b0R), float(beta), kin, level, float(h), float(W), growth(hp, h), float(cfg.E))
-                    for kin in ("small", "convective") for level, h, W in levels(hp)]
+            out += [HalfplanesTask(float(b0R), float(beta), kin, level, float(h), float(W), growth(hp, h), float(cfg.E),
+                                   convection=conv)
+                    for kin, conv in runs for level, h, W in levels(hp)]
             out += [HalfplanesTask(float(b0R), float(beta), FINITE, level, float(h), float(W), growth(fin, h),
                                    float(cfg.E), traction=OBSTACLE, material=law, degree=1)
                     for law in cfg.halfplanes_finite_laws for level, h, W in levels(fin)]
@@ -125,7 +134,8 @@ def _run(task: HalfplanesTask):
     bodies = (Body("lower", E_lo, nu_lo, model=task.material), Body("upper", E_up, nu_up, model=task.material))
     finite = task.kinematics == FINITE
     geo = HalfplanesGeometry(scene="halfplanes", indenter="parabola", radius=1.0 / task.param,
-                             width_factor=task.width_factor, height_factor=task.width_factor, convection="profile")
+                             width_factor=task.width_factor, height_factor=task.width_factor,
+                             convection=task.convection)
     solver = Solver(method=HP_METHOD, kinematics=task.kinematics, traction=task.traction,
                     **({"kappa0": FINITE_KAPPA0} if finite else {}))
     return Run(label=HP_LABEL, material=bodies[0].material, geometry=geo,

@@ -8,6 +8,7 @@ import math
 from pathlib import Path
 
 from workbench.atomic import write_text
+from workbench.studies.validity_config import HP_PAIRING
 from workbench.studies.where_report import where_section
 
 __all__ = ["MODEL_MEANING", "report_markdown", "write_report"]
@@ -107,7 +108,7 @@ def _hp_sections(points: list[dict], cfg: dict) -> list[str]:
           "|theory - R| <= U R.", "",
           "![map_halfplanes](map_halfplanes.png)", "",
           "| b0/R | beta | R (FEM) +- U | GCI status | C-H converged | C-H 1st order | Hertz band | C-H converged: "
-          "band, inside | C-H 1st order: band, inside |", "|---|---|---|---|---|---|---|---|---|"]
+          "band, inside | C-H 1st order: band, inside | R pairing +- U |", "|---|---|---|---|---|---|---|---|---|---|"]
     for p in pts:
         m = p["models"].get(p.get("complete_model") or "", {}).get("moment")
         th = p["theories"]
@@ -115,7 +116,8 @@ def _hp_sections(points: list[dict], cfg: dict) -> list[str]:
             reason = next(iter(v["moment"].get("reason") for v in p["models"].values()
                                if v["moment"].get("value") is None), "see the dropped list")
             md.append(f"| {p['param']:g} | {p['beta']:+g} | no value: {reason} | | "
-                      f"{th['ch_converged']['moment']:.5f} | {th['ch_first_order']['moment']:.5f} | | | |")
+                      f"{th['ch_converged']['moment']:.5f} | {th['ch_first_order']['moment']:.5f} | | | | "
+                      f"{_pairing_cell(p)} |")
             continue
 
         def band(name, p=p):
@@ -126,7 +128,11 @@ def _hp_sections(points: list[dict], cfg: dict) -> list[str]:
 
         md.append(f"| {p['param']:g} | {p['beta']:+g} | {m['value']:.5f} +- {m['uncertainty'] * m['value']:.1e} | "
                   f"{m['status']} | {th['ch_converged']['moment']:.5f} | {th['ch_first_order']['moment']:.5f} | "
-                  f"{band('hertz')} | {band('ch_converged')} | {band('ch_first_order')} |")
+                  f"{band('hertz')} | {band('ch_converged')} | {band('ch_first_order')} | {_pairing_cell(p)} |")
+    if any(HP_PAIRING in p["models"] for p in pts):
+        md += ["", "R pairing: the same ratio with `convection = \"pairing\"` (the particles that touch carry the "
+               "displacements and forces; docs/models.md), beside the profile model's R (issue 39: which one the "
+               "finite-strain runs follow, below)."]
     md += ["", "### The gap to Hertz of two half-planes, split", "",
            "Moment half-width of the convective run relative to Hertz at the same load: total = S R - 1 = profile "
            "S - 1 (the small run against Hertz: theory 0) + convective S (R - 1); the convective part = the converged "
@@ -151,6 +157,58 @@ def _hp_sections(points: list[dict], cfg: dict) -> list[str]:
 
 
 _MAP_SYMBOL = {"convective": "C", "material law": "M", "comparable": "="}
+
+
+def _pairing_value(p: dict) -> str:
+    v = p["models"].get(HP_PAIRING, {}).get("moment", {}).get("value")
+    return "-" if v is None else f"{v:.5f}"
+
+
+def _pairing_cell(p: dict) -> str:
+    m = p["models"].get(HP_PAIRING, {}).get("moment")
+    if m is None:
+        return "-"
+    if m.get("value") is None:
+        return f"no value: {m['reason']}"
+    return f"{m['value']:.5f} +- {m['uncertainty'] * m['value']:.1e}"
+
+
+def _hp_follows(rows: list[dict], laws: list[str]) -> list[str]:
+    """Which small-strain convective model the finite-strain ratios follow (issue 39): one sentence counting the
+    (point, law) rows nearer each model, and a table per beta and law over b0/R."""
+    fol = [(p, law, r["follows"]) for p in rows for law, r in p["finite"]["laws"].items()
+           if r.get("follows", {}).get("model") and len(r["follows"]["distance"]) == 2]
+    if not fol:
+        return []
+    resolved = [(p, law, f) for p, law, f in fol if f["resolved"]]
+    near = {m: sum(f["model"] == m for _, _, f in resolved) for m in ("profile", "pairing")}
+    alone = {m: sum(f["model"] == m and f["alone"] for _, _, f in resolved) for m in ("profile", "pairing")}
+    neither = sum(not any(d["inside"] for d in f["distance"].values()) for _, _, f in fol)
+    md = ["", f"**Which small-strain model: of {len(fol)} finite-strain rows, the profile and pairing models are "
+          f"apart beyond their bands at {len(resolved)}; there F is nearer profile at {near['profile']} (within its "
+          f"band and not pairing's at {alone['profile']}) and nearer pairing at {near['pairing']} (alone in its band "
+          f"at {alone['pairing']}); at {neither} of {len(fol)} F lies in neither model's band.**", "",
+          "Per beta and law, over b0/R: the nearer model, F minus it, and whether F is in its band (`in`), in the "
+          "other's too (`both`), or in neither (`out`); `~` where the two models are within their bands of each "
+          "other (not resolved).", ""]
+    params = sorted({p["param"] for p, _, _ in fol})
+    md += ["| beta | law | " + " | ".join(f"b0/R = {q:g}" for q in params) + " |",
+           "|---|---|" + "---|" * len(params)]
+    cells = {(p["beta"], law, p["param"]): f for p, law, f in fol}
+    for beta in sorted({p["beta"] for p, _, _ in fol}):
+        for law in laws:
+            row = []
+            for q in params:
+                f = cells.get((beta, law, q))
+                if f is None:
+                    row.append("-")
+                    continue
+                d = f["distance"][f["model"]]
+                where = ("both" if all(x["inside"] for x in f["distance"].values()) else "in" if d["inside"]
+                         else "out")
+                row.append(f"{'' if f['resolved'] else '~'}{f['model']} {_pct(d['difference'])} ({where})")
+            md.append(f"| {beta:+g} | {law} | " + " | ".join(row) + " |")
+    return md
 
 
 def _hp_finite_section(pts: list[dict], cfg: dict) -> list[str]:
@@ -185,6 +243,7 @@ def _hp_finite_section(pts: list[dict], cfg: dict) -> list[str]:
           "outweighs the convective correction, = neither beyond the bands, . no verdict "
           "(`map_halfplanes_finite.png`: the same, coloured, with |R_ch - 1| and |spread| in %).", "",
           "![map_halfplanes_finite](map_halfplanes_finite.png)", ""]
+    follows = _hp_follows(rows, laws)
     params = sorted({p["param"] for p in rows})
     betas = sorted({p["beta"] for p in rows})
     grid = {(p["param"], p["beta"]): _MAP_SYMBOL.get(p["finite"].get("spread", {}).get("verdict"), ".")
@@ -192,15 +251,17 @@ def _hp_finite_section(pts: list[dict], cfg: dict) -> list[str]:
     md += ["| b0/R \\ beta | " + " | ".join(f"{b:+g}" for b in betas) + " |",
            "|---|" + "---|" * len(betas)]
     md += [f"| {q:g} | " + " | ".join(grid.get((q, b), ".") for b in betas) + " |" for q in params]
-    md += ["", "| b0/R | beta | law | F +- U | status | R_ch; in | 1st order; in | R (profile); in | F - R_ch | "
-           "R - 1 (conv. model) | F - R (finite strain + traction) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    md += follows
+    md += ["", "| b0/R | beta | law | F +- U | status | R_ch; in | 1st order; in | R (profile); in | R (pairing); in | "
+           "F - R_ch | R - 1 (conv. model) | F - R (finite strain + traction) |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for p in rows:
         th, fin = p["theories"], p["finite"]
         R = p["models"].get(p.get("complete_model") or "", {}).get("moment", {})
         for law, r in fin["laws"].items():
             f = r["ratio"]
             if f.get("value") is None:
-                md.append(f"| {p['param']:g} | {p['beta']:+g} | {law} | no value: {f['reason']} | | | | | | | |")
+                md.append(f"| {p['param']:g} | {p['beta']:+g} | {law} | no value: {f['reason']} | | | | | | | | |")
                 continue
             ins = r["inside"]
 
@@ -213,14 +274,14 @@ def _hp_finite_section(pts: list[dict], cfg: dict) -> list[str]:
                       f"{th['ch_converged']['moment']:.5f}; {yn('ch_converged')} | "
                       f"{th['ch_first_order']['moment']:.5f}; {yn('ch_first_order')} | "
                       + (f"{R['value']:.5f}; {yn('profile')}" if R.get("value") is not None else "-")
-                      + f" | {_pct(r['minus_converged'])} | "
+                      + f" | {_pairing_value(p)}; {yn('pairing')} | {_pct(r['minus_converged'])} | "
                       + (f"{_pct(sp['convective_model'])} | {_pct(sp['finite_strain_and_traction'])} +- "
                          f"{100 * sp['uncertainty']:.2g} %" if sp else "- | -") + " |")
         if "spread" in fin:
             sp = fin["spread"]
             md.append(f"| {p['param']:g} | {p['beta']:+g} | spread {' - '.join(sp['laws'])} | "
                       f"{sp['value']:+.5f} +- {sp['uncertainty']:.1e} | verdict: {sp['verdict']} | "
-                      f"R_ch - 1 = {_pct(fin['convective_correction'])} | | | | | |")
+                      f"R_ch - 1 = {_pct(fin['convective_correction'])} | | | | | | |")
     return md
 
 
