@@ -158,6 +158,23 @@ def test_halfplanes_upper_body_is_shaped(exported):
         assert dev.max() < ON_SURFACE, (name, float(dev.max()))
         assert xy[:, 1].max() == pytest.approx(up["face_end_height"], rel=1e-9)  # the face reaches |x| = W/2
         assert "shaped body" in spec["reference"]["idealisations"][0]
+        assert "parabola_cap" not in up
+
+
+def test_halfplanes_finite_case_exports_the_body_its_finite_runs_mesh(exported):
+    """A case with finite-strain runs: the upper face is the parabola over |x| <= 3 b0, flat beyond (the scene's
+    finite geometry), in the mesh, the spec's geometry and its surface description (the projector of the score)."""
+    _, found = exported
+    spec, model, _ = found["halfplanes_finite_parabola"][0]
+    up = spec["geometry"]["upper"]
+    R, cap = up["radius"], up["parabola_cap"]
+    assert cap == pytest.approx(3.0 * spec["reference"]["predictions"]["hertz"]["half_width"], rel=1e-6)
+    xy = model.nodes[model.group_nodes("contact_upper")]
+    onto = surfaces.projector(spec["geometry"]["surfaces"]["contact_upper"])
+    assert np.abs(onto(xy) - xy).max() < ON_SURFACE
+    assert np.abs(xy[:, 0]).max() > 2 * cap and xy[:, 1].max() == pytest.approx(cap**2 / (2 * R), rel=1e-9)
+    assert up["face_end_height"] == pytest.approx(cap**2 / (2 * R), rel=1e-12)
+    assert "flat beyond" in spec["reference"]["idealisations"][0]
 
 
 def test_facets_run_with_their_body_on_the_left(exported):

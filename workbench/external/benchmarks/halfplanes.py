@@ -4,7 +4,8 @@ The workbench's own runs of these cases mesh two FLAT blocks and put the gap pro
 (:class:`fem.two_body.geometry.ProfileSurface`): the half-plane theory's idealisation. Another code needs the
 geometry the idealisation stands for, so the benchmark's upper body is shaped (:func:`meshes.two_body.
 build_profile_blocks`): its lower face is the profile itself, ``y = x^2 / (2 R)`` (one quadratic Bezier curve per
-segment: the parabola exactly) or the wedge ``y = m |x|`` with its apex a mesh corner, out to |x| = W/2, vertical sides
+segment: the parabola exactly) or the wedge ``y = m |x|`` with its apex a mesh corner, out to |x| = W/2 (a case with
+finite-strain runs: the parabola over |x| <= 3 b0 and flat beyond, the body its finite runs mesh), vertical sides
 up to ``f(W/2) + H``; its sizes are the scene's (h_c on the lower block's window, ``size_ratio`` h_c on the upper's,
 the wedge's apex refined to a quarter). The lower block is the scene's W x H block. Groups as the flat pair's
 (:mod:`meshes.two_body`): ``lower``, ``upper``, ``contact_lower``, ``contact_upper``, ``clamped``, ``driven``,
@@ -22,6 +23,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from cases.schema import Case, Run
+from vocabulary import FINITE
 from workbench.external.benchmark import RESULT_COLUMNS, Benchmark, Body, ContactPair, Drive, Material, Support
 from workbench.external.benchmarks import surfaces
 from workbench.external.benchmarks.base import Exported, finish, mesh_stats, scene_mesh, write_model
@@ -33,10 +35,11 @@ __all__ = ["part", "SHAPE_EFFECT"]
 
 SHAPE_EFFECT = (
     "The half-plane theory idealises both bodies as half-planes and the upper body's profile as a gap above a flat "
-    "face (the workbench's own runs of this case do the same: two flat blocks, the gap put in analytically). This "
-    "benchmark's upper body is the shaped body that idealisation stands for: its lower face is the profile, {face}, "
-    "out to |x| = W/2 = {half:.6g} mm (y = {edge:.6g} mm there), vertical sides up to y = {top:.6g} mm. What that "
-    "changes: the contact face is inclined by the profile's slope ({slope} in the contact), so a traction along its "
+    "face (the workbench's own small-strain and convective runs of this case do the same: two flat blocks, the gap "
+    "put in analytically; its finite-strain runs mesh this benchmark's body). This benchmark's upper body is the "
+    "shaped body that idealisation stands for: its lower face is the profile, {face}, {extent} (y = {edge:.6g} mm at "
+    "its ends |x| = W/2 = {half:.6g} mm), vertical sides up to y = {top:.6g} mm. What that changes: the contact "
+    "face is inclined by the profile's slope ({slope} in the contact), so a traction along its "
     "normal is not the theory's vertical one; and the body near the contact is {body}, not a half-plane. Measured for "
     "an elastic wedge on a block of the same material (docs/models.md, 'An elastic wedge of the same material'): the "
     "moment half-width over the classical wedge's is 1.0046 (shaped) against 0.9990 (flat) at theta = pi/10, 1.0426 "
@@ -47,7 +50,7 @@ SHAPE_EFFECT = (
 def part(case: Case, runs: tuple[Run, ...], *, level: float, mesh_cache: Path, folder: Path, stem: str) -> Exported:
     """The benchmark of a two-half-planes case (module docstring)."""
     from meshes.two_body import build_profile_blocks
-    from workbench.scenes.halfplanes import APEX_FACTOR, _estimate
+    from workbench.scenes.halfplanes import APEX_FACTOR, PARABOLA_CAP, _estimate
     from workbench.scenes.halfplanes_theory import bimaterial_of, profile_size
 
     run = runs[0]
@@ -56,31 +59,37 @@ def part(case: Case, runs: tuple[Run, ...], *, level: float, mesh_cache: Path, f
     size = profile_size(run)  # R (parabola) or the face slope m (wedge)
     wedge = g.indenter == "wedge"
     W, H = g.width_factor * b0, g.height_factor * b0
+    # a case with finite-strain runs: the upper body those runs mesh, the parabola capped (the whole parabola to W/2
+    # is a nose W^2 / (8 R) tall, laterally soft: docs/models.md)
+    cap = PARABOLA_CAP * b0 if not wedge and any(r.solver.kinematics == FINITE for r in runs) else None
     files = build_profile_blocks(width=W, height=H, contact_half_width=b0, h_contact=level * b0,
                                  size_ratio=g.size_ratio, growth=disc.growth,
                                  apex_factor=(APEX_FACTOR if g.apex == "refined" else 1.0) if wedge else None,
                                  wedge_slope=size if wedge else None, parabola_radius=None if wedge else size,
+                                 parabola_cap=cap,
                                  out_dir=mesh_cache, name=f"export_{case.name}_shaped", write_xdmf=False)
     model = finish(read_msh(files.msh))
     mesh = write_model(model, folder, stem)
     lower, upper = run.bodies
     bm = bimaterial_of(run)
-    edge = size * W / 2 if wedge else (W / 2) ** 2 / (2.0 * size)
+    edge = size * W / 2 if wedge else min(W / 2, cap or W / 2) ** 2 / (2.0 * size)
     face = f"y = m |x| with m = {size:.10g}" if wedge else f"y = x^2 / (2 R) with R = {size:g} mm"
+    extent = "out to |x| = W/2" if cap is None else f"over |x| <= x_c = {cap:.6g} mm ({PARABOLA_CAP:g} b0), flat beyond"
     slope = f"m = {size:.4g}" if wedge else f"b0/R = {b0 / size:.3g}"
     preds = {"wedge": wedge_values(P, size, bm.E_star)} if wedge else {"hertz": hertz_values(P, size, bm.E_star)}
     if "convective" in case.analytic.predictions:
         preds["convective"] = convective_values(kind=g.indenter, size=size, b0=b0, beta=bm.beta)
-    shape = SHAPE_EFFECT.format(face=face, half=W / 2, edge=edge, top=edge + H, slope=slope,
+    shape = SHAPE_EFFECT.format(face=face, extent=extent, half=W / 2, edge=edge, top=edge + H, slope=slope,
                                 body="an elastic wedge" if wedge else "a parabolic body")
     geometry = {
         "lower": {"x": [-W / 2, W / 2], "y": [-H, 0.0], "top": "y = 0 (flat)"},
         "upper": {"shape": g.indenter, "face": face, "x": [-W / 2, W / 2], "face_end_height": edge,
                   "top": f"y = {edge + H:.10g} (driven)", "sides": "vertical from the face's ends to the top",
                   **({"slope": size, "theta": g.wedge_angle, "slope_convention": g.wedge_slope, "apex": [0.0, 0.0],
-                      "apex_refinement": g.apex} if wedge else {"radius": size})},
+                      "apex_refinement": g.apex} if wedge else {"radius": size}),
+                  **({} if cap is None else {"parabola_cap": cap})},
         "initial": "the upper body's face touches the lower block at the origin",
-        "surfaces": {} if wedge else {"contact_upper": surfaces.parabola(size)},
+        "surfaces": {} if wedge else {"contact_upper": surfaces.parabola(size, cap=cap)},
     }
     bench = Benchmark(
         case=case.name, scene="halfplanes", description=case.description, level=level, h_contact=level * b0,

@@ -32,9 +32,13 @@ def circle(center, radius: float) -> dict:
     return {"kind": "circle", "center": [float(c) for c in center], "radius": float(radius)}
 
 
-def parabola(radius: float) -> dict:
-    """The parabola ``y = x^2 / (2 R)``."""
-    return {"kind": "parabola", "radius": float(radius), "equation": "y = x^2 / (2 R)"}
+def parabola(radius: float, *, cap: float | None = None) -> dict:
+    """The parabola ``y = x^2 / (2 R)``; with ``cap`` x_c (mm) the parabola over |x| <= x_c and flat beyond,
+    ``y = min(|x|, x_c)^2 / (2 R)`` (the finite-strain runs' upper body, :mod:`workbench.scenes.halfplanes`)."""
+    if cap is None:
+        return {"kind": "parabola", "radius": float(radius), "equation": "y = x^2 / (2 R)"}
+    return {"kind": "parabola", "radius": float(radius), "cap": float(cap),
+            "equation": "y = min(|x|, x_c)^2 / (2 R), x_c = cap (the parabola, flat beyond)"}
 
 
 def bspline(curve) -> dict:
@@ -54,8 +58,8 @@ def projector(desc: dict) -> Callable[[np.ndarray], np.ndarray]:
             return c + R * v / np.linalg.norm(v, axis=1, keepdims=True)
         return onto
     if kind == "parabola":
-        R = float(desc["radius"])
-        return lambda p: np.column_stack([p[:, 0], p[:, 0] ** 2 / (2.0 * R)])
+        R, cap = float(desc["radius"]), float(desc.get("cap", np.inf))
+        return lambda p: np.column_stack([p[:, 0], np.minimum(np.abs(p[:, 0]), cap) ** 2 / (2.0 * R)])
     if kind == "bspline":
         from analytic.curves import BSpline
 
