@@ -26,6 +26,12 @@ class NewtonControls:
     counts them with that solve (:meth:`take_start_iterations`)."""
 
     start_iterations: int = 0
+    # kinematics="finite": the SNES line search the load stepper sets (unless petsc_options names one). Backtracking:
+    # the full Newton step of a sharp wedge's first contact moves the apex nodes so far that cells invert (det F <=
+    # 0, the neo-Hookean ln J is NaN: SNES reason -4 at the first step, d = 0.009 mm of a 1.34 mm wedge, theta =
+    # pi/10, nu = 0.3, a/h = 16); "bt" shortens such steps (NaN/Inf residuals count as a failed decrease). A problem
+    # class may name its own (two meshed bodies: "l2", :class:`fem.two_body.finite_problem.FiniteTwoBodyProblem`).
+    finite_line_search: str = "bt"
 
     def take_start_iterations(self) -> int:
         """The Newton iterations spent on the next solve's start since the last call (then reset to 0)."""
@@ -40,6 +46,17 @@ class NewtonControls:
             yield
         finally:
             self.snes.setTolerances(max_it=self.options.max_it)
+
+    @contextmanager
+    def line_search(self, kind: str):
+        """Temporarily the SNES line search ``kind`` (PETSc's names: ``basic``, ``bt``, ``l2``, ``cp``)."""
+        ls = self.snes.getLineSearch()
+        before = ls.getType()
+        ls.setType(kind)
+        try:
+            yield
+        finally:
+            ls.setType(before)
 
     def predictor_iteration(self, zones: Sequence[tuple[float, float]]) -> int:
         """One Newton iteration with the prescribed active set ``lo_k < X1 < hi_k`` (the solve of that set where the

@@ -59,6 +59,7 @@ class PartnerProblem(Protocol):
     u: Any
     forms: Any
     lame: Any
+    finite_line_search: str
     supports: dict
     prefix: str
     qdeg: int
@@ -105,6 +106,9 @@ class PartnerProblem(Protocol):
 
     def max_iterations(self, n: int) -> AbstractContextManager:
         """While inside: at most ``n`` Newton iterations."""
+
+    def line_search(self, kind: str) -> AbstractContextManager:
+        """While inside: the SNES line search ``kind``."""
 
     def prescribed_active_set(self, zones: Sequence[tuple[float, float]]) -> AbstractContextManager:
         """While inside: the contact law holds on the prescribed runs of X1 instead of its own sign."""

@@ -70,12 +70,8 @@ MAX_FORCE_CORRECTIONS = 30
 GEOMETRIC_SHRINK = 0.5
 # active_set_update="edge_fit": at most this many prescribed-active-set iterations before the true law
 EDGE_FIT_MAX = 8
-# kinematics="finite" only (unless petsc_options names a line search): backtracking line search. The full
-# Newton step of a sharp wedge's first contact moves the apex nodes so far that cells invert (det F <= 0, the
-# neo-Hookean ln J is NaN: SNES reason -4 at the first step, d = 0.009 mm of a 1.34 mm wedge, theta = pi/10,
-# nu = 0.3, a/h = 16); "bt" shortens such steps (NaN/Inf residuals count as a failed decrease). A problem may
-# name its own (``finite_line_search``: two meshed bodies use "l2", :mod:`fem.two_body.finite_problem`).
-FINITE_LINESEARCH = "bt"
+# kinematics="finite" only (unless petsc_options names a line search): the problem's ``finite_line_search``
+# (:class:`fem.newton_controls.NewtonControls`: "bt" unless the problem class names its own).
 # kinematics="finite" only: a load step's displacement increment is at most this many times the last converged
 # one (the rest in sub-steps). Without it the force control's first level follows a short first step with a
 # 37-fold larger increment (theta = pi/4, nu = 0, a/h = 8: 0.014 mm then 0.52 mm), whose extrapolated start
@@ -184,7 +180,7 @@ class LoadStepper:
         self.zone_start = opts.predictor == "hertz_zone" and self.tangent_ok
         self.finite = opts.kinematics == FINITE
         if self.finite and "snes_linesearch_type" not in (opts.petsc_options or {}):
-            pb.snes.getLineSearch().setType(getattr(pb, "finite_line_search", FINITE_LINESEARCH))
+            pb.snes.getLineSearch().setType(pb.finite_line_search)
         use_hertz = opts.predictor in ("hertz", "hertz_zone") or (opts.predictor == "auto" and hertz_ok)
         self.hertz = pb.hertz_predictor() if use_hertz else None
 

@@ -54,7 +54,7 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
     """Two hyperelastic bodies (module docstring): a :class:`fem.partner_problem.PartnerProblem`.
 
     ``finite_line_search``: the SNES line search the load stepper sets (unless ``petsc_options`` names one):
-    ``"l2"`` (the rigid obstacle's finite runs use ``"bt"``, :data:`fem.stepping.FINITE_LINESEARCH`). Measured on
+    ``"l2"`` (the rigid obstacle's finite runs use ``"bt"``, :class:`fem.newton_controls.NewtonControls`). Measured on
     the two-half-planes case at its CI level (h_c = b0/10, W = 160 b0, 2.5k unknowns, force control to 3299 N/mm):
     neo-Hookean 17 solve attempts (cut-backs included) in 23 s with "l2" against 52 in 85 s with "bt"; Saint
     Venant-Kirchhoff, both at once, 43 attempts in 61 s against 62 in 118 s; "basic" and "cp" did not reach the
@@ -62,7 +62,7 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
     (:meth:`predictor_iteration`).
     """
 
-    finite_line_search: ClassVar[str] = "l2"
+    finite_line_search: str = "l2"
     prescribed_max_it: ClassVar[int] = 12
     _small: bool = False  # while True, the SNES solves the small-strain equations (:meth:`unloaded_guess`)
 
@@ -139,17 +139,14 @@ class FiniteTwoBodyProblem(TwoBodyProblem):
         law's multiplier set to its pressure: the start of the first finite-strain solve. The rigid translation
         when that solve fails."""
         guess = super().unloaded_guess(d_value, unloaded)
-        ls = self.snes.getLineSearch()
-        kind = ls.getType()
         self._small = True
-        ls.setType("basic")
         try:
-            self.d.value = d_value
-            self.set_state(guess)
-            reason, its = self.newton()
+            with self.line_search("basic"):  # the small-strain equations: Newton's full steps
+                self.d.value = d_value
+                self.set_state(guess)
+                reason, its = self.newton()
         finally:
             self._small = False
-            ls.setType(kind)
         self.start_iterations += int(its)
         if reason <= 0:
             return guess
