@@ -101,6 +101,32 @@ def test_the_finite_wedge_is_refused_in_one_line(tmp_path):
     assert_case_refused(tmp_path, text, "indenter")
 
 
+def test_the_shaped_wedge_loads_at_finite_strain_and_meshes_as_itself(tmp_path, monkeypatch):
+    """The shaped wedge (its faces meshed) is a body finite strain can take: the case loads, and the scene's mesh is
+    the wedge y = m |x| (no parabola, no cap)."""
+    text = (ROOT / "cases" / "halfplanes_wedge_beta_neg.toml").read_text()
+    text = text.replace("[geometry]", '[geometry]\nwedge_body = "shaped"', 1).replace("degree = 2", "degree = 1")
+    text = text.replace('label = "convective"\nsolver = { kinematics = "convective" }',
+                        'label = "finite"\nsolver = { kinematics = "finite", traction = "obstacle" }\n'
+                        'body = [{ model = "neo_hookean" }, { model = "neo_hookean" }]')
+    path = tmp_path / "halfplanes_wedge_finite.toml"
+    path.write_text(text)
+    run = next(r for r in load_case(path).runs() if r.solver.kinematics == "finite")
+    assert run.geometry.wedge_body == "shaped" and [b.model for b in run.bodies] == ["neo_hookean"] * 2
+    from meshes import two_body
+
+    seen = {}
+
+    def spy(**kw):
+        seen.update(kw)
+        raise RuntimeError("stop before meshing")
+
+    monkeypatch.setattr(two_body, "build_profile_blocks", spy)
+    with pytest.raises(RuntimeError, match="stop before meshing"):
+        scene_for(run).mesh(run, name="w", mesh_cache=tmp_path, comm=None)
+    assert seen["wedge_slope"] > 0 and seen["parabola_radius"] is None and seen["parabola_cap"] is None
+
+
 @pytest.fixture(scope="module")
 def tiny_needs_slow():
     if not SLOW:

@@ -178,8 +178,8 @@ class HalfplanesScene:
         files = build_profile_blocks(width=g.width_factor * a0, height=g.height_factor * a0, contact_half_width=a0,
                                      h_contact=disc.h_contact * a0, size_ratio=g.size_ratio, growth=disc.growth,
                                      apex_factor=apex, wedge_slope=dr.profile_size if shaped else None,
-                                     parabola_radius=dr.profile_size if finite else None,
-                                     parabola_cap=PARABOLA_CAP * a0 if finite else None,
+                                     parabola_radius=dr.profile_size if finite and not shaped else None,
+                                     parabola_cap=PARABOLA_CAP * a0 if finite and not shaped else None,
                                      out_dir=mesh_cache, name=stem, stats_dir=stats_dir, comm=comm)
         cells = files.stats.get("cells", "?")
         return SceneMesh(files, {"P": P, "half_width": a0},

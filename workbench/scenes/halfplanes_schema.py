@@ -11,8 +11,10 @@ Units: mm, N, MPa.
 Kinematics ``small`` and ``convective`` take linear bodies and the traction along the flat slave's normal
 (``traction = "halfplane"``). ``finite`` (issue 39: :mod:`fem.two_body.finite_problem`) takes a hyperelastic law
 per body (``[[body]] model``, or a variant's ``body = [{model = ...}, {model = ...}]``), the traction along the
-deformed master normal (``traction = "obstacle"``: for two bodies the upper body's current normal), the parabola,
-degree 1 and mortar pairing; its upper body is meshed as the real parabola (:mod:`workbench.scenes.halfplanes`).
+deformed master normal (``traction = "obstacle"``: for two bodies the upper body's current normal), degree 1 and
+mortar pairing, and a profile meshed as itself: the parabola (its upper body meshed as the real parabola, capped,
+:mod:`workbench.scenes.halfplanes`) or the shaped wedge (``wedge_body = "shaped"``; the flat wedge is an analytic
+gap, which finite strain has not).
 """
 
 from __future__ import annotations
@@ -109,10 +111,10 @@ def _check_finite(run: Run, where: str) -> None:
     """What finite kinematics of the two half-planes supports (module docstring); the generic model check that
     follows refuses a traction other than 'obstacle' (:func:`cases.checks`)."""
     g = run.geometry
-    if g.indenter != "parabola":
+    if g.indenter != "parabola" and not (g.indenter == "wedge" and g.wedge_body == "shaped"):
         raise CaseError(f"{where}: solver.kinematics = 'finite' is not available for the two-half-planes "
-                        f"{g.indenter} (the elastic wedge at finite strain is issue 39's item 4); allowed: "
-                        "indenter = 'parabola'")
+                        f"{g.indenter} with wedge_body = {g.wedge_body!r} (the wedge at finite strain is meshed as "
+                        "itself); allowed: indenter = 'parabola', or 'wedge' with wedge_body = 'shaped'")
     if run.discretisation.degree != 1:
         raise CaseError(f"{where}: discretisation.degree = {run.discretisation.degree} is not available with "
                         "solver.kinematics = 'finite' for two elastic half-planes; allowed: 1")
