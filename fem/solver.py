@@ -60,6 +60,8 @@ class ContactResult:
         newton_iterations: Newton iterations per converged solve (load steps and force corrections), the
             prescribed-active-set predictor iteration included.
         load_steps: one dict per converged solve: d (mm), P (N/mm), iterations, time (s), kind.
+        failed_solves: one dict per solve that did not converge (then cut back): d (mm), kind, iterations, time (s),
+            reason (:attr:`fem.stepping.LoadStepper.failures`): their iterations are not in ``newton_iterations``.
         d: final rigid displacement (mm).
         P: final load by virtual work / support reaction (N/mm).
         P_pressure: final resultant of the contact pressure along the loading direction (N/mm).
@@ -100,6 +102,7 @@ class ContactResult:
     pressure_field: Any = field(default=None, repr=False)
     warm_start: Any = field(default=None, repr=False)
     nested_start: Any = field(default=None, repr=False)
+    failed_solves: list = field(default_factory=list)
 
 
 def solve_contact(mesh_data, obstacle, options: ContactOptions | None = None, **fields) -> ContactResult:
@@ -176,4 +179,4 @@ def _result(problem: PartnerProblem, stepper: LoadStepper) -> ContactResult:
                          patches=patches, u=problem.u, options=options, half=opts.symmetric_half,
                          forms=problem.forms, lame=problem.lame, snapshots=stepper.snapshots, warnings=warns,
                          pressure_field=problem.pressure_field, warm_start=warm_start_of(stepper),
-                         nested_start=nested_start_of(problem, stepper))
+                         nested_start=nested_start_of(problem, stepper), failed_solves=list(stepper.failures))

@@ -148,6 +148,7 @@ class LoadStepper:
         states: converged states, the unloaded one first.
         records: one dict per converged solve: d (mm), P, P_pressure (N/mm), iterations, time (s), kind, reason
             (plus the method's entries, e.g. ``uzawa``).
+        failures: one dict per solve that did not converge: d (mm), kind, iterations, time (s), reason.
         snapshots: :class:`Snapshot` per ``record_at`` displacement.
         hertz: the Hertz predictor, or None.
         factored: the SNES's KSP holds LU factors of a Jacobian of this problem.
@@ -163,6 +164,9 @@ class LoadStepper:
         self.first_residuals: list[float | None] = [None]
         pb.snes.setConvergenceHistory(reset=True)
         self.records: list[dict] = []
+        # one dict per solve that did not converge (d, kind, iterations, time, reason): the cost the records leave
+        # out (a failed attempt's iterates can be wild and slow; its cut-back retries are records of their own)
+        self.failures: list[dict] = []
         self.snapshots: list[Snapshot] = []
         self.on_step: list[Callable] = [] if on_step is None else [on_step]
         self.factored = False
@@ -296,6 +300,8 @@ class LoadStepper:
                 # (measured: each cut-back ended with DIVERGED_LINEAR_SOLVE after 0 iterations). Reset the PC so
                 # the next solve factorises afresh.
                 pb.snes.getKSP().getPC().reset()
+            self.failures.append({"d": d_new, "kind": kind, "iterations": its, "time": time.perf_counter() - t0,
+                                  "reason": reason})
             return reason, its
         P, Pp = pb.measure()
         zone_now = pb.contact_zones() if self.opts.active_set_predictor else None

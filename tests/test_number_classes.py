@@ -57,8 +57,8 @@ def test_a_class_is_declared_by_the_code_that_writes_the_metric():
 
     classify("any/P")  # the writers are imported
     assert numbers.declared("run", "P") == numbers.LOAD and numbers.DECLARED["run"]["ndofs"] == numbers.MESH
-    assert set(base.SolveMetrics._fields) - {"wall_time_s", "load_steps", "patches", "warnings"} <= set(
-        numbers.DECLARED["run"])
+    untimed = {"wall_time_s", "failed_time_s", "load_steps", "patches", "warnings"}
+    assert set(base.SolveMetrics._fields) - untimed <= set(numbers.DECLARED["run"])
     assert not hasattr(number_classes, "_RULES")
     with pytest.raises(ValueError, match="already as"):
         numbers.declare("run", "a test", P=numbers.THEORY)
@@ -68,7 +68,7 @@ def test_a_class_is_declared_by_the_code_that_writes_the_metric():
     # a run label may hold slashes; a budget row's quantity is its name's last word without its [suffix]
     assert classify("wedge/runs/theta=pi/20/patches/1/center") == ("physics", "position")
     assert classify("c/error_budget/step2 (d = 0.47 mm) patch_P[1]/fine") == ("physics", "load")
-    assert classify("c/runs/base/wall_time_s")[0] == "excluded"
+    assert classify("c/runs/base/wall_time_s")[0] == "excluded" == classify("c/runs/base/failed_time_s")[0]
 
 
 def _by_key(moves):

@@ -78,6 +78,10 @@ def test_cutback_recovers_a_huge_single_step(mesh10):
                         active_set_predictor=False, first_step_fraction=1.0)
     kinds = [r["kind"] for r in res.load_steps]
     assert kinds.count("cutback") >= 1, kinds
+    # each failed solve is recorded with its cost (its iterations are not in newton_iterations): the full step
+    # ran to its 4 iterations and failed, before the first cut-back's record
+    assert res.failed_solves and res.failed_solves[0]["kind"] == "step" and res.failed_solves[0]["reason"] < 0
+    assert res.failed_solves[0]["iterations"] == 4 and res.failed_solves[0]["d"] == pytest.approx(0.06)
     assert res.d == pytest.approx(0.06, rel=1e-14)
     h = hertz(res.P, R, E_STAR)
     assert abs(res.patches[0].half_width / h.half_width - 1.0) <= 0.02

@@ -96,6 +96,8 @@ def case_metrics(case: Case, outcomes: list, *, h_contact: float | None, wall_ti
         "wall_time_s": wall_time_s,
         "newton_iterations": int(sum(sum(r["newton_iterations"]) for r in runs)),
         "load_steps": int(sum(len(r["load_steps"]) for r in runs)),
+        "failed_solves": int(sum(r.get("failed_solves", 0) for r in runs)),  # cut back and retried
+        "failed_iterations": int(sum(r.get("failed_iterations", 0) for r in runs)),
         "P": first["P"],
         "P_pressure": first["P_pressure"],
         "patches": first["patches"],

@@ -68,6 +68,9 @@ class SolveMetrics(NamedTuple):
         P_pressure: Final load as the integral of the contact pressure (N/mm).
         patches: The contact patches (``center``, ``half_width``, ``p_max``, ``P``: mm, MPa, N/mm).
         warnings: The solve's warnings (one line each).
+        failed_solves: Solves that did not converge (each cut back and retried): how many.
+        failed_iterations: Their Newton iterations, not in ``newton_iterations``.
+        failed_time_s: Their wall time (s; never a key number).
     """
 
     ndofs: int
@@ -79,6 +82,9 @@ class SolveMetrics(NamedTuple):
     P_pressure: float
     patches: list
     warnings: list
+    failed_solves: int = 0
+    failed_iterations: int = 0
+    failed_time_s: float = 0.0
 
     @classmethod
     def of(cls, result, *, patches: list | None = None, warnings: list | None = None) -> SolveMetrics:
@@ -87,7 +93,9 @@ class SolveMetrics(NamedTuple):
         return cls(result.ndofs, result.wall_time_s, list(result.newton_iterations), result.load_steps, result.d,
                    result.P, result.P_pressure,
                    [pt._asdict() for pt in result.patches] if patches is None else patches,
-                   list(result.warnings) if warnings is None else list(warnings))
+                   list(result.warnings) if warnings is None else list(warnings),
+                   len(result.failed_solves), int(sum(f["iterations"] for f in result.failed_solves)),
+                   float(sum(f["time"] for f in result.failed_solves)))
 
     def as_dict(self) -> dict:
         """The JSON form (the record's field names are the ``metrics.json`` keys)."""
@@ -104,7 +112,7 @@ class SolveMetrics(NamedTuple):
 # half-width every scene reports beside it: loads, peaks, widths relative to themselves; a patch's centre on its
 # half-width (0 for a symmetric case), its load and peak on the run's.
 declare("run", __name__, P=LOAD, P_pressure=LOAD, d=DISPLACEMENT, ndofs=MESH, newton_iterations=ITERATIONS,
-        p_max=PEAK, patch_half_width=WIDTH)
+        p_max=PEAK, patch_half_width=WIDTH, failed_solves=ITERATIONS, failed_iterations=ITERATIONS)
 declare("patch", __name__, center=Number("physics", "position", "contact_size"), half_width=WIDTH,
         p_max=Number("physics", "peak", "run_peak"), P=Number("physics", "load", "run_load"),
         P_pressure=Number("physics", "load", "run_load"))
