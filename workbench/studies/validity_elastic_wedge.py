@@ -175,7 +175,8 @@ def solve_task(task: ElasticWedgeTask, mesh_cache: str) -> dict:
         stresses[body] = {"sxx": s.sxx.tolist(), "syy": s.syy.tolist(), "sxy": s.sxy.tolist()}
     return rec | {"converged": True, "time_s": time.perf_counter() - t0, "cells": (m.get("mesh") or {}).get("cells"),
                   "ndofs": m["ndofs"], "P": m["P"], "b": b, "E_star": m["E_star"],
-                  "iterations": int(sum(m["newton_iterations"])), "warnings": list(m["warnings"]),
+                  "iterations": int(sum(m["newton_iterations"])), "failed_iterations": int(m["failed_iterations"]),
+                  "warnings": list(m["warnings"]),
                   "half_width": m["patch_half_width"] / b,
                   "moment": m["half_width_moment"] / (2.0 * b / math.sqrt(6.0)),
                   "load_balance": abs(m["P"] - m["P_pressure"]) / abs(m["P"]), "stresses": stresses}

@@ -173,7 +173,8 @@ def solve_task(task: HalfplanesTask, mesh_cache: str) -> dict:
         return rec | {"error": "failed: no contact patch measured", "time_s": time.perf_counter() - t0}
     return rec | {"converged": True, "time_s": time.perf_counter() - t0, "cells": (m.get("mesh") or {}).get("cells"),
                   "ndofs": m["ndofs"], "P": m["P"], "beta_bodies": m["beta"], "b0_over_R": m["b0_over_R"],
-                  "iterations": int(sum(m["newton_iterations"])), "warnings": list(m["warnings"]),
+                  "iterations": int(sum(m["newton_iterations"])), "failed_iterations": int(m["failed_iterations"]),
+                  "warnings": list(m["warnings"]),
                   "moment": moment, "half_width": m["patch_half_width"] / b0, "load_balance":
                   abs(m["P"] - m["P_pressure"]) / abs(m["P"])}
 
