@@ -69,14 +69,20 @@ def _synthetic(cfg, *, geometry, by_level=None, width=0.0):
     b, P = 1.0, 2.0  # p_mean = P / (2 b) = 1
     recs = []
     for t in ew.elastic_wedge_tasks(cfg):
+        task = {"scene": "elastic_wedge", "param": t.param, "upper": t.upper, "level": t.level,
+                "kinematics": t.kinematics}
+        if t.kinematics == "finite":  # no probes; its moment 3 % above the small runs' (F = 1.03 on every level)
+            recs.append({"task": task, "model": t.model, "converged": True, "P": P, "b": b, "moment": 1.03,
+                         "stresses": None})
+            continue
         g = 0.0
         if t.upper == "shaped":
             g = (by_level or {}).get(t.level, geometry) + (width if t.level == "far" else 0.0)
         st = {body: {k: list(v) for k, v in th[body].items()} for body in ("lower", "upper")}
         st["lower"]["sxx"] = list(np.asarray(th["lower"]["sxx"]) + g)
         st["upper"]["sxx"] = list(np.asarray(th["upper"]["sxx"]) + 2.0 * g)
-        recs.append({"task": {"scene": "elastic_wedge", "param": t.param, "upper": t.upper, "level": t.level},
-                     "converged": True, "P": P, "b": b, "moment": 1.0, "stresses": st})
+        recs.append({"task": task, "model": t.model, "converged": True, "P": P, "b": b, "moment": 1.0,
+                     "stresses": st})
     return recs
 
 
@@ -97,6 +103,31 @@ def test_claim_verdicts(geometry, by_level, width, state):
     assert row["U_width"] == pytest.approx(width, abs=1e-12)
     assert row["geometry_wedge"] == pytest.approx(2.0 * geometry, abs=1e-12)  # reported, not judged
     assert claim["beta"] == pytest.approx(0.0, abs=1e-15) and not claim["dropped"]
+    # the finite rows (issue 39): F = 1.03 / 1.0 with no discretisation error, beyond the 0.5 % bound
+    f = row["finite"]["neo_hookean"]
+    assert f["ratio"]["value"] == pytest.approx(1.03) and f["ratio"]["uncertainty"] == pytest.approx(0.0, abs=1e-12)
+    assert f["beyond_bound"] and f["small"]["value"] == pytest.approx(1.0)
+
+
+def test_finite_wedge_tasks_and_a_missing_finite_run():
+    """The finite runs: per angle and law the shaped pair's four levels at P1, on the shaped pair's meshes; a
+    failed finite run leaves its row without a value, says why, and the claim's verdict unchanged."""
+    cfg = ValidityConfig(elastic_wedge_theta=(math.pi / 10, math.pi / 5))
+    tasks = ew.elastic_wedge_tasks(cfg)
+    fin = [t for t in tasks if t.kinematics == "finite"]
+    assert len(fin) == 2 * 1 * 4 and {(t.degree, t.traction, t.material, t.upper) for t in fin} == {
+        (1, "obstacle", "neo_hookean", "shaped")}
+    assert {t.mesh_name for t in fin} <= {t.mesh_name for t in tasks if t.upper == "shaped" and t.kinematics == "small"}
+    assert not [t for t in ew.elastic_wedge_tasks(ValidityConfig(elastic_wedge_finite_laws=())) if t.kinematics
+                == "finite"]
+    recs = _synthetic(cfg, geometry=0.02)
+    recs = [r | ({"converged": False, "error": "diverged: DIVERGED_MAX_IT"} if r["task"]["kinematics"] == "finite"
+                 and r["task"]["level"] == "h2" and r["task"]["param"] == math.pi / 5 else {}) for r in recs]
+    claim = ew.claim_elastic_wedge(cfg, recs)
+    assert claim["verdict"]["state"] == "does not hold"
+    f = claim["rows"][1]["finite"]["neo_hookean"]
+    assert f["ratio"]["value"] is None and "h2" in f["ratio"]["reason"]
+    assert [d["what"] for d in claim["dropped"]] == ["finite row unused"]
 
 
 def test_claim_names_a_missing_run():
@@ -104,7 +135,8 @@ def test_claim_names_a_missing_run():
     recs = [r for r in _synthetic(cfg, geometry=0.02)
             if not (r["task"]["param"] == math.pi / 5 and r["task"]["level"] == "far")]
     claim = ew.claim_elastic_wedge(cfg, recs)
-    assert len(claim["dropped"]) == 1 and "far" in claim["dropped"][0]["reason"]
+    assert [d["what"] for d in claim["dropped"]] == ["claim point unused", "finite row unused"]
+    assert "far" in claim["dropped"][0]["reason"] and "wide-block" in claim["dropped"][1]["reason"]
     assert claim["verdict"]["angles_tested"] == [math.pi / 10]
 
 
@@ -126,6 +158,8 @@ def test_report_claims_row_and_summary_say_the_verdict(tmp_path):
                                   "claim_elastic_wedge": claim, "runs": []}, default=float))
     md = report_markdown(data)
     assert "elastic wedge, same material" in md and "**Verdict: does not hold" in md and "| 0.1 pi | 1.75 % |" in md
+    assert "### The shaped wedge at finite strain" in md and "| 0.1 pi | neo_hookean | 1.0300 +- 0.0e+00 |" in md
+    assert "**Of 2 (angle, law) rows, 2 have a value; at 2 of them" in md
     assert "A rigid wedge: the traction along the face normal" in md
     (tmp_path / "validity").mkdir()
     (tmp_path / "validity" / "validity.json").write_text(json.dumps(data))

@@ -335,7 +335,10 @@ def main(argv: list[str] | None = None) -> int:
               "halfplanes_b0_over_R": (0.1,), "halfplanes_h_ratios": (2.0, 3.0, 4.0),
               "halfplanes_finite_h_ratios": (3.0, 4.0, 5.0),
               "elastic_wedge_theta": (math.pi / 5,), "elastic_wedge_h_ratios": (2.0, 3.0, 4.5),
-              "elastic_wedge_width": 12.0, "elastic_wedge_width_far": 24.0}
+              "elastic_wedge_width": 12.0, "elastic_wedge_width_far": 24.0,
+              # the finite wedge's four runs took 110 s of the tiny run's 294 s (1 worker, a loaded machine):
+              # left out; its rows are tested on synthetic records (tests/test_elastic_wedge_claim.py)
+              "elastic_wedge_finite_laws": ()}
     if args.halfplanes_only:
         kw |= {"rigid": False, "elastic_wedge_theta": ()}
     try:

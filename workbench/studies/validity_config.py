@@ -75,6 +75,10 @@ class ValidityConfig(StudyFolders):
         elastic_wedge_nu: Both bodies' Poisson ratio there (beta = 0 whatever nu).
         elastic_wedge_h_ratios: b/h_c of its three levels (coarse to fine, a constant ratio).
         elastic_wedge_width, elastic_wedge_width_far: W/b of both bodies on the levels and of the truncation run.
+        elastic_wedge_finite_laws: The hyperelastic laws of that part's finite-strain runs (issue 39, item 4: the
+            shaped wedge and the block both the law, P1, the traction along the deformed interface); empty: none.
+            Default neo-Hookean alone: Saint Venant-Kirchhoff softens in strong compression, and the wedge's apex
+            compresses it beyond (measured: DIVERGED_MAX_IT at b/8, theta = pi/10).
     """
 
     study: ClassVar[str] = "validity"
@@ -111,6 +115,7 @@ class ValidityConfig(StudyFolders):
     elastic_wedge_h_ratios: tuple[float, ...] = (4.0, 8.0, 16.0)
     elastic_wedge_width: float = 40.0
     elastic_wedge_width_far: float = 160.0
+    elastic_wedge_finite_laws: tuple[str, ...] = ("neo_hookean",)
 
     def __post_init__(self) -> None:
         def each(name, ok, allowed):
@@ -150,9 +155,11 @@ class ValidityConfig(StudyFolders):
                     or not all(isinstance(v, num) and 1.0 <= v <= 100.0 for v in hp)
                     or not all(b > a for a, b in zip(hp, hp[1:], strict=False))):
                 raise _bad(name, hp, "three increasing numbers in [1, 100]")
-        laws = self.halfplanes_finite_laws
-        if not isinstance(laws, tuple) or not all(v in _HYPERELASTIC for v in laws) or len(set(laws)) != len(laws):
-            raise _bad("halfplanes_finite_laws", laws, f"distinct names of {', '.join(_HYPERELASTIC)} (or none)")
+        for name in ("halfplanes_finite_laws", "elastic_wedge_finite_laws"):
+            laws = getattr(self, name)
+            if (not isinstance(laws, tuple) or not all(v in _HYPERELASTIC for v in laws)
+                    or len(set(laws)) != len(laws)):
+                raise _bad(name, laws, f"distinct names of {', '.join(_HYPERELASTIC)} (or none)")
         if list(self.thresholds) != sorted(self.thresholds):
             raise _bad("thresholds", self.thresholds, "increasing numbers in (0, 1)")
         for name, lo, hi in (("E", 1e-6, 1e12), ("growth", 1.0 + 1e-9, 3.0), ("width_factor", 10.0, 1e4),

@@ -16,6 +16,12 @@ sizes: the upper block flat, the wedge an analytic gap; self-similar in theta, :
 three levels b/h_c = ``elastic_wedge_h_ratios`` and once on the middle
 level with the wider blocks ``elastic_wedge_width_far`` (the truncation). The load is the classical one of b = 1 mm.
 
+At finite strain (issue 39, item 4; ``elastic_wedge_finite_laws``): per theta and law the shaped pair again, both
+bodies that hyperelastic law, P1, the traction along the deformed interface (the wedge's current face normal:
+``traction = "obstacle"``), kappa0 = :data:`workbench.studies.validity_halfplanes.FINITE_KAPPA0`, on the same levels
+and meshes; measured: the moment half-width, over the small-strain shaped pair's (:func:`_finite_rows`). No probes:
+its stresses are Cauchy's at the current positions, and the contact strain under a wedge is of the order of m.
+
 Probes (both bodies, full model): x/b in +-:data:`PROBE_X`, z/b in :data:`PROBE_Z`, z the vertical depth below the
 body's own surface: ``(x, -z)`` in the lower block, ``(x, m |x| + z)`` in the shaped wedge and ``(x, z)`` in the
 flat upper block; b = P / (E* m) at each run's measured load. The half-plane stresses of the upper body are the
@@ -55,8 +61,10 @@ from pathlib import Path
 import numpy as np
 
 from analytic import materials
+from vocabulary import FINITE, OBSTACLE
 from workbench.error_budget import grid_study
 from workbench.studies.scene_point import run_failure, run_point
+from workbench.studies.validity_halfplanes import FINITE_KAPPA0
 
 __all__ = ["EW_LABEL", "PROBE_X", "PROBE_Z", "ElasticWedgeTask", "build_mesh", "claim_elastic_wedge",
            "elastic_wedge_tasks", "solve_task"]
@@ -76,7 +84,9 @@ class ElasticWedgeTask:
         param: theta (rad), face slope m = tan theta.  upper: ``shaped`` or ``flat`` (module docstring).
         level: ``h0``, ``h1``, ``h2`` or ``far``.  h_ratio, width_factor, growth: b/h_c, W/b (both bodies) and
             the grading.  E, nu: both bodies' material.  n_steps: load steps.
-        scene, kinematics, traction: constants that keep the records' shape of the other parts.
+        scene, kinematics, traction: ``elastic_wedge``; ``small`` with the vertical traction ``halfplane``, or
+            ``finite`` with ``obstacle`` (along the deformed interface: the wedge's current face normal).
+        material, degree: both bodies' law (``linear``; a finite run's hyperelastic law) and the degree (2; 1).
     """
 
     param: float
@@ -91,14 +101,17 @@ class ElasticWedgeTask:
     scene: str = "elastic_wedge"
     kinematics: str = "small"
     traction: str = "halfplane"
+    material: str = "linear"
+    degree: int = 2
 
     @property
-    def mesh_name(self) -> str:
+    def mesh_name(self) -> str:  # the shaped pair's mesh serves its finite runs too (the same blocks)
         return f"validity_ew_{self.upper}_t{self.param:.6f}_h{self.h_ratio:g}_W{self.width_factor:g}"
 
     @property
     def model(self) -> str:
-        return f"{self.upper}/{self.kinematics}"
+        own = f"{self.upper}/{self.kinematics}"
+        return f"{own}/{self.material}" if self.kinematics == FINITE else own
 
 
 def elastic_wedge_tasks(cfg) -> list[ElasticWedgeTask]:
@@ -112,9 +125,16 @@ def elastic_wedge_tasks(cfg) -> list[ElasticWedgeTask]:
     pairs = [(theta, "shaped") for theta in cfg.elastic_wedge_theta]
     if cfg.elastic_wedge_theta:
         pairs.append((cfg.elastic_wedge_theta[0], "flat"))
-    return [ElasticWedgeTask(float(theta), upper, level, float(h), float(W), 1.0 + (cfg.growth - 1.0) * hs[0] / h,
-                             float(cfg.E), float(cfg.elastic_wedge_nu))
-            for theta, upper in pairs for level, h, W in levels]
+    def grow(h):
+        return 1.0 + (cfg.growth - 1.0) * hs[0] / h
+
+    out = [ElasticWedgeTask(float(theta), upper, level, float(h), float(W), grow(h), float(cfg.E),
+                            float(cfg.elastic_wedge_nu))
+           for theta, upper in pairs for level, h, W in levels]
+    out += [ElasticWedgeTask(float(theta), "shaped", level, float(h), float(W), grow(h), float(cfg.E),
+                             float(cfg.elastic_wedge_nu), kinematics=FINITE, traction=OBSTACLE, material=law, degree=1)
+            for theta in cfg.elastic_wedge_theta for law in cfg.elastic_wedge_finite_laws for level, h, W in levels]
+    return out
 
 
 def _run(task: ElasticWedgeTask):
@@ -122,14 +142,16 @@ def _run(task: ElasticWedgeTask):
     from cases.schema import Body, Discretisation, Loading, Run, Solver
     from workbench.scenes.halfplanes_schema import HalfplanesGeometry
 
-    bodies = (Body("block", task.E, task.nu), Body("wedge", task.E, task.nu))
+    bodies = (Body("block", task.E, task.nu, model=task.material), Body("wedge", task.E, task.nu, model=task.material))
+    finite = task.kinematics == FINITE
     geo = HalfplanesGeometry(scene="halfplanes", indenter="wedge", wedge_angle=task.param, wedge_slope="exact",
                              apex="refined", wedge_body=task.upper, width_factor=task.width_factor,
                              height_factor=task.width_factor)
     return Run(label=EW_LABEL, material=bodies[0].material, geometry=geo,
                loading=Loading(control="force", half_width=1.0, steps=task.n_steps),
-               discretisation=Discretisation(degree=2, h_contact=1.0 / task.h_ratio, growth=task.growth),
-               solver=Solver(method=EW_METHOD, kinematics="small", traction="halfplane"), bodies=bodies)
+               discretisation=Discretisation(degree=task.degree, h_contact=1.0 / task.h_ratio, growth=task.growth),
+               solver=Solver(method=EW_METHOD, kinematics=task.kinematics, traction=task.traction,
+                             **({"kappa0": FINITE_KAPPA0} if finite else {})), bodies=bodies)
 
 
 def build_mesh(task: ElasticWedgeTask, mesh_cache: str) -> dict:
@@ -166,13 +188,15 @@ def solve_task(task: ElasticWedgeTask, mesh_cache: str) -> dict:
         o = run_point(_run(task), name=task.mesh_name, mesh_cache=mesh_cache)
         m = o.metrics
         b = m["analytic"]["half_width"]
-        lower, upper, xz = probe_points(b=b, m=math.tan(task.param), shaped=task.upper == "shaped")
-        st = {"lower": stress_at_points(o.result, lower), "upper": stress_at_points(o.result, upper)}
+        stresses = None  # a finite run: no probes (its stresses are Cauchy's at the current positions)
+        if task.kinematics != FINITE:
+            lower, upper, xz = probe_points(b=b, m=math.tan(task.param), shaped=task.upper == "shaped")
+            st = {"lower": stress_at_points(o.result, lower), "upper": stress_at_points(o.result, upper)}
+            stresses = {"x_over_b": xz[:, 0].tolist(), "z_over_b": xz[:, 1].tolist()}
+            for body, s in st.items():
+                stresses[body] = {"sxx": s.sxx.tolist(), "syy": s.syy.tolist(), "sxy": s.sxy.tolist()}
     except Exception as exc:  # noqa: BLE001  (named: diverged, refused or failed)
         return rec | {"error": run_failure(exc), "time_s": time.perf_counter() - t0}
-    stresses = {"x_over_b": xz[:, 0].tolist(), "z_over_b": xz[:, 1].tolist()}
-    for body, s in st.items():
-        stresses[body] = {"sxx": s.sxx.tolist(), "syy": s.syy.tolist(), "sxy": s.sxy.tolist()}
     return rec | {"converged": True, "time_s": time.perf_counter() - t0, "cells": (m.get("mesh") or {}).get("cells"),
                   "ndofs": m["ndofs"], "P": m["P"], "b": b, "E_star": m["E_star"],
                   "iterations": int(sum(m["newton_iterations"])), "failed_iterations": int(m["failed_iterations"]),
@@ -227,11 +251,40 @@ def _band(cfg, lv: dict, body: str) -> dict:
             "floor": lv["h2"]["flat_vs_theory"][body]}
 
 
+def _finite_rows(cfg, records: list[dict], theta: float) -> dict:
+    """Per law at ``theta`` (issue 39, item 4): the finite-strain shaped pair's moment half-width over the
+    classical wedge's (P1, extrapolated with its band over the three levels and the wide bodies, as the two
+    half-planes' values) and its ratio F to the small-strain shaped pair's (P2, the same): F - 1 is what finite
+    strain and the traction along the deformed interface change together, against the claim's bound."""
+    from workbench.studies.validity_assemble import _value
+
+    def levels(model):
+        return {r["task"]["level"]: {"moment": r.get("moment")} if r.get("converged") else {}
+                for r in records if r["task"].get("scene") == "elastic_wedge" and r["task"]["param"] == theta
+                and r["model"] == model}
+
+    hs = cfg.elastic_wedge_h_ratios
+    S = _value(levels("shaped/small"), "moment", hs)
+    out = {}
+    for law in cfg.elastic_wedge_finite_laws:
+        M = _value(levels(f"shaped/{FINITE}/{law}"), "moment", hs)
+        if M.get("value") is None or S.get("value") is None:
+            why = M.get("reason") if M.get("value") is None else "the small-strain shaped pair has no value: " + \
+                S["reason"]
+            out[law] = {"moment": M, "small": S, "ratio": {"value": None, "reason": why}}
+            continue
+        F, u = M["value"] / S["value"], math.hypot(M["uncertainty"], S["uncertainty"])
+        out[law] = {"moment": M, "small": S, "ratio": {"value": F, "uncertainty": u},
+                    "beyond_bound": abs(F - 1.0) - u * F > cfg.claim_bound}
+    return out
+
+
 def claim_elastic_wedge(cfg, records: list[dict]) -> dict:
     """The paper's claim from the part's records: per theta the three quantities (module docstring) on every level,
     the grid uncertainty of ``geometry`` and the verdict over theta < ``cfg.claim_theta_max``."""
     runs = {(r["task"]["param"], r["task"]["upper"], r["task"]["level"]): r for r in records
-            if r["task"].get("scene") == "elastic_wedge" and r.get("converged")}
+            if r["task"].get("scene") == "elastic_wedge" and r.get("converged")
+            and r["task"].get("kinematics", "small") == "small"}
     levels = ("h0", "h1", "h2", "far")
     rows, dropped = [], []
     for theta in cfg.elastic_wedge_theta:
@@ -254,6 +307,11 @@ def claim_elastic_wedge(cfg, records: list[dict]) -> dict:
             dropped.append({"scene": "elastic_wedge", "param": theta, "what": "claim point unused",
                             "reason": "a run of the shaped/flat pair is missing or failed: "
                                       + "; ".join(f"{k}: {v['reason']}" for k, v in lv.items() if "reason" in v)})
+        if cfg.elastic_wedge_finite_laws:
+            row["finite"] = _finite_rows(cfg, records, theta)
+            dropped += [{"scene": "elastic_wedge", "param": theta, "model": f"shaped/{FINITE}/{law}",
+                         "what": "finite row unused", "reason": f["ratio"]["reason"]}
+                        for law, f in row["finite"].items() if f["ratio"].get("value") is None]
         rows.append(row)
     tested = [r for r in rows if r["theta"] < cfg.claim_theta_max * (1.0 + 1e-9) and "geometry" in r]
     verdict = None

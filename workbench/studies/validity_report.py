@@ -403,6 +403,37 @@ def _elastic_wedge_section(claim: dict) -> list[str]:
                   f"{100 * r['shaped_vs_theory']:.2f} % | {100 * r['floor']:.2f} % | "
                   f"{100 * r['geometry_wedge']:.2f} % +- {100 * r['U_wedge']:.2f} % | "
                   f"{fine['moment_shaped']:.4f} / {fine['moment_flat']:.4f} |")
+    return md + _elastic_wedge_finite(claim)
+
+
+def _elastic_wedge_finite(claim: dict) -> list[str]:
+    """The shaped pair at finite strain (issue 39, item 4): per angle and law, F = its moment half-width over the
+    small-strain shaped pair's, both extrapolated with their bands."""
+    rows = [(r, law, f) for r in claim.get("rows", []) for law, f in (r.get("finite") or {}).items()]
+    if not rows:
+        return []
+    done = [(r, law, f) for r, law, f in rows if f["ratio"].get("value") is not None]
+    beyond = [(r, law) for r, law, f in done if f["beyond_bound"]]
+    md = ["", "### The shaped wedge at finite strain (issue 39)", "",
+          f"**Of {len(rows)} (angle, law) rows, {len(done)} have a value; at {len(beyond)} of them finite strain with "
+          "the traction along the deformed interface changes the moment half-width by more than the claim's "
+          "bound beyond its band.**", "",
+          "Both bodies the hyperelastic law (from the same E and nu), P1, the traction along the wedge's current face "
+          "normal, on the shaped pair's meshes. M: the moment half-width over the classical wedge's 2 b / sqrt(6) "
+          "at the measured load (extrapolated as the two half-planes' values, band relative); S: the small-strain "
+          "shaped pair's (P2); F = M / S, its band the root sum of squares. Under a wedge the contact strain is of "
+          "the order of the slope m = tan theta whatever the load, so F - 1 is first order in m, its sign and size "
+          "set by the material law.", "",
+          "| theta | law | M +- U | status | S +- U | F +- U | beyond the bound |", "|---|---|---|---|---|---|---|"]
+    for r, law, f in rows:
+        t = f"{r['theta_over_pi']:.3g} pi"
+        if f["ratio"].get("value") is None:
+            md.append(f"| {t} | {law} | no value: {f['ratio']['reason']} | | | | |")
+            continue
+        M, S, F = f["moment"], f["small"], f["ratio"]
+        md.append(f"| {t} | {law} | {M['value']:.4f} +- {M['uncertainty'] * M['value']:.1e} | {M['status']} | "
+                  f"{S['value']:.4f} +- {S['uncertainty'] * S['value']:.1e} | {F['value']:.4f} +- "
+                  f"{F['uncertainty'] * F['value']:.1e} | {'yes' if f['beyond_bound'] else 'no'} |")
     return md
 
 
