@@ -21,12 +21,14 @@ from workbench.studies.validity_config import ValidityConfig
                                 dict(finite_material="linear"), dict(cylinder_a_over_R=(0.95,)),
                                 dict(wedge_theta=(2.0,)), dict(thresholds=(0.05, 0.01)), dict(width_factor_far=100.0),
                                 dict(n_steps=1.5), dict(halfplanes_beta=(0.6,)), dict(halfplanes_b0_over_R=(0.9,)),
-                                dict(halfplanes_h_ratios=(8.0, 4.0, 16.0)), dict(rigid=False, halfplanes_beta=()),
+                                dict(halfplanes_h_ratios=(8.0, 4.0, 16.0)),
+                                dict(rigid=False, halfplanes_beta=(), elastic_wedge_theta=()),
                                 dict(elastic_wedge_theta=(2.0,)), dict(elastic_wedge_h_ratios=(4.0, 8.0, 12.0)),
                                 dict(elastic_wedge_nu=0.49), dict(elastic_wedge_width_far=30.0),
                                 dict(halfplanes_finite_laws=("linear",)),
                                 dict(halfplanes_finite_laws=("neo_hookean", "neo_hookean")),
-                                dict(halfplanes_finite_h_ratios=(10.0, 5.0, 20.0))])
+                                dict(halfplanes_finite_h_ratios=(10.0, 5.0, 20.0)),
+                                dict(elastic_wedge_finite_laws=("linear",)), dict(halfplanes_pairing=1)])
 def test_config_rejects_bad_values_in_one_line(kw):
     with pytest.raises(ValueError) as exc:
         ValidityConfig(**kw)
@@ -37,6 +39,9 @@ def test_config_rejects_bad_values_in_one_line(kw):
 def test_cli_bad_option_is_one_line_exit_2(capsys, tmp_path):
     from workbench.cli import main
 
+    assert main(["validity", "--halfplanes-only", "--elastic-wedge-only", "--out", str(tmp_path / "v")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--elastic-wedge-only" in err and "allowed" in err and not (tmp_path / "v").exists()
     assert main(["validity", "--workers", "0", "--out", str(tmp_path / "v")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "workers" in err[0]

@@ -310,7 +310,7 @@ class _Parser(argparse.ArgumentParser):
 
 def main(argv: list[str] | None = None) -> int:
     """CLI ``workbench validity [--out DIR] [--mesh-cache DIR] [--executor local|mpi] [--workers N] [--quick]
-    [--tiny] [--halfplanes-only]``;
+    [--tiny] [--halfplanes-only] [--elastic-wedge-only]``;
     bad options or config values: one line, exit 2, nothing run or written."""
     ap = _Parser(prog="workbench validity", description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/validity)")
@@ -323,7 +323,13 @@ def main(argv: list[str] | None = None) -> int:
                     "every layer in seconds, no meaningful numbers)")
     ap.add_argument("--halfplanes-only", action="store_true", help="the two-elastic-half-planes part alone (no rigid "
                     "circle or wedge, no elastic wedge)")
+    ap.add_argument("--elastic-wedge-only", action="store_true", help="the elastic-wedge part alone (the paper's "
+                    "theta < pi/5 claim and its finite-strain rows; no rigid indenter, no two half-planes)")
     args = ap.parse_args(argv)
+    if args.halfplanes_only and args.elastic_wedge_only:
+        print("workbench validity: error: --halfplanes-only and --elastic-wedge-only exclude each other; allowed: "
+              "one of them", file=sys.stderr)
+        return 2
     kw = {}
     if args.quick:
         kw = {"cylinder_a_over_R": (0.01, 0.2), "wedge_theta": (math.pi / 10, math.pi / 5), "nu": (0.0, 0.499),
@@ -341,6 +347,8 @@ def main(argv: list[str] | None = None) -> int:
               "elastic_wedge_finite_laws": ()}
     if args.halfplanes_only:
         kw |= {"rigid": False, "elastic_wedge_theta": ()}
+    if args.elastic_wedge_only:
+        kw |= {"rigid": False, "halfplanes_beta": ()}
     try:
         executor = executor_from_args(args)
         cfg = ValidityConfig(out=args.out, mesh_cache=args.mesh_cache, workers=executor.workers, **kw)

@@ -147,8 +147,9 @@ class ValidityConfig(StudyFolders):
         for name in ("rigid", "halfplanes_pairing"):
             if not isinstance(getattr(self, name), bool):
                 raise _bad(name, getattr(self, name), "True or False")
-        if not self.rigid and not self.halfplanes_beta:
-            raise _bad("rigid", self.rigid, "True, or False with halfplanes_beta given (else nothing runs)")
+        if not self.rigid and not self.halfplanes_beta and not self.elastic_wedge_theta:
+            raise _bad("rigid", self.rigid, "True, or False with halfplanes_beta or elastic_wedge_theta given (else "
+                       "nothing runs)")
         for name in ("halfplanes_h_ratios", "halfplanes_finite_h_ratios"):
             hp = getattr(self, name)
             if (not isinstance(hp, tuple) or len(hp) != 3
