@@ -112,7 +112,10 @@ def test_claim_verdicts(geometry, by_level, width, state):
 def test_finite_wedge_tasks_and_a_missing_finite_run():
     """The finite runs: per angle and law the shaped pair's four levels at P1, on the shaped pair's meshes; a
     failed finite run leaves its row without a value, says why, and the claim's verdict unchanged."""
-    cfg = ValidityConfig(elastic_wedge_theta=(math.pi / 10, math.pi / 5))
+    both = (math.pi / 10, math.pi / 5)
+    assert {t.param for t in ew.elastic_wedge_tasks(ValidityConfig(elastic_wedge_theta=both))
+            if t.kinematics == "finite"} == {math.pi / 10}  # the default: pi/10 alone
+    cfg = ValidityConfig(elastic_wedge_theta=both, elastic_wedge_finite_theta=both)
     tasks = ew.elastic_wedge_tasks(cfg)
     fin = [t for t in tasks if t.kinematics == "finite"]
     assert len(fin) == 2 * 1 * 4 and {(t.degree, t.traction, t.material, t.upper) for t in fin} == {
@@ -135,8 +138,7 @@ def test_claim_names_a_missing_run():
     recs = [r for r in _synthetic(cfg, geometry=0.02)
             if not (r["task"]["param"] == math.pi / 5 and r["task"]["level"] == "far")]
     claim = ew.claim_elastic_wedge(cfg, recs)
-    assert [d["what"] for d in claim["dropped"]] == ["claim point unused", "finite row unused"]
-    assert "far" in claim["dropped"][0]["reason"] and "wide-block" in claim["dropped"][1]["reason"]
+    assert len(claim["dropped"]) == 1 and "far" in claim["dropped"][0]["reason"]  # pi/5: no finite rows (default)
     assert claim["verdict"]["angles_tested"] == [math.pi / 10]
 
 
@@ -148,7 +150,8 @@ def test_report_claims_row_and_summary_say_the_verdict(tmp_path):
     from workbench.studies.config import to_json
     from workbench.studies.validity_report import report_markdown
 
-    cfg = ValidityConfig(elastic_wedge_theta=(math.pi / 10, math.pi / 5))
+    cfg = ValidityConfig(elastic_wedge_theta=(math.pi / 10, math.pi / 5),
+                         elastic_wedge_finite_theta=(math.pi / 10, math.pi / 5))
     claim = ew.claim_elastic_wedge(cfg, _synthetic(cfg, geometry=0.0175))
     claim.pop("dropped")
     data = json.loads(json.dumps({"config": to_json(cfg), "summary": {"runs": 1, "failed": 0, "points": 0,

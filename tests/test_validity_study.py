@@ -28,7 +28,8 @@ from workbench.studies.validity_config import ValidityConfig
                                 dict(halfplanes_finite_laws=("linear",)),
                                 dict(halfplanes_finite_laws=("neo_hookean", "neo_hookean")),
                                 dict(halfplanes_finite_h_ratios=(10.0, 5.0, 20.0)),
-                                dict(elastic_wedge_finite_laws=("linear",)), dict(halfplanes_pairing=1)])
+                                dict(elastic_wedge_finite_laws=("linear",)), dict(halfplanes_pairing=1),
+                                dict(elastic_wedge_finite_theta=(2.0,))])
 def test_config_rejects_bad_values_in_one_line(kw):
     with pytest.raises(ValueError) as exc:
         ValidityConfig(**kw)

@@ -344,7 +344,7 @@ def main(argv: list[str] | None = None) -> int:
               "elastic_wedge_width": 12.0, "elastic_wedge_width_far": 24.0,
               # the finite wedge's four runs took 110 s of the tiny run's 294 s (1 worker, a loaded machine):
               # left out; its rows are tested on synthetic records (tests/test_elastic_wedge_claim.py)
-              "elastic_wedge_finite_laws": ()}
+              "elastic_wedge_finite_laws": (), "elastic_wedge_finite_theta": ()}
     if args.halfplanes_only:
         kw |= {"rigid": False, "elastic_wedge_theta": ()}
     if args.elastic_wedge_only:

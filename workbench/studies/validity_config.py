@@ -79,6 +79,9 @@ class ValidityConfig(StudyFolders):
             shaped wedge and the block both the law, P1, the traction along the deformed interface); empty: none.
             Default neo-Hookean alone: Saint Venant-Kirchhoff softens in strong compression, and the wedge's apex
             compresses it beyond (measured: DIVERGED_MAX_IT at b/8, theta = pi/10).
+        elastic_wedge_finite_theta: The angles of those runs (those also in ``elastic_wedge_theta`` run). Default pi/10
+            alone: at pi/5 the neo-Hookean run diverged at b/8 (DIVERGED_MAX_IT after 5 cut-backs), and a failing
+            finite run costs its cut-backs (docs/models.md).
     """
 
     study: ClassVar[str] = "validity"
@@ -116,6 +119,7 @@ class ValidityConfig(StudyFolders):
     elastic_wedge_width: float = 40.0
     elastic_wedge_width_far: float = 160.0
     elastic_wedge_finite_laws: tuple[str, ...] = ("neo_hookean",)
+    elastic_wedge_finite_theta: tuple[float, ...] = (math.pi / 10,)
 
     def __post_init__(self) -> None:
         def each(name, ok, allowed):
@@ -172,6 +176,12 @@ class ValidityConfig(StudyFolders):
             v = getattr(self, name)
             if not (isinstance(v, num) and lo <= v <= hi):
                 raise _bad(name, v, f"a number in [{lo:g}, {hi:g}]")
+        if not isinstance(self.elastic_wedge_finite_theta, tuple):
+            raise _bad("elastic_wedge_finite_theta", self.elastic_wedge_finite_theta,
+                       "angles in [pi/40, 0.3 pi] rad (or none)")
+        if self.elastic_wedge_finite_theta:
+            each("elastic_wedge_finite_theta", lambda v: isinstance(v, num) and math.pi / 40 <= v <= 0.3 * math.pi,
+                 "angles in [pi/40, 0.3 pi] rad (or none)")
         if not self.elastic_wedge_width_far > self.elastic_wedge_width:
             raise _bad("elastic_wedge_width_far", self.elastic_wedge_width_far,
                        f"a number > elastic_wedge_width = {self.elastic_wedge_width:g}")

@@ -133,8 +133,13 @@ def elastic_wedge_tasks(cfg) -> list[ElasticWedgeTask]:
            for theta, upper in pairs for level, h, W in levels]
     out += [ElasticWedgeTask(float(theta), "shaped", level, float(h), float(W), grow(h), float(cfg.E),
                              float(cfg.elastic_wedge_nu), kinematics=FINITE, traction=OBSTACLE, material=law, degree=1)
-            for theta in cfg.elastic_wedge_theta for law in cfg.elastic_wedge_finite_laws for level, h, W in levels]
+            for theta in _finite_angles(cfg) for law in cfg.elastic_wedge_finite_laws for level, h, W in levels]
     return out
+
+
+def _finite_angles(cfg) -> list[float]:
+    """The angles of ``cfg.elastic_wedge_theta`` that have finite-strain runs (``elastic_wedge_finite_theta``)."""
+    return [t for t in cfg.elastic_wedge_theta if any(abs(t - u) <= 1e-12 for u in cfg.elastic_wedge_finite_theta)]
 
 
 def _run(task: ElasticWedgeTask):
@@ -307,7 +312,7 @@ def claim_elastic_wedge(cfg, records: list[dict]) -> dict:
             dropped.append({"scene": "elastic_wedge", "param": theta, "what": "claim point unused",
                             "reason": "a run of the shaped/flat pair is missing or failed: "
                                       + "; ".join(f"{k}: {v['reason']}" for k, v in lv.items() if "reason" in v)})
-        if cfg.elastic_wedge_finite_laws:
+        if cfg.elastic_wedge_finite_laws and theta in _finite_angles(cfg):
             row["finite"] = _finite_rows(cfg, records, theta)
             dropped += [{"scene": "elastic_wedge", "param": theta, "model": f"shaped/{FINITE}/{law}",
                          "what": "finite row unused", "reason": f["ratio"]["reason"]}
