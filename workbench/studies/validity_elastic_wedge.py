@@ -268,11 +268,16 @@ def _finite_rows(cfg, records: list[dict], theta: float) -> dict:
                 for r in records if r["task"].get("scene") == "elastic_wedge" and r["task"]["param"] == theta
                 and r["model"] == model}
 
+    def warned(model):  # the levels whose run carries a solver warning (e.g. an oscillating pressure)
+        return sorted(r["task"]["level"] for r in records if r["task"].get("scene") == "elastic_wedge"
+                      and r["task"]["param"] == theta and r["model"] == model and r.get("warnings"))
+
     hs = cfg.elastic_wedge_h_ratios
     S = _value(levels("shaped/small"), "moment", hs)
     out = {}
     for law in cfg.elastic_wedge_finite_laws:
         M = _value(levels(f"shaped/{FINITE}/{law}"), "moment", hs)
+        M["warned_levels"] = warned(f"shaped/{FINITE}/{law}")
         if M.get("value") is None or S.get("value") is None:
             why = M.get("reason") if M.get("value") is None else "the small-strain shaped pair has no value: " + \
                 S["reason"]

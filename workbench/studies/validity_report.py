@@ -424,16 +424,18 @@ def _elastic_wedge_finite(claim: dict) -> list[str]:
           "shaped pair's (P2); F = M / S, its band the root sum of squares. Under a wedge the contact strain is of "
           "the order of the slope m = tan theta whatever the load, so F - 1 is first order in m, its sign and size "
           "set by the material law.", "",
-          "| theta | law | M +- U | status | S +- U | F +- U | beyond the bound |", "|---|---|---|---|---|---|---|"]
+          "| theta | law | M +- U | status | S +- U | F +- U | beyond the bound | levels with a solver warning |",
+          "|---|---|---|---|---|---|---|---|"]
     for r, law, f in rows:
         t = f"{r['theta_over_pi']:.3g} pi"
         if f["ratio"].get("value") is None:
-            md.append(f"| {t} | {law} | no value: {f['ratio']['reason']} | | | | |")
+            md.append(f"| {t} | {law} | no value: {f['ratio']['reason']} | | | | | |")
             continue
         M, S, F = f["moment"], f["small"], f["ratio"]
         md.append(f"| {t} | {law} | {M['value']:.4f} +- {M['uncertainty'] * M['value']:.1e} | {M['status']} | "
                   f"{S['value']:.4f} +- {S['uncertainty'] * S['value']:.1e} | {F['value']:.4f} +- "
-                  f"{F['uncertainty'] * F['value']:.1e} | {'yes' if f['beyond_bound'] else 'no'} |")
+                  f"{F['uncertainty'] * F['value']:.1e} | {'yes' if f['beyond_bound'] else 'no'} | "
+                  f"{', '.join(M.get('warned_levels', [])) or 'none'} |")
     return md
 
 
