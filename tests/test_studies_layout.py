@@ -70,6 +70,7 @@ def test_a_study_imports_no_other_study(graph, study):
 
 # a report's own section formatters (formatting only, no study code) and its study's config (read back from the JSON)
 REPORT_OWN = {"bench_report": {"workbench.studies.bench_startup_report", "workbench.studies.bench_config"},
+              "validity_report": {"workbench.studies.validity_config"},
               "stability_report": {"workbench.studies.stability_config"},
               "concave_map_report": {"workbench.studies.concave_map_models", "workbench.studies.concave_map_band",
                                      "workbench.studies.concave_map_rule"},
