@@ -310,14 +310,12 @@ def _hp_finite(cfg: ValidityConfig, ml: dict, models: dict, theories: dict) -> d
                "inside": {"ch_converged": abs(F - r_ch) <= u * abs(F),
                           "ch_first_order": abs(F - r_first) <= u * abs(F)},
                "minus_converged": F - r_ch}
-        if R.get("value") is not None:
-            u_r = math.hypot(u * abs(F), R["uncertainty"] * abs(R["value"]))
-            row["inside"]["profile"] = abs(F - R["value"]) <= u_r
-            row["split"] = {"convective_model": R["value"] - 1.0, "finite_strain_and_traction": F - R["value"],
-                            "uncertainty": u_r}
         row["follows"] = _follows(F, u, {"profile": R, "pairing": models.get(HP_PAIRING, {}).get("moment", {})})
-        if "pairing" in row["follows"]["distance"]:
-            row["inside"]["pairing"] = row["follows"]["distance"]["pairing"]["inside"]
+        dist = row["follows"]["distance"]
+        row["inside"] |= {name: d["inside"] for name, d in dist.items()}
+        if "profile" in dist:
+            row["split"] = {"convective_model": R["value"] - 1.0, "finite_strain_and_traction": F - R["value"],
+                            "uncertainty": dist["profile"]["uncertainty"]}
         out["laws"][law] = row
     done = [(law, r["ratio"]) for law, r in out["laws"].items() if r["ratio"].get("value") is not None]
     if len(done) >= 2:
