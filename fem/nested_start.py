@@ -19,8 +19,11 @@ strain a hyperelastic frictionless problem is conservative, and a start near the
 only approximates). The start changes the iterations, not the tolerances: each level converges to its own
 ``snes_rtol``, relative to its own first residual.
 
-Serial, as the two-body problem is (:mod:`fem.two_body.problem`); a problem without the hook
-``nested_guess`` refuses the option (ValueError, one line).
+Two meshed bodies: serial, as the two-body problem is (:mod:`fem.two_body.problem`). A rigid obstacle
+(:class:`fem.problem.ContactProblem`, any number of processes): the coarse state's active set and d only, the
+displacement starting from the unloaded state (its bulk is linear, so an interpolated displacement saves no
+iteration; finite strain is refused). A problem without the hook ``nested_guess`` refuses the option
+(ValueError, one line).
 """
 
 from __future__ import annotations

@@ -468,7 +468,7 @@ class LoadStepper:
         opts, pb = self.opts, self.problem
         guess = getattr(pb, "nested_guess", None)
         if guess is None:
-            raise ValueError(f"nested_start: {type(pb).__name__} has no nested_guess (two meshed bodies only)")
+            raise ValueError(f"nested_start: {type(pb).__name__} has no nested_guess (no nested iteration for it)")
         x0 = guess(start)
         zone = tuple(start.zones) or None
         if opts.control == "force":

@@ -9,8 +9,10 @@ Requirements (issue 38, item 1):
 2. The interpolation keeps each body's displacement: the coarse solution evaluated at the fine mesh's dofs
    differs from the fine converged solution by the discretisation error only (below 1 % of max|u|), in both
    bodies, including the contact surfaces where the bodies touch.
-3. Refused in one line: nested_start with warm_start or record_at (ValueError naming nested_start); a rigid
-   obstacle's problem (no nested_guess hook) says so.
+3. Refused in one line: nested_start with warm_start or record_at (ValueError naming nested_start).
+4. A rigid obstacle (issue 38, item 1 for a single level): a fine mesh started from a coarse mesh's active set and
+   d reaches its cold answer with at most 3 Newton iterations per solve and no analytic predictor; a nonlinear
+   bulk (finite strain, a hyperelastic material) is refused in one line.
 """
 
 import dolfinx_solver  # noqa: F401
@@ -104,12 +106,45 @@ def test_nested_start_is_refused_with_warm_start_or_record_at(solves, fine_mesh)
                                                            target=0.01, record_at=(0.005, 0.01)))
 
 
-def test_a_rigid_obstacle_refuses_nested_start(solves, tmp_path):
-    coarse, _, _ = solves
-    mf = build_block_mesh(width=20 * A, height=20 * A, contact_half_width=A, h_contact=A / 4, half_model=True,
-                          out_dir=tmp_path, name="nested_rigid")
-    mesh = read_mesh(mf.msh, MPI.COMM_SELF)
-    with pytest.raises(ValueError, match="nested_start.*two meshed bodies"):
-        solve_contact(mesh, CircleObstacle(center=(0.0, R), radius=R), E=E, nu=NU, degree=2, method="penalty",
-                      kinematics="small", traction="halfplane", symmetric_half=True, control="displacement",
-                      target=0.01, n_steps=1, nested_start=coarse.nested_start)
+def test_a_rigid_obstacle_starts_from_a_coarser_mesh(tmp_path):
+    """A rigid circle on a half block, Nitsche P2, force control with no analytic predictor: the fine mesh (8 times
+    finer at the contact) started from the coarse solve's active set and d reaches its cold answer (P, d and the
+    peak pressure within 1e-9: both stop at tolerances 1e-10) with one nested solve and at most 3 Newton
+    iterations per solve, where the cold solve's load path needs more than 3 in a step."""
+    from analytic.materials import plane_strain_modulus
+
+    meshes = {}
+    for n in (4, 32):
+        mf = build_block_mesh(width=20 * A, height=20 * A, contact_half_width=A, h_contact=A / n, half_model=True,
+                              out_dir=tmp_path, name=f"nested_rigid_{n}")
+        meshes[n] = read_mesh(mf.msh, MPI.COMM_SELF)
+    obstacle = CircleObstacle(center=(0.0, R), radius=R)
+    kw = dict(E=E, nu=NU, degree=2, method="nitsche", kinematics="small", traction="halfplane", symmetric_half=True,
+              control="force", target=hertz_load_from_half_width(A, R, plane_strain_modulus(E, NU)), n_steps=1,
+              predictor="extrapolate")
+    coarse = solve_contact(meshes[4], obstacle, **kw)
+    cold = solve_contact(meshes[32], obstacle, **kw)
+    nested = solve_contact(meshes[32], obstacle, nested_start=coarse.nested_start, **kw)
+    assert nested.load_steps[0]["kind"] == "nested"
+    assert {s["kind"] for s in nested.load_steps[1:]} <= {"force-correction"}
+    assert max(nested.newton_iterations) <= 3 < max(cold.newton_iterations)
+    for key in ("P", "d"):
+        assert abs(getattr(nested, key) - getattr(cold, key)) <= 1e-9 * abs(getattr(cold, key))
+    p_n, p_c = max(p.p_max for p in nested.patches), max(p.p_max for p in cold.patches)
+    assert abs(p_n - p_c) <= 1e-9 * p_c
+
+
+def test_a_rigid_nested_start_refuses_a_nonlinear_bulk():
+    """The rigid problem starts a nested solve from the unloaded state: finite strain or a hyperelastic material is
+    refused in one line naming nested_start and what is allowed."""
+    from types import SimpleNamespace
+
+    from fem.problem import ContactProblem
+
+    for kin, law in (("finite", "neo_hookean"), ("small", "neo_hookean")):
+        me = SimpleNamespace(options=SimpleNamespace(kinematics=kin, material_model=law), n_u=4)
+        with pytest.raises(ValueError, match="nested_start: .*allowed: kinematics small or convective") as err:
+            ContactProblem.nested_guess(me, None)
+        assert "\n" not in str(err.value)
+    ok = SimpleNamespace(options=SimpleNamespace(kinematics="convective", material_model="linear"), n_u=4)
+    assert np.array_equal(ContactProblem.nested_guess(ok, None), np.zeros(4))

@@ -154,6 +154,10 @@ def run_bench(cfg: BenchConfig | None = None, *, progress: Callable[[str], None]
 
         out["nested"] = run_nested_bench(NestedBench(repeats=cfg.repeats, mesh_cache=cfg.cache_dir), comm=comm,
                                          progress=progress)
+    if "techniques" in sections:  # issue 38 items 3 and 4: condensation and solver variants, measured
+        from workbench.studies.bench_techniques import techniques
+
+        out["techniques"] = techniques(cfg, progress=progress)
     out["load_avg_end"] = os.getloadavg()
     out["bench_wall_time_s"] = time.perf_counter() - t0
     from workbench.studies.executor import ExecutorChoice
@@ -177,14 +181,19 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--mesh-cache", type=Path, default=None, help="mesh cache (default: <results>/mesh_cache)")
     p.add_argument("--active-set-update", default=DEFAULT.predictor_free_active_set_update,
                    help="active_set_update of the predictor-free section (default: %(default)s)")
-    p.add_argument("--worker", choices=("scale", "cold"), help=argparse.SUPPRESS)
+    p.add_argument("--worker", choices=("scale", "cold", "techniques"), help=argparse.SUPPRESS)
     p.add_argument("--worker-config", default=None, help=argparse.SUPPRESS)
     p.add_argument("--h-contact", type=float, default=None, help=argparse.SUPPRESS)
     p.add_argument("--family", choices=SCALE_FAMILIES, default="graded", help=argparse.SUPPRESS)
     args = p.parse_args(argv)
     if args.worker:
         cfg = from_json(BenchConfig, json.loads(args.worker_config) if args.worker_config else None, strict=True)
-        data = worker_scale(cfg, args.family, args.h_contact) if args.worker == "scale" else worker_cold(cfg)
+        if args.worker == "techniques":
+            from workbench.studies.bench_techniques import worker_techniques
+
+            data = worker_techniques(cfg, args.family, args.h_contact)
+        else:
+            data = worker_scale(cfg, args.family, args.h_contact) if args.worker == "scale" else worker_cold(cfg)
         print("BENCH_JSON " + json.dumps(data, default=float), flush=True)
         return 0
     try:

@@ -15,6 +15,16 @@ __all__ = ["ACTIVE_SETS", "ACTIVE_SET_UPDATES", "BENCH_SECTIONS", "BenchConfig",
            "SCALE_PREDICTORS"]
 
 
+def _technique_variants() -> dict:
+    """label -> (petsc_options, solver overrides) of the techniques section (issue 38, items 3 and 4)."""
+    return {
+        "ksp_type gmres (left-preconditioned)": ({"ksp_type": "gmres"}, {}),
+        "ksp_type fgmres (right-preconditioned)": ({"ksp_type": "fgmres"}, {}),
+        "Eisenstat-Walker forcing (snes_ksp_ew)": ({"snes_ksp_ew": True}, {}),
+        "active_set_update edge_fit": ({}, {"active_set_update": "edge_fit"}),
+    }
+
+
 def _solver_variants() -> dict:
     """label -> (petsc_options, solver overrides) of section 5b."""
     return {
@@ -30,7 +40,7 @@ def _solver_variants() -> dict:
 
 
 BENCH_SECTIONS = ("accuracy", "linear", "scale", "mpi", "cache", "options", "predictor_free", "two_body", "startup",
-                  "nested")
+                  "nested", "techniques")
 SCALE_PREDICTORS = ("auto", "hertz_zone")  # the force-control predictors of the cost-growth rows
 SCALE_FAMILIES = ("graded", "uniform")
 
@@ -63,6 +73,10 @@ class BenchConfig(StudyFolders):
         scale_predictor: The ``predictor`` of the cost-growth rows: ``"auto"`` (the case: the Hertz predictor, a
             stiffness solve) or ``"hertz_zone"`` (the Hertz zone prescribed from the unloaded state, no stiffness
             solve). Each row below ``krylov_threshold`` also runs the case solver, as the reference.
+        scale_nested_factor: Nested iteration in the cost-growth rows (issue 38, item 1, "for a single level, a
+            coarse mesh of the same geometry built for it"): each row first solves its family's mesh at
+            ``h * scale_nested_factor`` and starts from that solution
+            (:func:`workbench.studies.bench_scale.worker_scale`); 0 = off (each row cold), else > 1.
         krylov_threshold: Cost-growth rows with more dofs than this use ``linear_solver="gamg"`` (no LU factor:
             memory ~ ndofs) and compare with a GAMG linear solve; >= 0.
         reuse_lu: PETSc options reusing the LU of the FIRST Jacobian through GMRES for the whole run
@@ -73,6 +87,12 @@ class BenchConfig(StudyFolders):
         reuse_meshes: (family, h/a) of the LU-reuse comparison.
         solver_variants: label -> (petsc_options, solver overrides) of the options comparison.
         targets: The issue's targets (stated met / not met).
+        technique_meshes: (family, h_c / a) of the techniques section (:mod:`workbench.studies.bench_techniques`),
+            each a size of ``scale``'s families.
+        schur_zone: Half-width of the contact zone condensed onto in that section, in units of a (> 0).
+        schur_max_dofs: The condensation is measured up to this many Schur dofs (its dense complement takes
+            8 n^2 bytes), >= 1.
+        technique_variants: label -> (petsc_options, solver overrides) of that section's contact solves.
         predictor_free_cases: Cases of the predictor-free Newton section (every run of each at its default
             level, ``predictor="extrapolate"``: no analytic predictor).
         predictor_free_active_set: The solver's ``active_set`` option of that section (``"geometry"``: the
@@ -107,6 +127,7 @@ class BenchConfig(StudyFolders):
     scale_linear_solver: str = "auto"
     crossover_max_ndofs: int = 400_000
     scale_predictor: str = "hertz_zone"
+    scale_nested_factor: float = 8.0
     krylov_threshold: int = 400_000
     reuse_lu: dict = field(default_factory=lambda: {
         "ksp_type": "gmres", "ksp_rtol": 1e-12, "ksp_atol": 0.0, "ksp_gmres_restart": 300, "ksp_max_it": 300,
@@ -117,6 +138,11 @@ class BenchConfig(StudyFolders):
     targets: dict = field(default_factory=lambda: {"speedup_vs_baseline": 10.0, "default_warm_s": 3.0,
                                                    "linear_solves": 1.5, "exponent": 1.15, "peak_mb": 2048.0,
                                                    "largest_ndofs": 900_000})
+    technique_meshes: tuple[tuple[str, float], ...] = (("graded", 0.0125), ("graded", 0.00078125), ("uniform", 0.1),
+                                                       ("uniform", 0.05))
+    schur_zone: float = 1.5
+    schur_max_dofs: int = 6000
+    technique_variants: dict = field(default_factory=_technique_variants)
     predictor_free_cases: tuple[str, ...] = ("hertz_cylinder", "wedge", "wedge_convective", "parabola_convective",
                                              "concave_symmetric", "close_to_conformal")
     predictor_free_active_set: str = "geometry"
@@ -136,6 +162,8 @@ class BenchConfig(StudyFolders):
             if any(not 0 < v <= 1 for v in levels) or not is_decreasing(tuple(levels)):
                 raise ValueError(f"scale[{family!r}] must be strictly decreasing values in (0, 1], "
                                  f"got {list(levels)}")
+        if not (self.scale_nested_factor == 0 or self.scale_nested_factor > 1):
+            raise ValueError(f"scale_nested_factor must be 0 (off) or > 1, got {self.scale_nested_factor!r}")
         if self.predictor_free_active_set not in ACTIVE_SETS:
             raise ValueError(f"predictor_free_active_set must be one of {list(ACTIVE_SETS)}, "
                              f"got {self.predictor_free_active_set!r}")
@@ -153,6 +181,15 @@ class BenchConfig(StudyFolders):
         if isinstance(self.crossover_max_ndofs, bool) or int(self.crossover_max_ndofs) != self.crossover_max_ndofs \
                 or self.crossover_max_ndofs < 0:
             raise ValueError(f"crossover_max_ndofs must be an integer >= 0 (dofs), got {self.crossover_max_ndofs!r}")
+        for pair in self.technique_meshes:
+            if len(pair) != 2 or pair[0] not in SCALE_FAMILIES or not 0 < float(pair[1]) <= 1:
+                raise ValueError(f"technique_meshes must be (family, h_c / a) pairs, family one of "
+                                 f"{sorted(SCALE_FAMILIES)} and h_c / a in (0, 1], got {pair!r}")
+        if not self.schur_zone > 0:
+            raise ValueError(f"schur_zone must be > 0 (in units of a), got {self.schur_zone!r}")
+        if isinstance(self.schur_max_dofs, bool) or int(self.schur_max_dofs) != self.schur_max_dofs \
+                or self.schur_max_dofs < 1:
+            raise ValueError(f"schur_max_dofs must be an integer >= 1, got {self.schur_max_dofs!r}")
         if not self.predictor_free_target > 0:
             raise ValueError(f"predictor_free_target must be > 0, got {self.predictor_free_target!r}")
         if not set(self.sections) <= set(BENCH_SECTIONS):
@@ -162,4 +199,5 @@ class BenchConfig(StudyFolders):
         """Small sizes only (development): three graded and two uniform sizes, one MPI size, a cheap
         options level, the first baseline rung."""
         return replace(self, scale={"graded": tuple(self.scale["graded"][:3]), "uniform": (0.4, 0.2)},
+                       technique_meshes=(("graded", 0.05), ("uniform", 0.4)),
                        mpi_levels=(None,), option_level=0.0125, baseline_ladder=self.baseline_ladder[:1])

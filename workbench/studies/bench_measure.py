@@ -231,6 +231,22 @@ def block_mesh_data(run, cfg: BenchConfig, *, comm):
     return read_mesh(files.msh, comm)
 
 
+def block_space(mesh_data, run):
+    """(V, bcs) of the bench's block: the run's vector P_k space on ``mesh_data`` and its supports (clamped base,
+    roller symmetry edge: u_x = 0), as the case solves it."""
+    import dolfinx
+
+    V = dolfinx.fem.functionspace(mesh_data.mesh, ("Lagrange", run.discretisation.degree, (2,)))
+    bcs = []
+    for name, comps in (("clamped", (0, 1)), ("symmetry", (0,))):
+        facets = mesh_data.facet_tags.find(mesh_data.physical_groups[name].tag)
+        for c in comps:
+            Vc, _ = V.sub(c).collapse()
+            dofs = dolfinx.fem.locate_dofs_topological((V.sub(c), Vc), 1, facets)
+            bcs.append(dolfinx.fem.dirichletbc(dolfinx.fem.Function(Vc), dofs, V.sub(c)))
+    return V, bcs
+
+
 def linear_solve(mesh_data, run, *, repeats: int = 3, linear_solver: str = "lu",
                  petsc_options: dict | None = None) -> dict:
     """Warm time of one linear elastic solve (assembly of A and b, MUMPS LU, solve) on ``mesh_data``.
@@ -255,14 +271,7 @@ def linear_solve(mesh_data, run, *, repeats: int = 3, linear_solver: str = "lu",
 
     mesh = mesh_data.mesh
     lm = lame(E=run.material.E, nu=run.material.nu)
-    V = dolfinx.fem.functionspace(mesh, ("Lagrange", run.discretisation.degree, (2,)))
-    bcs = []
-    for name, comps in (("clamped", (0, 1)), ("symmetry", (0,))):
-        facets = mesh_data.facet_tags.find(mesh_data.physical_groups[name].tag)
-        for c in comps:
-            Vc, _ = V.sub(c).collapse()
-            dofs = dolfinx.fem.locate_dofs_topological((V.sub(c), Vc), 1, facets)
-            bcs.append(dolfinx.fem.dirichletbc(dolfinx.fem.Function(Vc), dofs, V.sub(c)))
+    V, bcs = block_space(mesh_data, run)
     hz = hertz(
         run.loading.P if run.loading.P else case_P(run),
         run.geometry.radius,

@@ -188,7 +188,7 @@ def _md_scale(sc: dict, targets: list, cfg: BenchConfig) -> list[str]:
         "",
         f"graded: meshes.block at decreasing h_c (W = H = 40 a); uniform: the baseline's half box W = H = "
         f"{cfg.scale_box:g} a. Each row is solved with the row's options (column 'options': the predictor and "
-        f"the linear solver; {_switch(cfg)}) and compared with ONE linear "
+        f"the linear solver; {_switch(cfg)}{_nested_text(cfg)}) and compared with ONE linear "
         "elastic solve on the same mesh with the same kind of linear solver (assembly + factorisation or AMG set-up "
         "+ solve; column 'linear'). 'case' = the case settings (Hertz predictor, MUMPS LU per Newton iteration) on "
         "the same mesh, in linear solves, and the largest relative difference of P, p_max and the half-width "
@@ -208,9 +208,12 @@ def _md_scale(sc: dict, targets: list, cfg: BenchConfig) -> list[str]:
             o = r.get("overrides", {})
             case = r.get("case", {})
             diff = r.get("rel_diff_vs_case")
+            nest = r.get("nested")
+            nest = (f", nested from h x {nest['factor']:g} ({nest['ndofs']} dofs, {_f(nest['solve_s'])} s, its "
+                    f"{nest['newton_iterations']})") if nest else ""
             L.append(
                 f"| {family} | {r['h_over_a']:.4g} | {r['ndofs']} | {o.get('predictor', 'case')}, "
-                f"{o.get('linear_solver', 'lu')} | {r['newton_iterations']} | "
+                f"{o.get('linear_solver', 'lu')}{nest} | {r['newton_iterations']} | "
                 f"{_f(r['solve_s'])} | {_f(r['linear_s'])} ({r.get('linear_kind', 'lu')}) | "
                 f"{_f(r['linear_solves_equivalent'])} | {_f(case.get('linear_solves_equivalent'))} | "
                 f"{_f(max(diff.values()), '.1e') if diff else '-'} | "
@@ -345,6 +348,50 @@ def _md_reuse(lr: dict) -> list[str]:
     ]
 
 
+def _nested_text(cfg: BenchConfig) -> str:
+    if not cfg.scale_nested_factor:
+        return ""
+    return (f"; nested iteration: each row first solves its family's mesh at h x {cfg.scale_nested_factor:g} "
+            "and starts from that solution's active set and d, and the row's solver time is the sum of both "
+            "solves (the 'its' column is the row's mesh's)")
+
+
+def _md_techniques(tq: dict, cfg: BenchConfig) -> list[str]:
+    """Section ``techniques`` (issue 38, items 3 and 4): condensation and solver variants, each with its figure."""
+    L = ["## Techniques measured for issue 38 (condensation, Krylov method, forcing, active-set update)", "",
+         "Condensation onto the contact cells (item 3): the stiffness factored by MUMPS with the dofs of the cells on "
+         f"the contact boundary within |x| <= {cfg.schur_zone:g} a as Schur unknowns, the dense Schur complement "
+         "extracted and LU-factored: the floor of a contact solve on the condensed system, in linear solves of the "
+         "row's kind. One process per mesh; one run each.", "",
+         "| mesh | h/a | ndofs | Schur dofs | dense S (MB) | plain LU (s) | LU with Schur (s) | extract S (s) | "
+         "dense LU (s) | total, linear solves | peak RSS (MB) |",
+         "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in tq["rows"]:
+        c = r["condensation"]
+        if "skipped" in c:
+            L.append(f"| {r['family']} | {r['h_over_a']:g} | {r['ndofs']} | {c['n_schur']} | {_f(c['dense_mb'])} | "
+                     f"{_f(c['plain_factor_s'])} | not run: {c['skipped']} | | | | |")
+            continue
+        L.append(f"| {r['family']} | {r['h_over_a']:g} | {r['ndofs']} | {c['n_schur']} | {_f(c['dense_mb'])} | "
+                 f"{_f(c['plain_factor_s'])} | {_f(c['factor_s'])} | {_f(c['extract_s'])} | {_f(c['dense_lu_s'])} | "
+                 f"{_f(c['linear_solves'])} | {_f(c['peak_rss_mb'], '.0f')} |")
+    L += ["", "Solver variants (items 3 and 4): the contact solve with the row's options and with each variant "
+          "(the second of two solves in the process), in linear solves of the row's kind; 'failed its' = Newton "
+          "iterations of solves that did not converge (cut back); 'tri. solves' = PETSc MatSolve events (for GAMG "
+          "its coarse-grid solves).", "",
+          "| mesh | h/a | ndofs | kind | variant | solver (s) | linear solves | Newton its | failed its | tri. solves "
+          "| rel diff P |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in tq["rows"]:
+        for v in r["variants"]:
+            head = f"| {r['family']} | {r['h_over_a']:g} | {r['ndofs']} | {r['linear_kind']} | {v['variant']} |"
+            if "failed" in v:
+                L.append(f"{head} failed: {v['failed']} | | | | | |")
+                continue
+            L.append(f"{head} {_f(v['solve_s'])} | {_f(v['linear_solves_equivalent'])} | {v['newton_iterations']} | "
+                     f"{v['failed_iterations']} | {v['triangular_solves']} | {_f(v['rel_diff_P'], '.1e')} |")
+    return L + [""]
+
+
 def _md_predictor_free(pf: dict, targets: list) -> list[str]:
     t = pf["target"]
     L = [
@@ -460,6 +507,8 @@ def to_markdown(data: dict) -> str:
         L += two_body_markdown(data["two_body"], targets)
     if data.get("nested"):
         L += nested_markdown(data["nested"])
+    if data.get("techniques"):
+        L += _md_techniques(data["techniques"], cfg)
     if data.get("startup"):
         from workbench.studies.bench_startup_report import startup_markdown
 

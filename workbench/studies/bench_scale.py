@@ -29,7 +29,10 @@ __all__ = ["cost_growth", "worker_scale"]
 def worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
     """One size of section 3, in its own process: mesh, contact solve(s) with the row's solver
     (:func:`scale_overrides`), the case solver as reference (below ``krylov_threshold``), one linear solve with
-    the row's linear solver, peak memory."""
+    the row's linear solver, peak memory. With ``scale_nested_factor``, each contact solve is two: a coarse mesh
+    of the same family at ``h_c * scale_nested_factor`` (the row's options), then the row's mesh started from it
+    (``nested_start``: its active set and d, :mod:`fem.nested_start`); the row's time is the sum of both
+    solvers' times (the coarse mesh is read before the clock, as the row's own mesh is)."""
     import dolfinx_solver  # noqa: F401
 
     from mpi4py import MPI
@@ -41,14 +44,29 @@ def worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
     mesh_s = time.perf_counter() - t0
     peak_mesh = peak_rss_mb()
     over = scale_overrides(cfg, count_dofs(md, run))
+    coarse = None
+    if cfg.scale_nested_factor:  # nested iteration: a coarse mesh of the same geometry, built for this row
+        coarse_run, coarse_md = family_mesh(family, level * cfg.scale_nested_factor, cfg, comm=comm)
+        coarse_over = scale_overrides(cfg, count_dofs(coarse_md, coarse_run))
+
+    def contact_solve():
+        """The row's contact solve: (result, its time), the coarse solve's time included when nested."""
+        nonlocal coarse
+        if cfg.scale_nested_factor:
+            coarse = solve_case(coarse_run, coarse_md, **coarse_over)
+            fine = solve_case(run, md, nested_start=coarse.nested_start, **over)
+            return fine, fine.wall_time_s + coarse.wall_time_s
+        fine = solve_case(run, md, **over)
+        return fine, fine.wall_time_s
+
     PETSc.Log.begin()
     before = log_counts()
-    res = solve_case(run, md, **over)
+    res, first_s = contact_solve()
     events = log_delta(before, log_counts())
     peak_first = peak_rss_mb()  # mesh + one contact solve (every factor it made still alive)
-    times = [res.wall_time_s]
+    times = [first_s]
     small = res.ndofs < cfg.small_ndofs
-    times += [solve_case(run, md, **over).wall_time_s for _ in range(2 if small else 1)]  # warm: forms loaded
+    times += [contact_solve()[1] for _ in range(2 if small else 1)]  # warm: forms loaded
     from fem.linear_solver import linear_options, resolve
 
     kind = "gamg" if resolve(over["linear_solver"], ndofs=res.ndofs) == "gamg" else "lu"
@@ -78,6 +96,9 @@ def worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
         "linear_solves_equivalent": min(times) / lin["linear_s"],
         "newton_iterations": its,
         "newton_per_step": sum(its) / len(its),
+        "nested": None if coarse is None else {"factor": cfg.scale_nested_factor, "ndofs": coarse.ndofs,
+                                                 "solve_s": coarse.wall_time_s,
+                                                 "newton_iterations": list(coarse.newton_iterations)},
         "events": events,
         "rms": hertz_errors(res, run)["rms"],
         "P": res.P,
