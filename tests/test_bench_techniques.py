@@ -57,6 +57,8 @@ def test_schur_complement_equals_the_dense_formula():
     ({"technique_meshes": (("graded", 0.0),)}, "technique_meshes"),
     ({"schur_zone": 0.0}, "schur_zone must be > 0"),
     ({"schur_max_dofs": 0}, "schur_max_dofs must be an integer >= 1"),
+    ({"scale_nested": {"coarse": 8.0}}, "scale_nested must map a family"),
+    ({"scale_nested": {"graded": 1.0}}, "scale_nested must map a family"),
 ])
 def test_the_section_config_refuses_bad_values(kw, msg):
     with pytest.raises(ValueError, match=msg):
@@ -85,3 +87,20 @@ def test_report_lists_every_technique_with_its_figure():
     assert "not run: n_c = 21352 > schur_max_dofs = 6000" in text
     assert "| graded | 0.00078125 | 88208 | lu_reuse | Eisenstat-Walker forcing (snes_ksp_ew) | failed: " in text
     assert "| uniform | 0.1 | 161202 | lu_reuse | row's options | 1.2 | 1.5 | [2] | 0 | 3 | 0.0e+00 |" in text
+
+
+def test_a_nested_scale_row_names_its_coarse_solve():
+    """Section 3 says which family nests and each nested row gives its coarse mesh's dofs, time and iterations."""
+    row = {"family": "graded", "h_over_a": 0.00078125, "ndofs": 88208, "overrides": {"predictor": "hertz_zone",
+           "linear_solver": "auto"}, "linear_kind": "lu_reuse", "newton_iterations": [2, 1, 1], "solve_s": 0.63,
+           "linear_s": 0.325, "linear_solves_equivalent": 1.94, "rms": 0.0018, "peak_rss_mb": 506.0,
+           "events": {"MatLUFactorSym": {"count": 2}, "MatLUFactorNum": {"count": 2}, "MatSolve": {"count": 14}},
+           "linear_by_kind_s": {}, "nested": {"factor": 8.0, "ndofs": 11004, "solve_s": 0.05,
+                                              "newton_iterations": [2, 0]}}
+    fit = {"all": {"exponent": 1.1}, "largest3": None}
+    sc = {"graded": {"rows": [row], "fits": {"solve_s": fit, "linear_s": fit}}}
+    from workbench.studies.bench_report import _md_scale
+
+    text = "\n".join(_md_scale(sc, [], BenchConfig()))
+    assert "nested iteration (graded from h x 8)" in text
+    assert "hertz_zone, auto, nested from h x 8 (11004 dofs, 0.05 s, its [2, 0]) | [2, 1, 1] |" in text

@@ -349,11 +349,12 @@ def _md_reuse(lr: dict) -> list[str]:
 
 
 def _nested_text(cfg: BenchConfig) -> str:
-    if not cfg.scale_nested_factor:
+    if not cfg.scale_nested:
         return ""
-    return (f"; nested iteration: each row first solves its family's mesh at h x {cfg.scale_nested_factor:g} "
-            "and starts from that solution's active set and d, and the row's solver time is the sum of both "
-            "solves (the 'its' column is the row's mesh's)")
+    fams = ", ".join(f"{fam} from h x {fac:g}" for fam, fac in cfg.scale_nested.items())
+    return (f"; nested iteration ({fams}): each such row first solves its family's coarser mesh and starts from "
+            "that solution's active set and d; the row's solver time is the sum of both solves (the 'its' column "
+            "is the row's mesh's)")
 
 
 def _md_techniques(tq: dict, cfg: BenchConfig) -> list[str]:

@@ -29,8 +29,8 @@ __all__ = ["cost_growth", "worker_scale"]
 def worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
     """One size of section 3, in its own process: mesh, contact solve(s) with the row's solver
     (:func:`scale_overrides`), the case solver as reference (below ``krylov_threshold``), one linear solve with
-    the row's linear solver, peak memory. With ``scale_nested_factor``, each contact solve is two: a coarse mesh
-    of the same family at ``h_c * scale_nested_factor`` (the row's options), then the row's mesh started from it
+    the row's linear solver, peak memory. For a family of ``scale_nested``, each contact solve is two: a coarse
+    mesh of the same family at ``h_c * factor`` (the row's options), then the row's mesh started from it
     (``nested_start``: its active set and d, :mod:`fem.nested_start`); the row's time is the sum of both
     solvers' times (the coarse mesh is read before the clock, as the row's own mesh is)."""
     import dolfinx_solver  # noqa: F401
@@ -44,15 +44,15 @@ def worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
     mesh_s = time.perf_counter() - t0
     peak_mesh = peak_rss_mb()
     over = scale_overrides(cfg, count_dofs(md, run))
-    coarse = None
-    if cfg.scale_nested_factor:  # nested iteration: a coarse mesh of the same geometry, built for this row
-        coarse_run, coarse_md = family_mesh(family, level * cfg.scale_nested_factor, cfg, comm=comm)
+    coarse, factor = None, cfg.scale_nested.get(family)
+    if factor:  # nested iteration: a coarse mesh of the same geometry, built for this row
+        coarse_run, coarse_md = family_mesh(family, level * factor, cfg, comm=comm)
         coarse_over = scale_overrides(cfg, count_dofs(coarse_md, coarse_run))
 
     def contact_solve():
         """The row's contact solve: (result, its time), the coarse solve's time included when nested."""
         nonlocal coarse
-        if cfg.scale_nested_factor:
+        if factor:
             coarse = solve_case(coarse_run, coarse_md, **coarse_over)
             fine = solve_case(run, md, nested_start=coarse.nested_start, **over)
             return fine, fine.wall_time_s + coarse.wall_time_s
@@ -96,7 +96,7 @@ def worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
         "linear_solves_equivalent": min(times) / lin["linear_s"],
         "newton_iterations": its,
         "newton_per_step": sum(its) / len(its),
-        "nested": None if coarse is None else {"factor": cfg.scale_nested_factor, "ndofs": coarse.ndofs,
+        "nested": None if coarse is None else {"factor": factor, "ndofs": coarse.ndofs,
                                                  "solve_s": coarse.wall_time_s,
                                                  "newton_iterations": list(coarse.newton_iterations)},
         "events": events,
