@@ -473,7 +473,13 @@ class LoadStepper:
         zone = tuple(start.zones) or None
         if opts.control == "force":
             pb.set_load_level(opts.target)
-            self.reach(start.d, 1, "nested", x0, zone)
+            moved = self.prescribed_start(zone, start.d, x0, opts.target) if zone and self.tangent_ok else None
+            if moved is not None:  # the coarse active set moved along its tangent to the target load first
+                reason, _ = self.attempt(*moved, "nested", predict_active_set=False, done_its=1, solved_zone=zone)
+                if reason <= 0:  # not converged from there: the coarse d and active set, as without the tangent
+                    self.reach(start.d, 1, "nested", x0, zone)
+            else:
+                self.reach(start.d, 1, "nested", x0, zone)
             self.correct_force()
         else:
             self.reach(opts.target, 1, "nested", x0, zone)
@@ -537,16 +543,23 @@ class LoadStepper:
     def hertz_zone_start(self, P_goal: float) -> tuple[float, np.ndarray] | None:
         """``predictor="hertz_zone"``, first load level from the unloaded state: (d, state) of the prescribed
         active set = the Hertz zone of P_goal (:meth:`fem.predictor.HertzPredictor.zone`), without a stiffness
-        solve. One Newton iteration on that set from the unloaded state at a guess ``d0 = P_goal / (0.3 E')``
-        gives u0; for a fixed active set the small-strain equations are linear in (u, d), so the tangent
-        ``t = du/dd`` of that set (the same factorisation) moves it to the d of ``P = P_goal``:
-        ``d = d0 + (P_goal - P(u0)) / (dP/dd)``, ``u = u0 + (d - d0) t``. None when the tangent fails."""
+        solve: :meth:`prescribed_start` from the unloaded state at a guess ``d0 = P_goal / (0.3 E')``."""
         pb, opts = self.problem, self.opts
         zone = (self.hertz.zone(P_goal, half=opts.symmetric_half),)
         self.start_zone = zone
-        d0 = P_goal / (0.3 * pb.E_star)
+        return self.prescribed_start(zone, P_goal / (0.3 * pb.E_star), self.states[-1].x, P_goal)
+
+    def prescribed_start(self, zone: tuple, d0: float, x0: np.ndarray,
+                         P_goal: float) -> tuple[float, np.ndarray] | None:
+        """(d, state) of the prescribed active set ``zone`` at the load P_goal: one Newton iteration on that set
+        from ``x0`` at ``d0`` gives u0; for a fixed active set the small-strain equations are linear in (u, d), so
+        the tangent ``t = du/dd`` of that set (the same factorisation) moves it to the d of ``P = P_goal``:
+        ``d = d0 + (P_goal - P(u0)) / (dP/dd)``, ``u = u0 + (d - d0) t``. None when the tangent fails (the
+        problem's state is then u0). Used from the unloaded state with the Hertz zone (:meth:`hertz_zone_start`)
+        and from a coarser mesh's active set and d (:meth:`run_nested`)."""
+        pb = self.problem
         pb.d.value = d0
-        pb.set_state(self.states[-1].x)
+        pb.set_state(x0, self.states[-1].x)
         with pb.prescribed_active_set(zone):
             with pb.max_iterations(1):
                 pb.newton()
