@@ -571,7 +571,9 @@ class LoadStepper:
             return None
         t_arr, dP = tan
         dd = (P_goal - P0) / dP
-        return d0 + dd, u0 + dd * t_arr
+        moved = u0.copy()
+        moved[:t_arr.size] += dd * t_arr  # the displacement moves; a law's own unknowns (if any) stay
+        return d0 + dd, moved
 
     def correct_force(self) -> None:
         """Correct d at the last level until ``|P - target| <= force_rtol target`` (tangent, then secant)."""
