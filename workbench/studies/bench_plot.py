@@ -49,7 +49,7 @@ def _accuracy(ax, acc: dict) -> None:
 
 
 def _growth(ax, scale: dict) -> None:
-    keys = (("solve_s", "case solver", "-"), ("linear_s", "one linear solve", ":"))
+    keys = (("solve_s", "contact solve (row options)", "-"), ("linear_s", "one linear solve", ":"))
     colors = {"graded": "tab:blue", "uniform": "tab:red"}
     for family, fam in scale.items():
         n = np.array([r["ndofs"] for r in fam["rows"]], dtype=float)
