@@ -41,9 +41,9 @@ from workbench.studies.bench_measure import (
 __all__ = ["techniques", "worker_techniques"]
 
 
-def _contact_cell_dofs(md, run, V, zone: float):
-    """Global dof indices (both components) of the cells with a facet on the contact boundary within
-    ``|x| <= zone`` (mm) of the axis."""
+def _contact_cell_dofs(md, V, zone: float):
+    """Dof indices (both components; one process: local = global) of the cells with a facet on the contact
+    boundary within ``|x| <= zone`` (mm) of the axis."""
     import dolfinx
     import numpy as np
 
@@ -98,11 +98,12 @@ def _condensation(cfg: BenchConfig, md, run, linear_s: float) -> dict:
 
     A, V = _stiffness(md, run)
     try:
-        rows = _contact_cell_dofs(md, run, V, cfg.schur_zone * run.loading.half_width)
+        rows = _contact_cell_dofs(md, V, cfg.schur_zone * run.loading.half_width)
         out = {"n_schur": int(rows.size), "zone_over_a": cfg.schur_zone, "dense_mb": 8.0 * rows.size**2 / 2**20}
         out["plain_factor_s"] = min(_plain_factor_s(A) for _ in range(2))
-        if rows.size > cfg.schur_max_dofs:
-            out["skipped"] = f"n_c = {rows.size} > schur_max_dofs = {cfg.schur_max_dofs}"
+        if rows.size > cfg.schur_max_dofs or rows.size == 0:
+            out["skipped"] = (f"n_c = {rows.size} > schur_max_dofs = {cfg.schur_max_dofs}" if rows.size
+                              else "no contact facet within the zone")
             return out
         sf = schur_complement(A, rows)
         total = sf.factor_s + sf.extract_s + sf.dense_lu_s
