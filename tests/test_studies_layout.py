@@ -26,7 +26,7 @@ RUNNERS = {"workbench.studies.bench", "workbench.studies.convergence", "workbenc
 # config and rates
 OWN = {"workbench.studies.bench": {"workbench.studies.bench_config", "workbench.studies.bench_report",
                                    "workbench.studies.bench_plot", "workbench.studies.bench_two_body",
-                                   "workbench.studies.bench_nested",
+                                   "workbench.studies.bench_nested", "workbench.studies.bench_techniques",
                                    "workbench.studies.bench_startup", "workbench.studies.bench_measure",
                                    "workbench.studies.bench_accuracy", "workbench.studies.bench_scale",
                                    "workbench.studies.bench_process", "workbench.studies.bench_options"},
