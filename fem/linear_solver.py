@@ -76,14 +76,18 @@ GAMG_KSP_MAX_IT = 1000
 _MUMPS = {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
 
 
-def resolve(kind: str, *, ndofs: int | None = None, saddle: bool = False) -> str:
+def resolve(kind: str, *, ndofs: int | None = None, saddle: bool = False, linear_bulk: bool = True) -> str:
     """The concrete kind (``"lu"``, ``"lu_reuse"`` or ``"gamg"``) of ``kind`` for a system of ``ndofs`` global
-    unknowns (``saddle``: the mixed u-p system, no GAMG); only ``"auto"`` depends on them (module docstring)."""
+    unknowns (``saddle``: the mixed u-p system, no GAMG; ``linear_bulk`` False: a hyperelastic or finite-strain
+    bulk, whose Jacobian changes everywhere at every Newton iteration, so an earlier factor is no preconditioner
+    and ``"auto"`` factors every Jacobian, ``"lu"``); only ``"auto"`` depends on them (module docstring)."""
     if kind not in LINEAR_SOLVERS:
         raise ValueError(f"linear_solver must be one of {LINEAR_SOLVERS}, got {kind!r}")
     if kind != "auto":
         return kind
-    return "gamg" if (ndofs is not None and ndofs > AUTO_GAMG_NDOFS and not saddle) else "lu_reuse"
+    if ndofs is not None and ndofs > AUTO_GAMG_NDOFS and not saddle:
+        return "gamg"
+    return "lu_reuse" if linear_bulk else "lu"
 
 
 def _auto_extra(kind: str, concrete: str) -> dict:
@@ -91,10 +95,10 @@ def _auto_extra(kind: str, concrete: str) -> dict:
     return {"mat_mumps_icntl_7": AUTO_MUMPS_ORDERING} if kind == "auto" and concrete != "gamg" else {}
 
 
-def snes_options(kind: str, *, ndofs: int | None = None, saddle: bool = False) -> dict:
+def snes_options(kind: str, *, ndofs: int | None = None, saddle: bool = False, linear_bulk: bool = True) -> dict:
     """PETSc options (without prefix) of the Newton iterations' KSP/PC (and SNES lagging) for ``kind`` (``ndofs``,
-    ``saddle``: :func:`resolve`)."""
-    concrete = resolve(kind, ndofs=ndofs, saddle=saddle)
+    ``saddle``, ``linear_bulk``: :func:`resolve`)."""
+    concrete = resolve(kind, ndofs=ndofs, saddle=saddle, linear_bulk=linear_bulk)
     return {**_snes_options(concrete), **_auto_extra(kind, concrete)}
 
 
@@ -157,11 +161,12 @@ def set_near_nullspace(A, V) -> None:
     A.setNearNullSpace(ns)
 
 
-def configure(snes, A, V, kind: str, *, ndofs: int | None = None, saddle: bool = False) -> None:
+def configure(snes, A, V, kind: str, *, ndofs: int | None = None, saddle: bool = False,
+              linear_bulk: bool = True) -> None:
     """Set-up beyond the options: ``lu_reuse`` refactors adaptively (module docstring); ``gamg`` attaches the
     near-nullspace to the Jacobian matrix ``A`` of the displacement space ``V`` (``auto``: :func:`resolve` with
-    ``ndofs`` and ``saddle``, as for :func:`snes_options`)."""
-    kind = resolve(kind, ndofs=ndofs, saddle=saddle)
+    ``ndofs``, ``saddle`` and ``linear_bulk``, as for :func:`snes_options`)."""
+    kind = resolve(kind, ndofs=ndofs, saddle=saddle, linear_bulk=linear_bulk)
     if kind == "gamg":
         set_near_nullspace(A, V)
         snes.setUpdate(_rebuild_when_slow(GAMG_MAX_KRYLOV))

@@ -184,7 +184,7 @@ class NewtonSolve:
 
     snes_rtol: float = 1e-10
     max_it: int = 40
-    linear_solver: str = "lu"
+    linear_solver: str = "auto"
     split_jacobian: bool = True
     petsc_prefix: str | None = None
     petsc_options: dict | None = None

@@ -188,7 +188,9 @@ class ContactProblem(NewtonControls):
         self.prefix = opts.petsc_prefix or f"fem_contact_{next(_counter)}_"
         x_all = self.mesh.geometry.x
         L = comm.allreduce(float(np.max(np.ptp(x_all[:, :2], axis=0))) if x_all.size else 0.0, op=MPI.MAX)
-        solver_kw = dict(ndofs=self.ndofs, saddle=self.ph is not None)  # linear_solver="auto" decides by these
+        # linear_solver="auto" decides by these
+        solver_kw = dict(ndofs=self.ndofs, saddle=self.ph is not None,
+                         linear_bulk=opts.material_model == "linear" and opts.kinematics != FINITE)
         petsc = {"snes_type": "newtonls", "snes_linesearch_type": "basic", **snes_options(opts.linear_solver,
                                                                                           **solver_kw),
                  "snes_rtol": opts.snes_rtol, "snes_atol": 1e-13 * opts.E * L, "snes_stol": 0.0,

@@ -67,7 +67,7 @@ from fem.two_body.geometry import exact_master_gaps, mortar_points, node_points
 from fem.two_body.laws import law_for
 from fem.two_body.surfaces import cell_data, surface_of_group, tabulate2
 from fem.two_body.weighted_gap import WeightedGap, assemble_weighted_gap
-from vocabulary import CONVECTIONS, CONVECTIVE, PAIRINGS, TWO_BODY_TRACTIONS
+from vocabulary import CONVECTIONS, CONVECTIVE, FINITE, PAIRINGS, TWO_BODY_TRACTIONS
 
 __all__ = ["Body", "MeshedPartner", "TwoBodyProblem", "CONVECTIONS", "PAIRINGS", "TWO_BODY_TRACTIONS"]
 
@@ -310,13 +310,19 @@ class TwoBodyProblem(NewtonControls):
         self.b = self.A.createVecLeft()
         self.x = self.A.createVecRight()
 
+    @property
+    def _solver_kw(self) -> dict:
+        """What linear_solver="auto" decides by (:func:`fem.linear_solver.resolve`): the size, and whether the bulk
+        is linear (small or convective kinematics; the bodies are hyperelastic at finite strain only)."""
+        return {"ndofs": self.ndofs, "linear_bulk": self.options.kinematics != FINITE}
+
     def _build_solver(self) -> None:
         opts = self.options
         x_all = self.mesh.geometry.x
         L = float(np.max(np.ptp(x_all[:, :2], axis=0)))
         E_max = max(b.E for b in self.setup.bodies)
         petsc = {"snes_type": "newtonls", "snes_linesearch_type": "basic",
-                 **snes_options(opts.linear_solver, ndofs=self.ndofs),
+                 **snes_options(opts.linear_solver, **self._solver_kw),
                  "snes_rtol": opts.snes_rtol, "snes_atol": 1e-13 * E_max * L, "snes_stol": 0.0,
                  "snes_max_it": opts.max_it, **(opts.petsc_options or {})}
         self.snes = PETSc.SNES().create(self.comm)
@@ -327,7 +333,7 @@ class TwoBodyProblem(NewtonControls):
         self.snes.setFunction(self._residual, self.b)
         self.snes.setJacobian(self._jacobian, self.A, self.A)
         self.snes.setFromOptions()
-        configure_linear_solver(self.snes, self.A, self.V, opts.linear_solver, ndofs=self.ndofs)
+        configure_linear_solver(self.snes, self.A, self.V, opts.linear_solver, **self._solver_kw)
         for k in petsc:
             o.delValue(f"{self.prefix}{k}")
 
