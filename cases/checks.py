@@ -143,7 +143,7 @@ def _check_formulation(run: Run, where: str) -> None:
                             f"scenes); allowed on the {run.geometry.scene} scene: nu < {NU_MIXED}")
         if sol.linear_solver == "gamg":
             raise CaseError(f"{where}: solver.linear_solver = 'gamg' with the mixed formulation ({why}): a saddle "
-                            "point; allowed: linear_solver = 'lu' or 'lu_reuse'")
+                            "point; allowed: linear_solver = 'auto', 'lu' or 'lu_reuse'")
 
 
 def _check_bands(case: Any, runs: tuple[Run, ...], where: str) -> None:

@@ -216,7 +216,7 @@ class Solver:
     gamma0: float = 10.0
     theta: int = 1
     formulation: str = "auto"
-    linear_solver: str = "auto"
+    linear_solver: str = "lu"
 
 
 # Every [solver] field is the solver option (fem.options.ContactOptions) of the same name, with the same default,

@@ -5,8 +5,10 @@ Jacobian ``J = K + C(u)``: ``K`` the elastic stiffness (unchanged between iterat
 strain) plus the contact terms ``C(u)`` on Gamma_c, which change only at the quadrature points whose contact
 state changes (and, for curved obstacles, smoothly with u). Kinds (``linear_solver`` of ContactOptions):
 
-* ``"lu"`` (default): ``preonly`` + MUMPS LU of every Jacobian (PETSc keeps the symbolic analysis: the
-  pattern does not change).
+* ``"lu"`` (default): ``preonly`` + MUMPS LU of every Jacobian (PETSc keeps the symbolic analysis: the pattern
+  does not change). ``"auto"`` as the default was measured (``make run`` on a fresh clone, cold caches, 2 cores):
+  the concave scenes' cases (displacement control through many recorded steps) took 106 s and 111 s instead of
+  58 s and 68 s, the others 0.7-1.3 times their ``"lu"`` time; so the default stays ``"lu"``.
 * ``"lu_reuse"``: FGMRES (``ksp_rtol`` :data:`REUSE_KSP_RTOL`) preconditioned by the MUMPS LU of an EARLIER
   Jacobian (``snes_lag_preconditioner -2`` with ``snes_lag_preconditioner_persists``: the factor outlives the
   SNES solve, so it serves every load step, force correction and tangent). ``K^-1``-like preconditioning of
@@ -23,14 +25,16 @@ state changes (and, for curved obstacles, smoothly with u). Kinds (``linear_solv
   plane rigid-body near-nullspace (translations ``(1, 0)``, ``(0, 1)`` and the rotation ``(-y, x)`` about the centroid,
   :func:`rigid_body_modes`); no factorisation, memory ~ linear in the dofs. The Hertz predictor's linear solve
   uses it too. Displacement formulation only (the mixed u-p system is a saddle point).
-* ``"auto"``: chosen by the global number of unknowns ``ndofs`` (:func:`resolve`): ``"lu_reuse"`` with MUMPS's
-  AMF ordering (``mat_mumps_icntl_7`` = :data:`AUTO_MUMPS_ORDERING`) up to :data:`AUTO_GAMG_NDOFS`, ``"gamg"``
-  above (never for a saddle point, never without ``ndofs``). AMF against MUMPS's own choice (METIS here), one
-  run each on a loaded 2-core machine, P2 plane elasticity: graded 173k dofs (bench mesh h_c = a/2560) analysis
-  0.086 s against 0.48 s, factor entries 18.6M against 19.6M, numeric factorisation 0.34 s both; uniform 161k
-  dofs analysis 0.059 s against 0.46 s, factor entries 29.0M against 31.4M (QAMD: 37.6M, slower numeric
-  factorisation). A different ordering changes the factors' round-off, so ``"auto"`` is a kind of its own:
-  ``"lu"`` and ``"lu_reuse"`` keep MUMPS's default.
+* ``"auto"``: chosen by the global number of unknowns
+  ``ndofs`` (:func:`resolve`): ``"lu_reuse"`` with MUMPS's AMF ordering (``mat_mumps_icntl_7`` =
+  :data:`AUTO_MUMPS_ORDERING`) up to :data:`AUTO_GAMG_NDOFS`, ``"gamg"`` above (never for a saddle point, never
+  without ``ndofs``); ``"lu"`` with that ordering for a hyperelastic or finite-strain bulk below that size (its
+  Jacobian changes everywhere at every Newton iteration: an earlier factor preconditions it poorly). AMF against
+  MUMPS's own choice (METIS here), one run each on a loaded 2-core machine, P2 plane elasticity: graded 173k
+  dofs (bench mesh h_c = a/2560) analysis 0.086 s against 0.48 s, factor entries 18.6M against 19.6M, numeric
+  factorisation 0.34 s both; uniform 161k dofs analysis 0.059 s against 0.46 s, factor entries 29.0M against
+  31.4M (QAMD: 37.6M, slower numeric factorisation). A different ordering changes the factors' round-off, so
+  ``"auto"`` is a kind of its own: ``"lu"`` and ``"lu_reuse"`` keep MUMPS's default.
 
 PETSc keeps MUMPS's symbolic analysis across Newton iterations and load steps (the Jacobian's nonzero state does
 not change: :class:`fem.split_jacobian.SplitJacobian` copies K's values into J): one ``MatLUFactorSymbolic`` per

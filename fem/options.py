@@ -173,8 +173,9 @@ class NewtonSolve:
             (:mod:`fem.linear_solver`): ``"lu"`` (MUMPS LU of every Jacobian), ``"lu_reuse"`` (GMRES
             preconditioned by the MUMPS LU of an earlier Jacobian, refactored when the Krylov solve slows down)
             or ``"gamg"`` (GMRES + algebraic multigrid with the rigid-body near-nullspace; displacement
-            formulation), or ``"auto"`` (by the number of unknowns: ``"lu_reuse"`` with MUMPS's AMF ordering up
-            to ``fem.linear_solver.AUTO_GAMG_NDOFS``, ``"gamg"`` above). The converged answer is the same.
+            formulation), or ``"auto"`` (by the number of unknowns: ``"lu_reuse"`` with MUMPS's AMF
+            ordering up to ``fem.linear_solver.AUTO_GAMG_NDOFS``, ``"gamg"`` above; ``"lu"`` for a hyperelastic or
+            finite-strain bulk). The converged answer is the same.
         split_jacobian: assemble the elastic stiffness once and only the contact terms per Newton iteration
             (displacement formulation, linear material; :mod:`fem.split_jacobian`); the same Jacobian to
             round-off. Not used for a hyperelastic material (its stiffness depends on u).
@@ -184,7 +185,7 @@ class NewtonSolve:
 
     snes_rtol: float = 1e-10
     max_it: int = 40
-    linear_solver: str = "auto"
+    linear_solver: str = "lu"
     split_jacobian: bool = True
     petsc_prefix: str | None = None
     petsc_options: dict | None = None
