@@ -8,7 +8,8 @@ state changes (and, for curved obstacles, smoothly with u). Kinds (``linear_solv
 * ``"lu"`` (default): ``preonly`` + MUMPS LU of every Jacobian (PETSc keeps the symbolic analysis: the pattern
   does not change). ``"auto"`` as the default was measured (``make run`` on a fresh clone, cold caches, 2 cores):
   the concave scenes' cases (displacement control through many recorded steps) took 106 s and 111 s instead of
-  58 s and 68 s, the others 0.7-1.3 times their ``"lu"`` time; so the default stays ``"lu"``.
+  58 s and 68 s, the others 0.7-1.4 times their ``"lu"`` time, 9 min 36 s in all against 8 min 30 s; so the
+  default stays ``"lu"``.
 * ``"lu_reuse"``: FGMRES (``ksp_rtol`` :data:`REUSE_KSP_RTOL`) preconditioned by the MUMPS LU of an EARLIER
   Jacobian (``snes_lag_preconditioner -2`` with ``snes_lag_preconditioner_persists``: the factor outlives the
   SNES solve, so it serves every load step, force correction and tangent). ``K^-1``-like preconditioning of
