@@ -53,6 +53,40 @@ def test_cli_bad_option_is_one_line_exit_2(capsys, tmp_path):
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
 
 
+def test_resume_runs_only_the_tasks_no_saved_record_holds():
+    """The study saves its records as it goes; --resume skips the tasks a saved record holds (a failed run too: its
+    failure is a measured outcome), whatever order they were saved in."""
+    cfg = ValidityConfig(cylinder_a_over_R=(0.1,), wedge_theta=(math.pi / 5,), nu=(0.0,))
+    todo, _ = v.tasks(cfg)
+    saved = [{"task": json.loads(json.dumps(asdict(t))), "converged": k % 2 == 0} for k, t in enumerate(todo[5:2:-1])]
+    rest = v.remaining(todo, saved)
+    assert rest == todo[:3] + todo[6:]
+    assert v.remaining(todo, []) == todo
+
+
+def test_resume_refuses_in_one_line_without_matching_saved_runs(capsys, tmp_path):
+    """--resume without a saved file, with a file written with other options, or with a file that is not one:
+    one line naming --resume, exit 2, and the saved file untouched."""
+    from workbench.atomic import write_json
+    from workbench.cli import main
+
+    out = tmp_path / "v"
+    assert main(["validity", "--tiny", "--resume", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--resume" in err[0] and "no saved runs" in err[0]
+    other = to_json(ValidityConfig(out=out, nu=(0.3,)))
+    write_json(out / v.PARTIAL, {"config": other, "runs": []})
+    before = (out / v.PARTIAL).read_text()
+    assert main(["validity", "--tiny", "--resume", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--resume" in err[0] and "other options" in err[0] and "allowed" in err[0]
+    assert (out / v.PARTIAL).read_text() == before
+    (out / v.PARTIAL).write_text("{not json")
+    assert main(["validity", "--tiny", "--resume", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "is not a file of saved validity runs" in err[0]
+
+
 def test_tasks_cover_every_model_level_and_skip_finite_where_it_locks():
     cfg = ValidityConfig(cylinder_a_over_R=(0.1,), wedge_theta=(math.pi / 5,), nu=(0.0, 0.499))
     todo, skipped = v.tasks(cfg)

@@ -32,6 +32,7 @@ contact quantities converge like (a/W)^2): correction (4/3) (f_far - f_W), its u
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import sys
@@ -265,15 +266,32 @@ def finite_settings() -> dict:
             "max_it": FINITE_MAX_IT, "svk_wedge_theta_max": SVK_WEDGE_THETA_MAX}
 
 
-def run_study(cfg: ValidityConfig, *, executor: ExecutorChoice | None = None,
-              progress=print) -> tuple[list[dict], list[dict], dict]:
+# the records saved while the study runs (every SAVE_EVERY runs and at the end of the solves), read by --resume
+PARTIAL = "validity_runs.partial.json"
+SAVE_EVERY = 10
+
+
+def remaining(todo: list, saved: list[dict]) -> list:
+    """The tasks of ``todo`` that no saved record solved (a saved record's ``task`` is its task as a dict; a failed
+    run's record counts as done: its failure is a measured outcome)."""
+    done = {json.dumps(r["task"], sort_keys=True) for r in saved}
+    return [t for t in todo if json.dumps(asdict(t), sort_keys=True) not in done]
+
+
+def run_study(cfg: ValidityConfig, *, executor: ExecutorChoice | None = None, progress=print,
+              saved: list[dict] = (), on_records=None) -> tuple[list[dict], list[dict], dict]:
     """Run every task on ``executor`` (default: ``cfg.workers`` local processes): the meshes first, one point
     each, then the solves. Returns the records (each with its ``worker``), the skipped entries and the timing
-    (with where the runs ran and the JIT compiles and retries: :func:`workbench.studies.executor.worker_summary`)."""
+    (with where the runs ran and the JIT compiles and retries: :func:`workbench.studies.executor.worker_summary`).
+    ``saved``: records of an interrupted run of the same config; their tasks are not run again (:func:`remaining`).
+    ``on_records(records)``: called with every record so far (``saved`` first) every :data:`SAVE_EVERY` runs and
+    after the last one."""
     executor = ExecutorChoice("local", cfg.workers) if executor is None else executor
     todo, skipped = tasks(cfg)
     # the two-half-planes part and the elastic wedge of the paper's claim (issue 25): after the rigid runs
-    todo = [*todo, *halfplanes_tasks(cfg), *elastic_wedge_tasks(cfg)]
+    todo = remaining([*todo, *halfplanes_tasks(cfg), *elastic_wedge_tasks(cfg)], list(saved))
+    if saved:
+        progress(f"validity: {len(saved)} runs saved by an interrupted run, {len(todo)} to run")
     cache = str(cfg.cache_dir)
     ensure_dir(cache, kind="mesh_cache", kinds=("mesh_cache",))  # the workbench's own, or refused
     meshes = {t.mesh_name: t for t in todo}
@@ -285,19 +303,42 @@ def run_study(cfg: ValidityConfig, *, executor: ExecutorChoice | None = None,
     progress(f"validity: {len(meshes)} meshes in {timing['meshes_s']:.0f} s; {len(todo)} runs on "
              f"{executor.workers} {executor.kind} worker(s)")
 
-    def said(i, n, _rec):
+    new: list[dict] = []
+
+    def said(i, n, rec):
+        new.append(rec)
+        if on_records is not None and (i % SAVE_EVERY == 0 or i == n):
+            on_records([*saved, *new])
         if i % 50 == 0 or i == n:
             progress(f"validity: {i}/{n} runs, {time.perf_counter() - t0:.0f} s")
 
     # chunks of 4: the levels h0, h1, h2, far of one (point, model) share their forms (tasks() lists them together),
     # so one worker compiles them once. validity --tiny on 2 cold workers: 72 forms compiled (one process: 69);
     # with chunks of 2, 138
-    records = run_points(run_validity_point, [Point("solve", t, cache) for t in todo], executor=executor,
-                         chunksize=4, progress=said)
+    records = [*saved, *run_points(run_validity_point, [Point("solve", t, cache) for t in todo], executor=executor,
+                                   chunksize=4, progress=said)]
     timing["runs_s"] = time.perf_counter() - t0 - timing["meshes_s"]
     for m in mesh_stats:
         m.pop("worker", None)
     return records, skipped, {"meshes": mesh_stats, **timing, "where": worker_summary(records)}
+
+
+def _saved_runs(path: Path, cfg: ValidityConfig) -> list[dict]:
+    """The records an interrupted run of ``cfg`` saved in ``path``; ValueError (one line) when there is none, it is
+    not such a file, or it was written with another config."""
+    if not path.is_file():
+        raise ValueError(f"no saved runs at {path}; allowed: --resume after an interrupted run into the same --out")
+    try:
+        data = json.loads(path.read_text())
+        runs, config = data["runs"], data["config"]
+        if not isinstance(runs, list) or not all(isinstance(r, dict) and isinstance(r.get("task"), dict)
+                                                 for r in runs):
+            raise TypeError("runs")
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise ValueError(f"{path} is not a file of saved validity runs ({type(exc).__name__})") from None
+    if config != json.loads(json.dumps(to_json(cfg))):
+        raise ValueError(f"{path} was written with other options; allowed: the options of the interrupted run")
+    return runs
 
 
 class _Parser(argparse.ArgumentParser):
@@ -310,7 +351,7 @@ class _Parser(argparse.ArgumentParser):
 
 def main(argv: list[str] | None = None) -> int:
     """CLI ``workbench validity [--out DIR] [--mesh-cache DIR] [--executor local|mpi] [--workers N] [--quick]
-    [--tiny] [--halfplanes-only] [--elastic-wedge-only]``;
+    [--tiny] [--halfplanes-only] [--elastic-wedge-only] [--resume]``;
     bad options or config values: one line, exit 2, nothing run or written."""
     ap = _Parser(prog="workbench validity", description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="output folder (default: <results>/validity)")
@@ -325,6 +366,9 @@ def main(argv: list[str] | None = None) -> int:
                     "circle or wedge, no elastic wedge)")
     ap.add_argument("--elastic-wedge-only", action="store_true", help="the elastic-wedge part alone (the paper's "
                     "theta < pi/5 claim and its finite-strain rows; no rigid indenter, no two half-planes)")
+    ap.add_argument("--resume", action="store_true", help=f"continue an interrupted run: the runs saved in "
+                    f"<out>/{PARTIAL} (written every {SAVE_EVERY} runs while the study runs) are not run again; "
+                    "the other options must be those of the interrupted run")
     args = ap.parse_args(argv)
     if args.halfplanes_only and args.elastic_wedge_only:
         print("workbench validity: error: --halfplanes-only and --elastic-wedge-only exclude each other; allowed: "
@@ -355,10 +399,21 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as exc:
         print(f"workbench validity: error: {exc}", file=sys.stderr)
         return 2
+    out = cfg.out_dir
+    saved: list[dict] = []
+    if args.resume:
+        try:
+            saved = _saved_runs(out / PARTIAL, cfg)
+        except ValueError as exc:
+            print(f"workbench validity: error: --resume: {exc}", file=sys.stderr)
+            return 2
     t0 = time.perf_counter()
     import resource
 
-    records, skipped, timing = run_study(cfg, executor=executor)
+    def save(recs: list[dict]) -> None:
+        write_json(out / PARTIAL, {"config": to_json(cfg), "runs": recs})
+
+    records, skipped, timing = run_study(cfg, executor=executor, saved=saved, on_records=save)
     if executor.kind == "local":  # MPI workers are no children of this process: their time is in "where"
         timing["cpu_s_workers"] = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime + \
             resource.getrusage(resource.RUSAGE_CHILDREN).ru_stime
@@ -375,11 +430,11 @@ def main(argv: list[str] | None = None) -> int:
                "wall_time_s": wall, "executor": executor.kind, "workers": executor.workers,
                "cpu_count": os.cpu_count(), "jit_retries": timing["where"]["jit_retries"],
                "jit_compiles_on_workers": timing["where"]["jit_compiles"], "reference": reference, **timing}
-    out = cfg.out_dir
     write_json(out / "validity.json", {"config": to_json(cfg), "summary": summary, "points": points,
                                        "dropped": dropped, "claim": claim, "claim_elastic_wedge": claim_elastic,
                                        "runs": records,
                                        "finite_settings": finite_settings()})
+    (out / PARTIAL).unlink(missing_ok=True)  # every run is in validity.json now
     from workbench.studies.validity_plot import main as plot_main
     from workbench.studies.validity_report import write_report
 
