@@ -123,6 +123,28 @@ def test_deck_of_a_convective_run_is_finite_strain(decks):
     assert [float(v) for v in line.split(",")] == pytest.approx([mu / 2.0, 2.0 / K], rel=1e-12)
 
 
+def test_a_case_with_finite_runs_has_its_convective_runs_named_not_modelled():
+    """CalculiX answers a convective run with NLGEOM, labelled ``finite``; a case with finite runs of its own
+    (halfplanes_finite_parabola) would then get results under a label that is none of its runs (the scorer refused
+    them): there the convective runs are named as not modelled, with the finite runs that answer them."""
+    from types import SimpleNamespace
+
+    from workbench.external.inp import ccx_runs
+
+    def run(label, kinematics, law="linear"):
+        return SimpleNamespace(label=label, kinematics=kinematics, material_model=law)
+
+    with_finite = SimpleNamespace(reference={}, runs=[run("small", "small"), run("profile", "convective"),
+                                                      run("pairing", "convective"),
+                                                      run("neo_hookean", "finite", "neo_hookean")])
+    modelled, skipped = ccx_runs(with_finite)
+    assert [m.label for m in modelled] == ["small", "neo_hookean"]
+    assert set(skipped) == {"profile", "pairing"} and "neo_hookean" in skipped["profile"]
+    without = SimpleNamespace(reference={}, runs=[run("small", "small"), run("convective", "convective")])
+    modelled, skipped = ccx_runs(without)
+    assert [m.label for m in modelled] == ["small", "finite"] and not skipped
+
+
 def test_surface_chain_orders_any_facets():
     from workbench.external.surface_chain import is_horizontal, surface_chain
 
