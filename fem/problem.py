@@ -189,8 +189,7 @@ class ContactProblem(NewtonControls):
         x_all = self.mesh.geometry.x
         L = comm.allreduce(float(np.max(np.ptp(x_all[:, :2], axis=0))) if x_all.size else 0.0, op=MPI.MAX)
         # linear_solver="auto" decides by these
-        solver_kw = dict(ndofs=self.ndofs, saddle=self.ph is not None,
-                         linear_bulk=opts.material_model == "linear" and opts.kinematics != FINITE)
+        solver_kw = dict(ndofs=self.ndofs, saddle=self.ph is not None, linear_bulk=self.linear_bulk)
         petsc = {"snes_type": "newtonls", "snes_linesearch_type": "basic", **snes_options(opts.linear_solver,
                                                                                           **solver_kw),
                  "snes_rtol": opts.snes_rtol, "snes_atol": 1e-13 * opts.E * L, "snes_stol": 0.0,
@@ -250,6 +249,12 @@ class ContactProblem(NewtonControls):
         opts = self.options
         return (not opts.mixed and self.forms.update is None and self.method.supports_tangent
                 and opts.kinematics != FINITE)
+
+    @property
+    def linear_bulk(self) -> bool:
+        """The bulk is linear in u: small or convective kinematics with the linear material (what
+        ``linear_solver="auto"`` and :meth:`nested_guess` decide by)."""
+        return self.options.material_model == "linear" and self.options.kinematics != FINITE
 
     @property
     def pressure_field(self):
@@ -335,7 +340,7 @@ class ContactProblem(NewtonControls):
         search (0.43-0.82 s there, more than the fine solve's factorisation). ValueError at finite strain or with
         a hyperelastic material: from the unloaded state at the full d a large-strain solve needs its load path."""
         opts = self.options
-        if opts.kinematics == FINITE or opts.material_model != "linear":
+        if not self.linear_bulk:
             raise ValueError("nested_start: the rigid obstacle's problem starts a nested solve from the unloaded "
                              "state, which needs a linear bulk; allowed: kinematics small or convective with "
                              f"material_model linear (got kinematics {opts.kinematics!r}, material_model "

@@ -473,12 +473,11 @@ class LoadStepper:
         zone = tuple(start.zones) or None
         if opts.control == "force":
             pb.set_load_level(opts.target)
+            # the coarse active set moved along its tangent to the target load first; where that does not apply or
+            # does not converge, the coarse d and active set as they are
             moved = self.prescribed_start(zone, start.d, x0, opts.target) if zone and self.tangent_ok else None
-            if moved is not None:  # the coarse active set moved along its tangent to the target load first
-                reason, _ = self.attempt(*moved, "nested", predict_active_set=False, done_its=1, solved_zone=zone)
-                if reason <= 0:  # not converged from there: the coarse d and active set, as without the tangent
-                    self.reach(start.d, 1, "nested", x0, zone)
-            else:
+            if moved is None or self.attempt(*moved, "nested", predict_active_set=False, done_its=1,
+                                             solved_zone=zone)[0] <= 0:
                 self.reach(start.d, 1, "nested", x0, zone)
             self.correct_force()
         else:
