@@ -115,6 +115,7 @@ class ContactProblem(NewtonControls):
         self._build_supports()
         self._build_solver()
         self.extras = ([] if self.ph is None else [self.ph]) + list(self.method.state_functions())
+        self._force_newton = None  # fem.force_newton.ForceNewton, built at its first use
         self.n_u = self.u.x.array.size
 
     # -- construction ---------------------------------------------------------------------------------------
@@ -207,7 +208,10 @@ class ContactProblem(NewtonControls):
         # J = K (assembled once) + contact terms per iteration; not for a hyperelastic bulk (K depends on u)
         split = self.ph is None and opts.split_jacobian and opts.material_model == "linear"
         if split:
-            ufl_forms |= SplitJacobian.ufl_forms(u=self.u, bulk_residual=forms.F_bulk, contact_residual=forms.F_c)
+            ufl_forms |= SplitJacobian.ufl_forms(u=self.u, contact_residual=forms.F_c)
+        if self.ph is None:  # dP/du as a vector: the force-controlled Newton's load row (fem.force_newton)
+            ufl_forms["load_gradient"] = ufl.derivative(self._ufl_measures["reaction"], self.u,
+                                                        ufl.TestFunction(self.V))
         method_forms = self.method.extra_forms()
         key, sampling = self._sampling()  # the default surface sampler's expressions join the module too
         sampler_expressions = SurfaceSampler.expressions(u=self.u, forms=forms, **sampling)
@@ -216,6 +220,7 @@ class ContactProblem(NewtonControls):
                                              **sampling)
         self.method.bind_forms({name: compiled[name] for name in method_forms})
         self.reaction_form, self.pressure_form = compiled["reaction"], compiled["pressure"]
+        self.load_gradient_form = compiled.get("load_gradient")
         if self.ph is not None:
             self.problem = dolfinx.fem.petsc.NonlinearProblem(
                 compiled["F"], [self.u, self.ph], bcs=self.bcs, J=compiled["J"], kind="mpi",
@@ -227,7 +232,7 @@ class ContactProblem(NewtonControls):
         self.snes = self.problem.solver
         configure_linear_solver(self.snes, self.problem.A, self.V, opts.linear_solver, **solver_kw)
         if split:
-            self.split_jacobian = SplitJacobian(u=self.u, K_form=compiled["K"], Jc_form=compiled["Jc"],
+            self.split_jacobian = SplitJacobian(u=self.u, Jc_form=compiled["Jc"],
                                                 J_form=self.problem.J, bcs=self.bcs)
             self.snes.setJacobian(self.split_jacobian, self.problem.A, self.problem.P_mat)
         if forms.update is not None:
@@ -295,6 +300,16 @@ class ContactProblem(NewtonControls):
         Pp = self.mult * self.comm.allreduce(dolfinx.fem.assemble_scalar(self.pressure_form), op=MPI.SUM)
         return P, Pp
 
+    def load_gradient(self, out) -> None:
+        """``dP/du`` at the current state into the PETSc vector ``out`` (the displacement layout; N/mm per mm):
+        ``P(u + du) = P(u) + out . du`` while no contact point changes state (the load :meth:`measure` gives is
+        linear in u there). Displacement formulation only."""
+        with out.localForm() as loc:
+            loc.set(0.0)
+        dolfinx.fem.petsc.assemble_vector(out, self.load_gradient_form)
+        out.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        out.scale(self.mult)
+
     def get_state(self) -> np.ndarray:
         """Local array of the unknowns: u, then the mixed pressure and the method's own unknowns (if any)."""
         if not self.extras:
@@ -317,6 +332,20 @@ class ContactProblem(NewtonControls):
             f.x.array[:] = src[k:k + m]
             f.x.scatter_forward()
             k += m
+
+    def force_newton(self, *, P_goal: float, d0: float, x0: np.ndarray, zone: tuple | None, max_it: int):
+        """Newton iterations for (u, d) at the load P_goal (:class:`fem.force_newton.ForceNewton`: d is an unknown of
+        every iteration; the first on the prescribed active set ``zone``): its
+        :class:`fem.force_newton.ForceNewtonResult`. Needs :attr:`tangent_applies`."""
+        if self._force_newton is None:
+            from fem.force_newton import ForceNewton
+            from fem.linear_solver import GAMG_MAX_KRYLOV, REUSE_MAX_KRYLOV, resolve
+
+            kind = resolve(self.options.linear_solver, ndofs=self.ndofs, saddle=self.ph is not None,
+                           linear_bulk=self.linear_bulk)
+            self._force_newton = ForceNewton(self, reuse=kind != "lu", bordered=kind == "gamg",
+                                             max_krylov=GAMG_MAX_KRYLOV if kind == "gamg" else REUSE_MAX_KRYLOV)
+        return self._force_newton.solve(P_goal=P_goal, d0=d0, x0=x0, zone=zone, max_it=max_it)
 
     # -- nested iteration (fem.nested_start) ----------------------------------------------------------------
     def nested_source(self, *, d: float, P: float, zones: tuple | None = None):

@@ -303,17 +303,25 @@ class LoadStepper:
             self.failures.append({"d": d_new, "kind": kind, "iterations": its, "time": time.perf_counter() - t0,
                                   "reason": reason})
             return reason, its
+        history = pb.snes.getConvergenceHistory()[0]
+        self.accept(d_new, kind, its=its, reason=reason, t0=t0, extra=extra,
+                    first_residual=float(history[0]) if len(history) else None)
+        return reason, its
+
+    def accept(self, d_new: float, kind: str, *, its: int, reason: int, t0: float, extra: dict,
+               first_residual: float | None) -> None:
+        """Keep the problem's current (converged) state at d_new: its state, record (time since ``t0``) and the
+        on_step callbacks. ``first_residual``: the first residual norm of the solve that reached it."""
+        pb = self.problem
         P, Pp = pb.measure()
         zone_now = pb.contact_zones() if self.opts.active_set_predictor else None
         self.states.append(ConvergedState(d_new, P, pb.get_state(), zone_now))
-        history = pb.snes.getConvergenceHistory()[0]
-        self.first_residuals.append(float(history[0]) if len(history) else None)
+        self.first_residuals.append(first_residual)
         rec = {"d": d_new, "P": P, "P_pressure": Pp, "iterations": its, "time": time.perf_counter() - t0,
                "kind": kind, "reason": reason, **extra}
         self.records.append(rec)
         for fn in self.on_step:
             fn(rec)
-        return reason, its
 
     def solve_edge_fit(self, d_new: float, x_pred: np.ndarray, zone: tuple,
                        solved: bool = False) -> tuple[int, int, dict]:
@@ -473,6 +481,9 @@ class LoadStepper:
         zone = tuple(start.zones) or None
         if opts.control == "force":
             pb.set_load_level(opts.target)
+            if zone and self.force_newton(zone, start.d, x0, opts.target, "nested"):
+                self.correct_force()
+                return
             # the coarse active set moved along its tangent to the target load first; where that does not apply or
             # does not converge, the coarse d and active set as they are
             moved = self.prescribed_start(zone, start.d, x0, opts.target) if zone and self.tangent_ok else None
@@ -521,6 +532,10 @@ class LoadStepper:
             self.problem.set_load_level(P_goal)  # halfplane supports: Flamant's field of this level
             zone = None
             if self.zone_start and len(self.states) == 1:
+                # d an unknown of the Newton iterations from the Hertz zone (fem.force_newton), where it applies
+                zone0 = (self.hertz.zone(P_goal, half=opts.symmetric_half),)
+                if self.force_newton(zone0, P_goal / (0.3 * self.problem.E_star), self.states[-1].x, P_goal, "step"):
+                    continue
                 start = self.hertz_zone_start(P_goal)
                 if start is not None:
                     d_next, x_next = start
@@ -547,6 +562,30 @@ class LoadStepper:
         zone = (self.hertz.zone(P_goal, half=opts.symmetric_half),)
         self.start_zone = zone
         return self.prescribed_start(zone, P_goal / (0.3 * pb.E_star), self.states[-1].x, P_goal)
+
+    def force_newton(self, zone: tuple, d0: float, x0: np.ndarray, P_goal: float, kind: str) -> bool:
+        """The load P_goal solved with d an unknown of every Newton iteration (:mod:`fem.force_newton`), the first
+        on the prescribed active set ``zone``, from ``x0`` at ``d0``; on convergence the state is kept (one record
+        of ``kind``) and True returned. False (the problem back at ``x0``, ``d0``) where it does not apply (no
+        tangent: finite strain, a mixed formulation, a method's own loop; a problem without the hook) or did not
+        converge within ``max_it``."""
+        pb, opts = self.problem, self.opts
+        solve = getattr(pb, "force_newton", None)
+        if solve is None or not self.tangent_ok or opts.active_set_update != "newton":
+            return False
+        t0 = time.perf_counter()
+        res = solve(P_goal=P_goal, d0=d0, x0=x0, zone=zone, max_it=opts.max_it)
+        self.factored = True
+        if not res.converged:
+            self.failures.append({"d": res.d, "kind": kind, "iterations": res.iterations,
+                                  "time": time.perf_counter() - t0, "reason": -5})
+            pb.d.value = d0
+            pb.set_state(x0, self.states[-1].x)
+            return False
+        reason = 2 if res.residual <= pb.snes.getTolerances()[1] else 3  # SNES's FNORM_ABS / FNORM_RELATIVE
+        self.accept(res.d, kind, its=res.iterations, reason=reason, t0=t0, extra={"krylov": list(res.krylov)},
+                    first_residual=res.first_residual)
+        return True
 
     def prescribed_start(self, zone: tuple, d0: float, x0: np.ndarray,
                          P_goal: float) -> tuple[float, np.ndarray] | None:

@@ -102,5 +102,5 @@ def test_a_nested_scale_row_names_its_coarse_solve():
     from workbench.studies.bench_report import _md_scale
 
     text = "\n".join(_md_scale(sc, [], BenchConfig()))
-    assert "nested iteration (graded from h x 8)" in text
+    assert "nested iteration (graded from h x 16 where that h is at most a x 0.02)" in text
     assert "hertz_zone, auto, nested from h x 8 (11004 dofs, 0.05 s, its [2, 0]) | [2, 1, 1] |" in text

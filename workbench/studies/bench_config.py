@@ -59,7 +59,8 @@ class BenchConfig(StudyFolders):
             (graded Nitsche P2 at W = H = 5, 10, 20, 40 a: rms 3.7 %, 1.1 %, 0.45 %, 0.23 %).
         our_levels: h_c of our ladders.  our_methods, our_degrees: our configurations.
         scale: Cost growth, family -> h / a: ``graded`` (meshes.block, ndofs ~ 1/h_c) and ``uniform`` (the
-            baseline's uniform box, ndofs ~ 1/h^2, up to ~1e6 dofs).
+            baseline's uniform box, ndofs ~ 1/h^2, up to ~1e6 dofs; h = 0.06 a, 446k dofs, makes the largest three
+            sizes one configuration, GAMG, under ``"auto"``).
         scale_box: W = H of the uniform family (in a).
         small_ndofs: Below this a size is timed 3 times in its process (best kept).
         mpi_levels: h_c of the MPI comparisons (None: the case default).
@@ -77,10 +78,18 @@ class BenchConfig(StudyFolders):
             mesh of the same geometry built for it"), family -> factor > 1: each row of that family first solves its
             family's mesh at ``h * factor`` and starts from that solution's active set and d
             (:func:`workbench.studies.bench_scale.worker_scale`); a family not named is solved cold. Default: the
-            graded family only. Measured (make bench, h x 8): graded 88k and 173k dofs 1.9 and 1.7 linear solves
-            nested against 3.8 and 5.9 cold, its 2.6k-23k rows 2.1-2.2 against 1.5-1.8; uniform 40k and 161k dofs 3.2
-            and 1.7 against 1.4 and 1.3 (their coarse mesh, h = 0.8-1.6 a, does not resolve the contact: the Hertz
-            zone is the better start), GAMG rows 642k and 1M 3.1 and 2.3 against 2.3 and 2.7.
+            graded family only, from h x 16. Measured (make bench, h x 8, before the force-controlled Newton of
+            :mod:`fem.force_newton`): graded 88k and 173k dofs 1.9 and 1.7 linear solves nested against 3.8 and
+            5.9 cold, its 2.6k-23k rows 2.1-2.2 against 1.5-1.8; uniform 40k and 161k dofs 3.2 and 1.7 against 1.4
+            and 1.3 (their coarse mesh, h = 0.8-1.6 a, does not resolve the contact: the Hertz zone is the better
+            start), GAMG rows 642k and 1M 3.1 and 2.3 against 2.3 and 2.7. With the force-controlled Newton (one run
+            each, quiet machine), graded 23k, 88k, 173k dofs: h x 16: 2.3, 1.23, 1.29 linear solves (Newton
+            iterations [4], [1], [2]); h x 8: 1.6, 1.26, 1.48; h x 4: 1.5, 1.4, 1.8; cold from the Hertz zone:
+            1.35-1.47, 3.3 ([5]), 5.5 ([6]).
+        scale_nested_coarsest: A row nests only when its coarse mesh has ``h / a`` at most this (a coarser one
+            resolves the contact edge worse than the Hertz zone does, above): graded a/80 (88k dofs, coarse
+            6.9k) nests, a/320 (23k, coarse h = a/20: 4 Newton iterations against 2 from the Hertz zone) does
+            not.
         krylov_threshold: Cost-growth rows with more dofs than this use ``linear_solver="gamg"`` (no LU factor:
             memory ~ ndofs) and compare with a GAMG linear solve; >= 0.
         reuse_lu: PETSc options reusing the LU of the FIRST Jacobian through GMRES for the whole run
@@ -123,7 +132,7 @@ class BenchConfig(StudyFolders):
     our_methods: tuple[str, ...] = (NITSCHE, PENALTY)
     our_degrees: tuple[int, ...] = (1, 2)
     scale: dict = field(default_factory=lambda: {"graded": (0.05, 0.0125, 0.003125, 0.00078125, 0.000390625),
-                                                 "uniform": (0.2, 0.1, 1.0 / 15.0, 0.05, 0.04)})
+                                                 "uniform": (0.2, 0.1, 1.0 / 15.0, 0.06, 0.05, 0.04)})
     scale_box: float = 20.0
     small_ndofs: int = 50_000
     mpi_levels: tuple[float | None, ...] = (None, 0.00078125)
@@ -131,7 +140,8 @@ class BenchConfig(StudyFolders):
     scale_linear_solver: str = "auto"
     crossover_max_ndofs: int = 400_000
     scale_predictor: str = "hertz_zone"
-    scale_nested: dict = field(default_factory=lambda: {"graded": 8.0})
+    scale_nested: dict = field(default_factory=lambda: {"graded": 16.0})
+    scale_nested_coarsest: float = 0.02
     krylov_threshold: int = 400_000
     reuse_lu: dict = field(default_factory=lambda: {
         "ksp_type": "gmres", "ksp_rtol": 1e-12, "ksp_atol": 0.0, "ksp_gmres_restart": 300, "ksp_max_it": 300,
@@ -170,6 +180,8 @@ class BenchConfig(StudyFolders):
             if family not in SCALE_FAMILIES or isinstance(factor, bool) or not float(factor) > 1:
                 raise ValueError(f"scale_nested must map a family of {sorted(SCALE_FAMILIES)} to a factor > 1, got "
                                  f"{family!r}: {factor!r}")
+        if isinstance(self.scale_nested_coarsest, bool) or not 0 < float(self.scale_nested_coarsest) <= 1:
+            raise ValueError(f"scale_nested_coarsest must be in (0, 1] (h / a), got {self.scale_nested_coarsest!r}")
         if self.predictor_free_active_set not in ACTIVE_SETS:
             raise ValueError(f"predictor_free_active_set must be one of {list(ACTIVE_SETS)}, "
                              f"got {self.predictor_free_active_set!r}")

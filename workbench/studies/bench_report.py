@@ -351,7 +351,8 @@ def _md_reuse(lr: dict) -> list[str]:
 def _nested_text(cfg: BenchConfig) -> str:
     if not cfg.scale_nested:
         return ""
-    fams = ", ".join(f"{fam} from h x {fac:g}" for fam, fac in cfg.scale_nested.items())
+    fams = ", ".join(f"{fam} from h x {fac:g} where that h is at most a x {cfg.scale_nested_coarsest:g}"
+                     for fam, fac in cfg.scale_nested.items())
     return (f"; nested iteration ({fams}): each such row first solves its family's coarser mesh and starts from "
             "that solution's active set and d; the row's solver time is the sum of both solves (the 'its' column "
             "is the row's mesh's)")

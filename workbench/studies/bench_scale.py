@@ -29,8 +29,9 @@ __all__ = ["cost_growth", "worker_scale"]
 def worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
     """One size of section 3, in its own process: mesh, contact solve(s) with the row's solver
     (:func:`scale_overrides`), the case solver as reference (below ``krylov_threshold``), one linear solve with
-    the row's linear solver, peak memory. For a family of ``scale_nested``, each contact solve is two: a coarse
-    mesh of the same family at ``h_c * factor`` (the row's options), then the row's mesh started from it
+    the row's linear solver, peak memory. For a family of ``scale_nested`` (where ``h_c * factor`` is at most
+    ``scale_nested_coarsest``), each contact solve is two: a coarse mesh of the same family at ``h_c * factor``
+    (the row's options), then the row's mesh started from it
     (``nested_start``: its active set and d, :mod:`fem.nested_start`); the row's time is the sum of both
     solvers' times (the coarse mesh is read before the clock, as the row's own mesh is)."""
     import dolfinx_solver  # noqa: F401
@@ -45,6 +46,8 @@ def worker_scale(cfg: BenchConfig, family: str, level: float) -> dict:
     peak_mesh = peak_rss_mb()
     over = scale_overrides(cfg, count_dofs(md, run))
     coarse, factor = None, cfg.scale_nested.get(family)
+    if factor and level * factor > cfg.scale_nested_coarsest:  # too coarse to resolve the contact: the Hertz zone
+        factor = None
     if factor:  # nested iteration: a coarse mesh of the same geometry, built for this row
         coarse_run, coarse_md = family_mesh(family, level * factor, cfg, comm=comm)
         coarse_over = scale_overrides(cfg, count_dofs(coarse_md, coarse_run))
