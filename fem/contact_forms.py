@@ -86,8 +86,7 @@ class ContactForms(NamedTuple):
         ds_c: the contact measure of ``F_c`` (the method's quadrature; resultants of p use it too).
         ds_scale: UFL surface Jacobian ds/dS of finite kinematics (current over reference length), None for
             small and convective kinematics (1): resultants of p are ``int p (...) ds_scale dS``.
-        F_bulk: the bulk part of the residual, ``F - F_c`` written without the contact terms (its derivative, the
-            stiffness, then compiles to one module shared by every obstacle and method of the same degree).
+        F_bulk: the bulk part of the residual, ``F - F_c`` written without the contact terms.
     """
 
     F: Any

@@ -30,10 +30,11 @@ Jacobian (one factor, two triangular solves per iteration).
 
 Convergence: the true law's residual ``||F(u, d)||`` (l2, N) at most ``snes_atol``, or ``snes_rtol`` times its
 value at the start (as the SNES tests) after one refinement step: the same J and tangent, one more triangular
-solve (with a factor; the bordered Krylov solve of ``gamg`` stops at the SNES criterion). Without it a solve from
-the unloaded state stops at the round-off of its first factorisation, 3e-11 of the start's residual, and its
-peak pressure differed from the load-stepped path's by 1.4e-8 (the Hertz scene of
-``tests/test_fem_linear_solver.py``). The load then equals ``P_goal`` to round-off (the last step solved for it).
+solve (with a factor; with ``gamg`` one more bordered Krylov solve, to a tenth of ``snes_atol``). Without it a
+solve from the unloaded state stops at the round-off of its first factorisation, 3e-11 of the start's residual,
+and its peak pressure differed from the load-stepped path's by 1.4e-8 (the Hertz scene of
+``tests/test_fem_linear_solver.py``; with ``gamg``, at the Krylov tolerance, also 1.4e-8). The load then equals
+``P_goal`` to round-off (the last step solved for it).
 The converged state is exactly what the SNES would accept; the stepper records it without another SNES solve.
 """
 
@@ -212,9 +213,8 @@ class ForceNewton:
         p = self.x.duplicate()
         try:
             pb.load_gradient(p)
-            Fd.scale(-1.0)  # g = dF/dd
             F.scale(-1.0)
-            its, dd = self._system.solve(r_u=F, r_d=P_goal - P_now, g=Fd, p=p, atol=atol)
+            its, dd = self._system.solve(r_u=F, r_d=P_goal - P_now, g=Fd, g_scale=-1.0, p=p, atol=atol)
         finally:
             p.destroy()
         if its < 0:
@@ -251,12 +251,12 @@ class ForceNewton:
                         snes.computeJacobian(self.x, self.A, self.P_mat)
                     if new_tangent:
                         self._load_derivative(d, F, Fd)
+                    k_atol = KRYLOV_FRACTION * (atol if refine else tol)
                     if self.bordered:
-                        counts, du, dd = self._bordered_step(F, Fd, P_goal, fresh=fresh, atol=KRYLOV_FRACTION * tol)
+                        counts, du, dd = self._bordered_step(F, Fd, P_goal, fresh=fresh and not refine, atol=k_atol)
                     else:
                         counts, du, dd = self._two_solve_step(F, Fd, z, w, P_goal, state, fresh=fresh,
-                                                              new_tangent=new_tangent, its=its,
-                                                              atol=KRYLOV_FRACTION * tol)
+                                                              new_tangent=new_tangent, its=its, atol=k_atol)
                     krylov += counts
                     if du is None:
                         break
@@ -267,7 +267,7 @@ class ForceNewton:
                 pb.d.value = d
                 self._load_state(state)
                 norm = self._residual(F)
-                if norm <= atol or (norm <= tol and (refine or self.bordered)):
+                if norm <= atol or (norm <= tol and refine):
                     return ForceNewtonResult(True, its, d, first, norm, tuple(krylov))
                 # converged (snes_rtol) but above snes_atol: one refinement with the J and tangent held (a
                 # triangular solve), so the answer does not depend on how far its start was

@@ -12,7 +12,8 @@ coarser level's converged state, interpolated, a level only corrects the discret
 * the method's surface unknowns (the augmented Lagrangian's multiplier, a pressure in MPa: mesh-independent),
   interpolated linearly in the slave surface coordinate X1, zero outside the coarse contact;
 * the active set: the coarse contact runs (X1 intervals), prescribed for the first Newton iteration;
-* the load parameter: the coarse level's converged d; force control then corrects d as a cold solve does.
+* the load parameter: the coarse level's converged d; in force control the rigid obstacle's problem solves d with
+  u (:mod:`fem.force_newton`), other problems correct it as a cold solve does.
 
 The converged answer does not depend on the start (frictionless small-strain contact has no load path; at finite
 strain a hyperelastic frictionless problem is conservative, and a start near the solution is what the load path

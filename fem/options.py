@@ -118,8 +118,10 @@ class LoadControl:
             Neumann load; d from the displacement at the first-contact point), ``"hertz_zone"`` (the same
             applicability; the first load level from the unloaded state with the Hertz zone as the prescribed
             active set and d from that set's tangent, no stiffness solve:
-            :meth:`fem.stepping.LoadStepper.hertz_zone_start`; later levels as ``"hertz"``) or ``"auto"`` (hertz
-            when applicable).
+            :meth:`fem.stepping.LoadStepper.hertz_zone_start`, or with d solved in the Newton iterations,
+            :mod:`fem.force_newton`; later levels as ``"hertz"``) or ``"auto"`` (hertz_zone where the
+            force-controlled Newton applies: a rigid obstacle, the displacement formulation, a method without an
+            outer loop, small or convective kinematics, ``active_set_update="newton"``; else hertz when applicable).
         active_set_predictor: before each Newton solve do one iteration with a prescribed active set (the
             Hertz zone, or contact edges extrapolated linearly in d from the last two states; single-patch
             scenes with the surface coordinate X1). Without it the sign of the tiny gaps of the predicted u

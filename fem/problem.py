@@ -115,7 +115,6 @@ class ContactProblem(NewtonControls):
         self._build_supports()
         self._build_solver()
         self.extras = ([] if self.ph is None else [self.ph]) + list(self.method.state_functions())
-        self._force_newton = None  # fem.force_newton.ForceNewton, built at its first use
         self.n_u = self.u.x.array.size
 
     # -- construction ---------------------------------------------------------------------------------------
@@ -337,15 +336,16 @@ class ContactProblem(NewtonControls):
         """Newton iterations for (u, d) at the load P_goal (:class:`fem.force_newton.ForceNewton`: d is an unknown of
         every iteration; the first on the prescribed active set ``zone``): its
         :class:`fem.force_newton.ForceNewtonResult`. Needs :attr:`tangent_applies`."""
-        if self._force_newton is None:
-            from fem.force_newton import ForceNewton
-            from fem.linear_solver import GAMG_MAX_KRYLOV, REUSE_MAX_KRYLOV, resolve
+        from fem.force_newton import ForceNewton
+        from fem.linear_solver import GAMG_MAX_KRYLOV, REUSE_MAX_KRYLOV, resolve
 
-            kind = resolve(self.options.linear_solver, ndofs=self.ndofs, saddle=self.ph is not None,
-                           linear_bulk=self.linear_bulk)
-            self._force_newton = ForceNewton(self, reuse=kind != "lu", bordered=kind == "gamg",
-                                             max_krylov=GAMG_MAX_KRYLOV if kind == "gamg" else REUSE_MAX_KRYLOV)
-        return self._force_newton.solve(P_goal=P_goal, d0=d0, x0=x0, zone=zone, max_it=max_it)
+        kind = resolve(self.options.linear_solver, ndofs=self.ndofs, saddle=self.ph is not None,
+                       linear_bulk=self.linear_bulk)
+        # built per call, not kept: a ForceNewton holding this problem would make a reference cycle, and the PETSc
+        # objects of a finished problem (its factor or multigrid) would wait for the garbage collector
+        newton = ForceNewton(self, reuse=kind != "lu", bordered=kind == "gamg",
+                             max_krylov=GAMG_MAX_KRYLOV if kind == "gamg" else REUSE_MAX_KRYLOV)
+        return newton.solve(P_goal=P_goal, d0=d0, x0=x0, zone=zone, max_it=max_it)
 
     # -- nested iteration (fem.nested_start) ----------------------------------------------------------------
     def nested_source(self, *, d: float, P: float, zones: tuple | None = None):

@@ -32,6 +32,12 @@ Reported ``iterations`` count that predictor iteration too (1 = the prescribed a
   (discarded), or it needed one or cut the force miss less than tenfold (an active-set change between the factored
   J and the converged state), the remaining corrections are secant steps through the last two (d, P) states.
 
+* A first level from the Hertz zone (``predictor="hertz_zone"``) and a start from a coarser mesh (``nested_start``)
+  in force control are solved with d an unknown of every Newton iteration (:mod:`fem.force_newton`: the load
+  row and the dF/dd column border the Jacobian), where the tangent applies and ``active_set_update`` is
+  ``"newton"``: one record, no separate force correction. Otherwise (or when it does not converge) the solve
+  goes the way above, from the prescribed active set moved along its tangent (:meth:`LoadStepper.prescribed_start`).
+
 Divergence (SNES converged reason <= 0) restores the last converged state and halves the increment, up to
 ``max_cutbacks`` times per step, then raises :class:`fem.errors.ContactSolveError` naming the reason (e.g.
 ``-5 (DIVERGED_MAX_IT)``).
@@ -179,9 +185,14 @@ class LoadStepper:
                              "direction (0, -1)")
         # the tangent correction measures dP/dd as P(t), which needs P linear in u: not for finite strain
         self.tangent_ok = pb.tangent_applies
-        # hertz_zone: the Hertz zone from the unloaded state and the tangent of that prescribed-set solve (no
-        # stiffness solve); where the tangent does not apply, the Hertz predictor.
-        self.zone_start = opts.predictor == "hertz_zone" and self.tangent_ok
+        # hertz_zone: the Hertz zone from the unloaded state, d an unknown of the Newton iterations
+        # (fem.force_newton) or the tangent of that prescribed-set solve (no stiffness solve); where the tangent
+        # does not apply, the Hertz predictor.
+        # "auto": that start wherever the force-controlled Newton takes it (fem.force_newton: one factorisation where
+        # the Hertz predictor's stiffness solve and the Newton iterations made two or more)
+        newton_ok = getattr(pb, "force_newton", None) is not None and opts.active_set_update == "newton"
+        self.zone_start = self.tangent_ok and (opts.predictor == "hertz_zone"
+                                               or (opts.predictor == "auto" and hertz_ok and newton_ok))
         self.finite = opts.kinematics == FINITE
         if self.finite and "snes_linesearch_type" not in (opts.petsc_options or {}):
             pb.snes.getLineSearch().setType(pb.finite_line_search)
