@@ -103,6 +103,7 @@ class ForceNewton:
         self.max_krylov = max_krylov
         self.bordered = bordered
         self._system = None  # fem.bordered_krylov.BorderedSystem, built at its first use
+        self._w_arr, self._P_w = None, 1.0  # the last tangent w = du/dd (array) and its load dP/dd (N/mm per mm)
         pb = problem.problem  # dolfinx's NonlinearProblem: its x, b (residual), A (Jacobian)
         self.x, self.b, self.A = pb.x, pb.b, pb.A
         self.P_mat = pb.P_mat if getattr(pb, "P_mat", None) is not None else pb.A
