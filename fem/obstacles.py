@@ -148,6 +148,14 @@ class CircleObstacle(AnalyticObstacle):
         """(x_c, y_lowest, R): abscissa and height of the lowest point at d = 0, radius (Hertz predictor)."""
         return self.center[0], self.center[1] - self.radius, self.radius
 
+    def half_plane_half_width(self, P: float, E_star: float) -> float:
+        """Contact half-width (mm) of this exact circle on an elastic half-plane under the load P (N/mm), plane
+        strain modulus E_star (MPa): :func:`analytic.circle.circle_contact` (smaller than Hertz's by about
+        3 (a/R)^2 / 16)."""
+        from analytic.circle import circle_contact
+
+        return circle_contact(P, self.radius, E_star).half_width
+
     def _distance0(self, x1, x2, xp) -> Gap:
         ops = math_ops(xp)
         r1, r2 = x1 - self.center[0], x2 - self.center[1]
@@ -195,6 +203,13 @@ class ParabolaObstacle(_GraphObstacle):
     def hertz_contact(self) -> tuple[float, float, float]:
         """(x_c, y_lowest, R): vertex abscissa and height at d = 0, radius (Hertz predictor)."""
         return self.vertex[0], self.vertex[1], self.radius
+
+    def half_plane_half_width(self, P: float, E_star: float) -> float:
+        """Contact half-width (mm) of this parabola on an elastic half-plane under the load P (N/mm), plane strain
+        modulus E_star (MPa): Hertz's, exact for the parabola."""
+        from analytic.hertz import hertz
+
+        return hertz(P, self.radius, E_star).half_width
 
     def _phi0(self, x1, xp):
         r1 = x1 - self.vertex[0]

@@ -90,3 +90,17 @@ def test_one_newton_iteration_from_the_hertz_zone(hertz_mesh, linear_solver):
     assert len(ref.newton_iterations) > 1 or ref.newton_iterations[0] > 1  # the SNES's path differs (can fail)
     for got, want in ((res.P, ref.P), (res.d, ref.d), (res.patches[0].p_max, ref.patches[0].p_max)):
         assert abs(got - want) <= 1e-8 * abs(want), (linear_solver, got, want)
+
+
+def test_the_zone_is_the_obstacles_own_half_plane_width():
+    """The predicted zone of a circle is the exact circle's half-width (smaller than Hertz's by about 3 k^2 / 16,
+    k = a/R), of a parabola Hertz's."""
+    from analytic.hertz import hertz
+    from fem.obstacles import CircleObstacle, ParabolaObstacle
+
+    E_star, R = 2.2e5, 10.0
+    a = hertz(P_TARGET, R, E_star).half_width
+    b = CircleObstacle(center=(0.0, R), radius=R).half_plane_half_width(P_TARGET, E_star)
+    k = a / R
+    assert b < a and abs((a - b) / a - 3 * k**2 / 16) <= 0.1 * 3 * k**2 / 16, (a, b)
+    assert ParabolaObstacle(radius=R, vertex=(0.0, 0.0)).half_plane_half_width(P_TARGET, E_star) == a
