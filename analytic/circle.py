@@ -28,7 +28,7 @@ from scipy import fft, optimize, special
 
 from analytic.materials import validate_positive as _positive
 
-__all__ = ["CircleContact", "circle_load", "circle_contact", "circle_pressure", "N_CHEBYSHEV"]
+__all__ = ["CircleContact", "circle_load", "circle_half_width", "circle_contact", "circle_pressure", "N_CHEBYSHEV"]
 
 # Chebyshev terms of h'(b s): the series of x / sqrt(R^2 - x^2) on |x| <= b decays like (k / (1 + sqrt(1 - k^2)))^n;
 # 256 terms reach round-off for b/R <= 0.9 (measured: p0 changes < 1e-14 from 256 to 4096 terms at b/R = 0.17).
@@ -74,8 +74,8 @@ def circle_pressure(x, *, b: float, R: float, E_star: float, n: int = N_CHEBYSHE
     return np.where(np.abs(x) < b, np.maximum(p, 0.0), 0.0)
 
 
-def circle_contact(P: float, R: float, E_star: float) -> CircleContact:
-    """Half-width and peak pressure of the exact circle under the load P (N/mm)."""
+def circle_half_width(P: float, R: float, E_star: float) -> float:
+    """Half-width b (mm) of the exact circle under the load P (N/mm): the root of ``circle_load(b) = P``."""
     _positive(P, "P", "N/mm")
     _positive(R, "R", "mm")
     _positive(E_star, "E_star", "MPa")
@@ -85,6 +85,12 @@ def circle_contact(P: float, R: float, E_star: float) -> CircleContact:
                          f"(b -> R) for R = {R} mm, E* = {E_star} MPa")
     b_hertz = math.sqrt(4.0 * P * R / (math.pi * E_star))
     hi = min(R * (1.0 - 1e-12), 1.5 * b_hertz)
-    b = optimize.brentq(lambda t: circle_load(t, R, E_star) - P, 1e-9 * b_hertz, hi, xtol=1e-15 * R, rtol=1e-15)
+    return float(optimize.brentq(lambda t: circle_load(t, R, E_star) - P, 1e-9 * b_hertz, hi, xtol=1e-15 * R,
+                                 rtol=1e-15))
+
+
+def circle_contact(P: float, R: float, E_star: float) -> CircleContact:
+    """Half-width and peak pressure of the exact circle under the load P (N/mm)."""
+    b = circle_half_width(P, R, E_star)
     p0 = float(circle_pressure(np.array([0.0]), b=b, R=R, E_star=E_star)[0])
-    return CircleContact(float(P), float(b), p0, float(R))
+    return CircleContact(float(P), b, p0, float(R))

@@ -150,11 +150,11 @@ class CircleObstacle(AnalyticObstacle):
 
     def half_plane_half_width(self, P: float, E_star: float) -> float:
         """Contact half-width (mm) of this exact circle on an elastic half-plane under the load P (N/mm), plane
-        strain modulus E_star (MPa): :func:`analytic.circle.circle_contact` (smaller than Hertz's by about
+        strain modulus E_star (MPa): :func:`analytic.circle.circle_half_width` (smaller than Hertz's by about
         3 (a/R)^2 / 16)."""
-        from analytic.circle import circle_contact
+        from analytic.circle import circle_half_width
 
-        return circle_contact(P, self.radius, E_star).half_width
+        return circle_half_width(P, self.radius, E_star)
 
     def _distance0(self, x1, x2, xp) -> Gap:
         ops = math_ops(xp)
