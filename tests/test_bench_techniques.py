@@ -104,3 +104,16 @@ def test_a_nested_scale_row_names_its_coarse_solve():
     text = "\n".join(_md_scale(sc, [], BenchConfig()))
     assert "nested iteration (graded from h x 16 where that h is at most a x 0.02)" in text
     assert "hertz_zone, auto, nested from h x 8 (11004 dofs, 0.05 s, its [2, 0]) | [2, 1, 1] |" in text
+
+
+def test_the_cost_workers_run_with_the_malloc_tunables(monkeypatch):
+    """The cost-growth and techniques workers get glibc's malloc tunables of the config (none when empty, and a
+    GLIBC_TUNABLES the user set wins)."""
+    from workbench.studies.bench_measure import malloc_env
+
+    monkeypatch.delenv("GLIBC_TUNABLES", raising=False)
+    cfg = BenchConfig()
+    assert malloc_env(cfg) == {"GLIBC_TUNABLES": cfg.worker_malloc} and "mmap_threshold" in cfg.worker_malloc
+    assert malloc_env(BenchConfig(worker_malloc="")) == {}
+    monkeypatch.setenv("GLIBC_TUNABLES", "glibc.malloc.arena_max=1")
+    assert malloc_env(cfg) == {}

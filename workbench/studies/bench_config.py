@@ -90,6 +90,12 @@ class BenchConfig(StudyFolders):
             resolves the contact edge worse than the Hertz zone does, above): graded a/80 (88k dofs, coarse
             6.9k) nests, a/320 (23k, coarse h = a/20: 4 Newton iterations against 2 from the Hertz zone) does
             not.
+        worker_malloc: glibc's malloc tunables (``GLIBC_TUNABLES``) of the cost-growth and techniques workers: a
+            freed block up to 32 MB stays in the heap for the next solve instead of going back to the kernel, so a
+            solve does not pay its pages' first-touch faults again. Without it the same contact solve measured
+            0.083-0.17 s in one process (graded 23k dofs, by what ran before it: the first four solves 0.13-0.17 s,
+            after a linear solve 0.083-0.086 s, after the case's solves 0.10-0.12 s) and the linear solve 0.067-0.094
+            s; with it 0.081-0.11 s and 0.064-0.066 s. Both kinds of solve run under the same setting. "": none.
         krylov_threshold: Cost-growth rows with more dofs than this use ``linear_solver="gamg"`` (no LU factor:
             memory ~ ndofs) and compare with a GAMG linear solve; >= 0.
         reuse_lu: PETSc options reusing the LU of the FIRST Jacobian through GMRES for the whole run
@@ -142,6 +148,7 @@ class BenchConfig(StudyFolders):
     scale_predictor: str = "hertz_zone"
     scale_nested: dict = field(default_factory=lambda: {"graded": 16.0})
     scale_nested_coarsest: float = 0.02
+    worker_malloc: str = "glibc.malloc.mmap_threshold=33554432:glibc.malloc.trim_threshold=1073741824"
     krylov_threshold: int = 400_000
     reuse_lu: dict = field(default_factory=lambda: {
         "ksp_type": "gmres", "ksp_rtol": 1e-12, "ksp_atol": 0.0, "ksp_gmres_restart": 300, "ksp_max_it": 300,

@@ -348,6 +348,14 @@ def scale_overrides(cfg: BenchConfig, ndofs: int) -> dict:
 
 
 
+def malloc_env(cfg: BenchConfig) -> dict:
+    """The environment a cost-growth or techniques worker adds: glibc's malloc tunables ``cfg.worker_malloc`` (empty:
+    none; an already set ``GLIBC_TUNABLES`` wins)."""
+    if not cfg.worker_malloc or "GLIBC_TUNABLES" in os.environ:
+        return {}
+    return {"GLIBC_TUNABLES": cfg.worker_malloc}
+
+
 def subprocess_env(extra: dict | None = None) -> dict:
     """The environment of a subprocess: this checkout first on PYTHONPATH (it imports this same code)."""
     e = dict(os.environ)

@@ -14,6 +14,7 @@ from workbench.studies.bench_measure import (
     linear_solve,
     log_counts,
     log_delta,
+    malloc_env,
     maxrss_mb,
     peak_rss_mb,
     rel_diff,
@@ -130,7 +131,8 @@ def cost_growth(cfg: BenchConfig, *, progress) -> dict:
     for family, levels in cfg.scale.items():
         rows = []
         for level in levels:
-            row = subprocess_json(["--worker", "scale", "--family", family, "--h-contact", repr(float(level))], cfg)
+            row = subprocess_json(["--worker", "scale", "--family", family, "--h-contact", repr(float(level))], cfg,
+                                  env=malloc_env(cfg))
             rows.append(row)
             progress(
                 f"scale {family} h=a*{level:.4g}: ndofs {row['ndofs']}, solver {row['solve_s']:.2f} s, "

@@ -31,6 +31,7 @@ from workbench.studies.bench_measure import (
     linear_solve,
     log_counts,
     log_delta,
+    malloc_env,
     peak_rss_mb,
     rel_diff,
     scale_overrides,
@@ -161,7 +162,8 @@ def techniques(cfg: BenchConfig, *, progress) -> dict:
     """The section: one subprocess per mesh of ``technique_meshes``."""
     rows = []
     for family, level in cfg.technique_meshes:
-        row = subprocess_json(["--worker", "techniques", "--family", family, "--h-contact", repr(float(level))], cfg)
+        row = subprocess_json(["--worker", "techniques", "--family", family, "--h-contact", repr(float(level))], cfg,
+                              env=malloc_env(cfg))
         rows.append(row)
         c = row["condensation"]
         cond = (f"condensation {c['n_schur']} dofs: " +
