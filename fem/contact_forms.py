@@ -86,7 +86,6 @@ class ContactForms(NamedTuple):
         ds_c: the contact measure of ``F_c`` (the method's quadrature; resultants of p use it too).
         ds_scale: UFL surface Jacobian ds/dS of finite kinematics (current over reference length), None for
             small and convective kinematics (1): resultants of p are ``int p (...) ds_scale dS``.
-        F_bulk: the bulk part of the residual, ``F - F_c`` written without the contact terms.
     """
 
     F: Any
@@ -101,7 +100,6 @@ class ContactForms(NamedTuple):
     method: Any = None
     ds_c: Any = None
     ds_scale: Any = None
-    F_bulk: Any = None
 
     def on_surface(self, integrand):
         """``integrand`` times the surface Jacobian ds/dS (unchanged for small and convective kinematics)."""
@@ -284,7 +282,7 @@ def build_contact_forms(*, u, obstacle, d, lame: Lame, E: float, method: str | C
     J = ufl.derivative(F, u, ufl.TrialFunction(u.function_space)) if bulk is None else None
     return ContactForms(F=F, J=J, gap=kin.gap, argument=terms.argument, pressure=terms.pressure, n_c=kin.n_c,
                         sigma_nn=-kin.sigma_n(stress_u), F_c=terms.F_c, update=kin.update, method=method,
-                        ds_c=ds_c, ds_scale=kin.ds_scale, F_bulk=F_bulk)
+                        ds_c=ds_c, ds_scale=kin.ds_scale)
 
 
 def _method_measure(ds_c, method, u):

@@ -118,13 +118,7 @@ class ForceNewton:
 
     def _residual(self, out) -> float:
         """``F`` at the current x and d into ``out``; its l2 norm."""
-        snes = self.problem.snes
-        try:
-            snes.computeFunction(self.x, out)
-        except PETSc.Error as exc:  # Ctrl-C in the Python residual: re-raise it as such
-            if isinstance(exc.__cause__, KeyboardInterrupt):
-                raise exc.__cause__ from None
-            raise
+        self.problem.residual_into(out)
         return out.norm()
 
     def _load_derivative(self, d: float, F, out) -> None:
@@ -230,8 +224,7 @@ class ForceNewton:
         iterate afterwards (u and d)."""
         pb = self.problem
         snes = pb.snes
-        _, atol, _, _ = snes.getTolerances()
-        rtol = snes.getTolerances()[0]
+        rtol, atol, _, _ = snes.getTolerances()
         F, Fd = self.b.duplicate(), self.b.duplicate()
         z, w = self.x.duplicate(), self.x.duplicate()
         krylov: list[int] = []

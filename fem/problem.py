@@ -460,6 +460,16 @@ class ContactProblem(NewtonControls):
         if self.forms.update is not None:
             self.forms.update(self.u)
 
+    def residual_into(self, out) -> None:
+        """The SNES residual ``F`` at the solver's vector ``problem.x`` (and the current d, mask) into ``out``; a
+        Ctrl-C raised in the Python residual comes back as KeyboardInterrupt, not as a PETSc error."""
+        try:
+            self.snes.computeFunction(self.problem.x, out)
+        except PETSc.Error as exc:
+            if isinstance(exc.__cause__, KeyboardInterrupt):
+                raise exc.__cause__ from None
+            raise
+
     def tangent(self, state: np.ndarray, d0: float) -> tuple[np.ndarray, float] | None:
         """Tangent ``t = du/dd`` of the converged ``state`` at ``d0`` for its active set, and ``dP/dd`` (N/mm/mm).
 
@@ -476,12 +486,7 @@ class ContactProblem(NewtonControls):
             delta = 1e-6 * max(abs(d0), 1e-300)
             for dv, f in ((d0 + delta, f_plus), (d0 - delta, f_minus)):
                 self.d.value = dv
-                try:
-                    self.snes.computeFunction(x, f)
-                except PETSc.Error as exc:  # Ctrl-C in the Python residual: re-raise it as such
-                    if isinstance(exc.__cause__, KeyboardInterrupt):
-                        raise exc.__cause__ from None
-                    raise
+                self.residual_into(f)
             self.d.value = d0
             f_plus.axpy(-1.0, f_minus)
             f_plus.scale(-1.0 / (2.0 * delta))  # -dF/dd

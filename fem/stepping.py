@@ -190,9 +190,11 @@ class LoadStepper:
         # does not apply, the Hertz predictor.
         # "auto": that start wherever the force-controlled Newton takes it (fem.force_newton: one factorisation where
         # the Hertz predictor's stiffness solve and the Newton iterations made two or more)
-        newton_ok = getattr(pb, "force_newton", None) is not None and opts.active_set_update == "newton"
+        # the force-controlled Newton applies: the problem's hook, the tangent, semismooth Newton's own updates
+        self.force_newton_ok = (getattr(pb, "force_newton", None) is not None and self.tangent_ok
+                                and opts.active_set_update == "newton")
         self.zone_start = self.tangent_ok and (opts.predictor == "hertz_zone"
-                                               or (opts.predictor == "auto" and hertz_ok and newton_ok))
+                                               or (opts.predictor == "auto" and hertz_ok and self.force_newton_ok))
         self.finite = opts.kinematics == FINITE
         if self.finite and "snes_linesearch_type" not in (opts.petsc_options or {}):
             pb.snes.getLineSearch().setType(pb.finite_line_search)
@@ -581,11 +583,10 @@ class LoadStepper:
         tangent: finite strain, a mixed formulation, a method's own loop; a problem without the hook) or did not
         converge within ``max_it``."""
         pb, opts = self.problem, self.opts
-        solve = getattr(pb, "force_newton", None)
-        if solve is None or not self.tangent_ok or opts.active_set_update != "newton":
+        if not self.force_newton_ok:
             return False
         t0 = time.perf_counter()
-        res = solve(P_goal=P_goal, d0=d0, x0=x0, zone=zone, max_it=opts.max_it)
+        res = pb.force_newton(P_goal=P_goal, d0=d0, x0=x0, zone=zone, max_it=opts.max_it)
         self.factored = True
         if not res.converged:
             self.failures.append({"d": res.d, "kind": kind, "iterations": res.iterations,

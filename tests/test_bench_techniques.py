@@ -59,6 +59,9 @@ def test_schur_complement_equals_the_dense_formula():
     ({"schur_max_dofs": 0}, "schur_max_dofs must be an integer >= 1"),
     ({"scale_nested": {"coarse": 8.0}}, "scale_nested must map a family"),
     ({"scale_nested": {"graded": 1.0}}, "scale_nested must map a family"),
+    ({"scale_nested_coarsest": 0.0}, r"scale_nested_coarsest must be in \(0, 1\]"),
+    ({"scale_nested_coarsest": True}, r"scale_nested_coarsest must be in \(0, 1\]"),
+    ({"worker_malloc": 32}, "worker_malloc must be a string of glibc malloc tunables"),
 ])
 def test_the_section_config_refuses_bad_values(kw, msg):
     with pytest.raises(ValueError, match=msg):

@@ -187,6 +187,9 @@ class BenchConfig(StudyFolders):
             if family not in SCALE_FAMILIES or isinstance(factor, bool) or not float(factor) > 1:
                 raise ValueError(f"scale_nested must map a family of {sorted(SCALE_FAMILIES)} to a factor > 1, got "
                                  f"{family!r}: {factor!r}")
+        if not isinstance(self.worker_malloc, str):
+            raise ValueError("worker_malloc must be a string of glibc malloc tunables (GLIBC_TUNABLES, e.g. "
+                             f"'glibc.malloc.mmap_threshold=33554432'; '' for none), got {self.worker_malloc!r}")
         if isinstance(self.scale_nested_coarsest, bool) or not 0 < float(self.scale_nested_coarsest) <= 1:
             raise ValueError(f"scale_nested_coarsest must be in (0, 1] (h / a), got {self.scale_nested_coarsest!r}")
         if self.predictor_free_active_set not in ACTIVE_SETS:
