@@ -202,7 +202,10 @@ def test_own_three_levels_are_their_own_model(own_runs, tmp_path):
     assert score_main(["hertz_cylinder", *files, "--h", *map(str, model_levels(case)), "--out", str(out)]) == 0
     score = json.loads((out / "score_hertz_cylinder" / "score.json").read_text())
     own = next(m for m in bands["models"] if m["name"] == "halfplane/small")
+    # the saved bands were measured on another machine (or an earlier round-off of the same solver): the solves
+    # meet snes_rtol 1e-10, which the three-level extrapolation amplifies by at most its factors, so the values
+    # agree on the scale of the solver's tolerance (1e-8), not bit for bit; the bands are 1.6e-5 to 1.9e-3 of them
     for key, st in own["study"].items():
-        _close(score["studies"][key]["extrapolated"], st["extrapolated"], key, rtol=1e-12)
+        _close(score["studies"][key]["extrapolated"], st["extrapolated"], key, rtol=1e-8)
     inside = [r["model"] for r in score["models"]["models"] if r["contains"]]
     assert "halfplane/small" in inside and not any(m.startswith("obstacle") for m in inside), inside
