@@ -114,11 +114,11 @@ def test_value_extrapolates_and_corrects_the_truncation():
     ratios = (4.0, 8.0, 16.0)
     levels = {f"h{i}": {"moment": 1.0 + 0.01 / r**2} for i, r in enumerate(ratios)}
     levels["far"] = {"moment": levels["h1"]["moment"] + 3e-4}
-    out = va._value(levels, "moment", ratios)
+    out = va.extrapolated_value(levels, "moment", ratios)
     assert out["observed_order"] == pytest.approx(2.0, rel=1e-8)
     assert out["value"] == pytest.approx(1.0 + 4e-4, rel=1e-12)
     assert out["truncation"] == pytest.approx(1e-4 / out["value"], rel=1e-12)
-    assert va._value({"h0": {"moment": 1.0}}, "moment", ratios)["value"] is None
+    assert va.extrapolated_value({"h0": {"moment": 1.0}}, "moment", ratios)["value"] is None
 
 
 def _synthetic_records(cfg: ValidityConfig) -> list[dict]:

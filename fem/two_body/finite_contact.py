@@ -432,7 +432,7 @@ class FiniteContact:
         wphi = np.where(it.valid, wt[:, None] * it.phi, 0.0)
         rr = np.maximum(it.rows, 0)
         G = np.bincount(rr.ravel(), weights=(wphi * (g * ls)[:, None]).ravel(), minlength=m)
-        W = np.bincount(rr.ravel(), weights=(wphi * ls[:, None]).ravel(), minlength=m)
+        W = _nodal_weights(wphi, it.rows, ls, m)
         paired = W > 0
         gt = np.where(paired, G / np.where(paired, W, 1.0), _FAR * float(np.max(ls)))
 
@@ -498,7 +498,7 @@ class FiniteContact:
         rows = self.row_of[np.stack([A, B], axis=1)]
         valid = rows >= 0
         wphi = np.where(valid, wt[:, None] * np.stack([1 - t, t], axis=1), 0.0)
-        return np.bincount(np.maximum(rows, 0).ravel(), weights=(wphi * ls[:, None]).ravel(), minlength=m)
+        return _nodal_weights(wphi, rows, ls, m)
 
     def gaps(self, u: np.ndarray) -> np.ndarray:
         """The nodal weighted gaps g~ (mm) of the dof array u."""
@@ -593,3 +593,11 @@ def _node_at(cells: CellData, P: np.ndarray) -> np.ndarray:
     """The node of each facet's cell that sits at the point P (n, 2) (a facet end)."""
     d = np.linalg.norm(cells.node_x - P[:, None, :], axis=2)
     return cells.nodes[np.arange(P.shape[0]), np.argmin(d, axis=1)]
+
+
+def _nodal_weights(wphi: np.ndarray, rows: np.ndarray, ls: np.ndarray, m: int) -> np.ndarray:
+    """``W_i = int phi_i dgamma`` (mm) of the m contact nodes from the Gauss points' weighted shape values ``wphi``
+    (n, 2; 0 where the row is invalid), their rows (n, 2; -1: not a contact node) and the current slave facet
+    lengths ``ls`` (n,): the weights of :meth:`FiniteContact.linearise`'s weighted gap and of
+    :meth:`FiniteContact.current_weights`."""
+    return np.bincount(np.maximum(rows, 0).ravel(), weights=(wphi * ls[:, None]).ravel(), minlength=m)

@@ -17,7 +17,7 @@ from workbench.studies.validity_config import HP_COMPLETE, HP_PAIRING, ValidityC
 from workbench.studies.validity_halfplanes import halfplanes_theories
 
 __all__ = ["CLAIM_X", "CLAIM_Z", "HP_COMPLETE", "HP_PAIRING", "assemble", "assemble_halfplanes", "beta_of",
-           "claim_points", "classify", "point_theories"]
+           "claim_points", "classify", "extrapolated_value", "point_theories"]
 
 CLAIM_X = (0.0, 0.25, 0.5, 0.75, 1.0, 1.5)  # stress probes of the paper's claim, x / b (half model, x >= 0)
 CLAIM_Z = (0.25, 0.5, 0.75, 1.0, 1.5, 2.0)  # and depths z / b
@@ -60,7 +60,7 @@ def point_theories(scene: str, param: float, nu: float, *, E: float) -> dict:
 # --- assembling ---------------------------------------------------------------------------------------
 
 
-def _value(levels: dict, quantity: str, h_ratios) -> dict:
+def extrapolated_value(levels: dict, quantity: str, h_ratios) -> dict:
     """Extrapolated value and relative uncertainty of ``quantity`` from the three levels and the far block."""
     f = [levels.get(f"h{i}", {}).get(quantity) for i in range(3)]
     far = levels.get("far", {}).get(quantity)
@@ -158,7 +158,7 @@ def assemble(cfg: ValidityConfig, records: list[dict], skipped: list[dict]) -> t
         theories = point_theories(scene, param, nu, E=cfg.E)
         models = {}
         for model, levels in models_levels.items():
-            models[model] = {q: _value(levels, q, cfg.h_ratios) for q in ("moment", "p_max", "half_width")
+            models[model] = {q: extrapolated_value(levels, q, cfg.h_ratios) for q in ("moment", "p_max", "half_width")
                              if scene == "cylinder" or q != "p_max"}
             for q, v in models[model].items():
                 if v.get("value") is None:
@@ -248,7 +248,7 @@ def assemble_halfplanes(cfg: ValidityConfig, records: list[dict]) -> tuple[list[
         if cfg.halfplanes_pairing:
             pairing = ml.get("halfplane/convective/pairing", {})
             runs += [("halfplane/convective/pairing", pairing), (HP_PAIRING, ratio_levels(pairing))]
-        models = {k: {"moment": _value(levels, "moment", cfg.halfplanes_h_ratios)} for k, levels in runs}
+        models = {k: {"moment": extrapolated_value(levels, "moment", cfg.halfplanes_h_ratios)} for k, levels in runs}
         here = {"scene": "halfplanes", "param": param, "nu": 0.0, "beta": beta}
         for model, v in models.items():
             if v["moment"].get("value") is None:
@@ -300,7 +300,7 @@ def _hp_finite(cfg: ValidityConfig, ml: dict, models: dict, theories: dict) -> d
     r_ch, r_first = theories["ch_converged"]["moment"], theories["ch_first_order"]["moment"]
     out: dict = {"laws": {}, "convective_correction": r_ch - 1.0}
     for law in laws:
-        M = _value(ml.get(f"{OBSTACLE}/{FINITE}/{law}", {}), "moment", cfg.halfplanes_finite_h_ratios)
+        M = extrapolated_value(ml.get(f"{OBSTACLE}/{FINITE}/{law}", {}), "moment", cfg.halfplanes_finite_h_ratios)
         if M.get("value") is None or S.get("value") is None:
             why = M.get("reason") if M.get("value") is None else "the small run has no value: " + S["reason"]
             out["laws"][law] = {"moment": M, "ratio": {"value": None, "reason": why}}

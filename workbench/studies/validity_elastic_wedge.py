@@ -261,7 +261,7 @@ def _finite_rows(cfg, records: list[dict], theta: float) -> dict:
     classical wedge's (P1, extrapolated with its band over the three levels and the wide bodies, as the two
     half-planes' values) and its ratio F to the small-strain shaped pair's (P2, the same): F - 1 is what finite
     strain and the traction along the deformed interface change together, against the claim's bound."""
-    from workbench.studies.validity_assemble import _value
+    from workbench.studies.validity_assemble import extrapolated_value
 
     def levels(model):
         return {r["task"]["level"]: {"moment": r.get("moment")} if r.get("converged") else {}
@@ -273,10 +273,10 @@ def _finite_rows(cfg, records: list[dict], theta: float) -> dict:
                       and r["task"]["param"] == theta and r["model"] == model and r.get("warnings"))
 
     hs = cfg.elastic_wedge_h_ratios
-    S = _value(levels("shaped/small"), "moment", hs)
+    S = extrapolated_value(levels("shaped/small"), "moment", hs)
     out = {}
     for law in cfg.elastic_wedge_finite_laws:
-        M = _value(levels(f"shaped/{FINITE}/{law}"), "moment", hs)
+        M = extrapolated_value(levels(f"shaped/{FINITE}/{law}"), "moment", hs)
         M["warned_levels"] = warned(f"shaped/{FINITE}/{law}")
         if M.get("value") is None or S.get("value") is None:
             why = M.get("reason") if M.get("value") is None else "the small-strain shaped pair has no value: " + \
