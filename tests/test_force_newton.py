@@ -4,9 +4,9 @@
   small matrix against numpy's dense solve, with an exact preconditioner (one Krylov iteration: the block
   factorisation is the inverse) and with an inexact one (Jacobi: more iterations, the same answer).
 * On the Hertz scene of :mod:`tests.test_fem_linear_solver` (force control, one level from the Hertz zone): one
-  Newton iteration, one factorisation and (with a factor) two triangular solves, the load equal to the target to round-off, and the same P, d and peak
-  pressure as the SNES's own path (``predictor="hertz"``: the Hertz predictor, then Newton and force corrections)
-  with every linear solver, GAMG's bordered solve included.
+  Newton iteration, one factorisation and (with a factor) two triangular solves, the load equal to the target to
+  round-off, and the same P, d and peak pressure as the SNES's own path (``predictor="hertz"``: the Hertz
+  predictor, then Newton and force corrections) with every linear solver, GAMG's bordered solve included.
 """
 
 import dolfinx_solver  # noqa: F401
