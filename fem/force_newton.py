@@ -14,7 +14,7 @@ bordered Newton step for (u, d) under ``P(u) = P_goal``::
     J du + F_d dd = -F,        P(u + du) = P_goal
 
 is two solves with the same Jacobian ``J`` (N/mm per mm): ``J z = -F``, ``J w = -F_d`` (``F_d = dF/dd`` a forward
-difference of the residual in d: exact on the fixed set, :meth:`ForceNewton._load_derivative`), then
+difference of the residual in d, exact on the fixed set: ``ContactProblem.load_derivative_into``), then
 ``dd = (P_goal - P(u + z)) / P(w)`` and ``du = z + dd w``. The first iteration holds the prescribed active set
 (``zone``: the coarse mesh's contact runs of a nested start, or the Hertz zone), the later ones the true law's set
 at the iterate (semismooth Newton). On a prescribed set the first step lands on that set's solution at
@@ -33,7 +33,7 @@ value at the start (as the SNES tests) after one refinement step: the same J and
 solve (with a factor; with ``gamg`` one more bordered Krylov solve). The step on the right active set normally
 meets ``snes_atol`` itself: with a factor the triangular solves are exact to round-off, and the bordered Krylov
 solve goes to half ``snes_atol`` (``BORDERED_ATOL_FRACTION``). What used to stop it above ``snes_atol`` was the
-round-off of ``dF/dd`` (:meth:`ForceNewton._load_derivative`): on the bench's 161k-dof uniform mesh from the Hertz
+round-off of ``dF/dd`` (its step was ``1e-6 |d|`` everywhere): on the bench's 161k-dof uniform mesh from the Hertz
 zone the step left 9e-6 N against a linear residual of 1e-7 N, and a refinement solve (9 more GMRES iterations,
 or one more triangular solve) took it below ``snes_atol`` = 2.1e-7 N; with the difference's step ``|d|`` on the
 prescribed set the step leaves 5.7e-8 N (GAMG) and 9.5e-10 N (LU). Stopping at ``snes_rtol`` instead let the peak
@@ -129,24 +129,6 @@ class ForceNewton:
         """``F`` at the current x and d into ``out``; its l2 norm."""
         self.problem.residual_into(out)
         return out.norm()
-
-    def _load_derivative(self, d: float, F, out, *, fixed_set: bool) -> None:
-        """``-dF/dd`` at the current x into ``out`` from ``F`` (the residual at d): a forward difference, exact up to
-        round-off because F is affine in d on a fixed active set (d restored). Its step is ``|d|`` on a prescribed
-        set (``fixed_set``) and ``1e-6 |d|`` under the true law (whose set must not change within the step). The
-        round-off of the difference is ``eps ||F|| / step`` per unit d: with ``1e-6 |d|`` from the unloaded state
-        (``||F||`` 1.9e5 N, d 0.065 mm, the Hertz zone of the bench's 161k-dof mesh) that is 3e-3 N/mm per mm, and
-        the first step's dd = -0.016 mm left a residual of 9e-6 N (Newton tolerance 1.9e-5 N, snes_atol 2.1e-7 N):
-        a refinement solve was needed to reach snes_atol."""
-        pb = self.problem
-        delta = (1.0 if fixed_set else 1e-6) * max(abs(d), 1e-300)
-        try:
-            pb.d.value = d + delta
-            self._residual(out)
-            out.axpy(-1.0, F)
-            out.scale(-1.0 / delta)
-        finally:
-            pb.d.value = d
 
     def _linear_solve(self, rhs, sol, *, fresh: bool, guess: bool, atol: float = 0.0) -> int:
         """``J sol = rhs`` with the KSP (``fresh``: a new factor of the current J, else the kept one; ``guess``:
@@ -258,7 +240,7 @@ class ForceNewton:
                     if not refine:
                         snes.computeJacobian(self.x, self.A, self.P_mat)
                     if new_tangent:
-                        self._load_derivative(d, F, Fd, fixed_set=prescribed)
+                        pb.load_derivative_into(Fd, d=d, F=F, fixed_set=prescribed)
                     k_atol = (BORDERED_ATOL_FRACTION * atol if self.bordered
                               else KRYLOV_FRACTION * (atol if refine else tol))
                     if self.bordered:

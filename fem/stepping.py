@@ -615,7 +615,7 @@ class LoadStepper:
                 pb.newton()
             u0 = pb.get_state()
             P0 = pb.measure()[0]
-            tan = pb.tangent(u0, d0)
+            tan = pb.tangent(u0, d0, fixed_set=True)
         self.factored = True
         if tan is None:
             return None
