@@ -66,6 +66,10 @@ CHORD_STEPS = 1
 # dofs, 28 iterations to 1e-11 of the start's residual and 9 more in the refinement). A step that changes the set
 # pays the few iterations below the Newton tolerance for nothing.
 BORDERED_ATOL_FRACTION = 0.5
+# ... or to this fraction of its right-hand side, whichever it meets first: a floor above GMRES's round-off
+# stagnation, so a snes_atol below what double precision can reach ends in the refinement step, not in 1000 stored
+# Krylov vectors (restart = max_it; at 161k dofs snes_atol is 5.6e-13 of the first residual).
+BORDERED_RTOL = 1e-13
 # The solve of z stops at this fraction of the Newton tolerance max(snes_atol, snes_rtol ||F_0||) (besides the
 # kind's own relative tolerance): a late step's right-hand side is already near it.
 KRYLOV_FRACTION = 0.1
@@ -200,7 +204,7 @@ class ForceNewton:
         ksp.getPC().setReusePreconditioner(not fresh)
         ksp.setUp()
         if self._system is None:
-            self._system = BorderedSystem(A=self.A, pc=ksp.getPC(), rtol=0.0, max_it=GAMG_KSP_MAX_IT)
+            self._system = BorderedSystem(A=self.A, pc=ksp.getPC(), rtol=BORDERED_RTOL, max_it=GAMG_KSP_MAX_IT)
         p = self.x.duplicate()
         try:
             pb.load_gradient(p)
