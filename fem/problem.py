@@ -475,10 +475,10 @@ class ContactProblem(NewtonControls):
         residual in d, exact up to round-off because F is affine in d on a fixed active set (d restored). ``F``: the
         residual at d if the caller holds it (else assembled here). The step is ``|d|`` where the active set is
         prescribed (``fixed_set``: inside :meth:`prescribed_active_set`) and ``1e-6 |d|`` under the true law, whose
-        set must not change within the step. Its round-off is ``eps ||F|| / step`` per unit d: with ``1e-6 |d|``
+        set must not change within the step. Its round-off is about ``eps ||F|| / step`` (N/mm): with ``1e-6 |d|``
         from the unloaded state (``||F||`` 1.9e5 N, d 0.065 mm: the Hertz zone of the bench's 161k-dof mesh) that is
-        3e-3 N/mm per mm, and the force-controlled Newton's first step (dd = -0.016 mm) was left at a residual of
-        9e-6 N (Newton tolerance 1.9e-5 N, snes_atol 2.1e-7 N) where the step ``|d|`` leaves 9.5e-10 N."""
+        6e-4 N/mm, and the force-controlled Newton's first step (dd = -0.016 mm) was left at a residual of 9e-6 N
+        (Newton tolerance 1.9e-5 N, snes_atol 2.1e-7 N) where the step ``|d|`` leaves 9.5e-10 N."""
         delta = (1.0 if fixed_set else 1e-6) * max(abs(d), 1e-300)
         base = None
         try:
