@@ -47,7 +47,6 @@ from __future__ import annotations
 from contextlib import nullcontext
 from typing import NamedTuple
 
-import dolfinx.fem.petsc
 import numpy as np
 from petsc4py import PETSc
 
@@ -123,13 +122,6 @@ class ForceNewton:
         self.P_mat = pb.P_mat if getattr(pb, "P_mat", None) is not None else pb.A
 
     # -- pieces --------------------------------------------------------------------------------------------
-    def _load_state(self, arr: np.ndarray) -> None:
-        """u (and the problem's function vector x) from the displacement array ``arr``."""
-        pb = self.problem
-        pb.set_state(arr)
-        dolfinx.fem.petsc.assign(pb.u, self.x)
-        self.x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-
     def _residual(self, out) -> float:
         """``F`` at the current x and d into ``out``; its l2 norm."""
         self.problem.residual_into(out)
@@ -183,9 +175,9 @@ class ForceNewton:
             counts += last
         if min(last) < 0:
             return counts, None, 0.0
-        z_arr = _array(z, pb)
+        z_arr = pb.displacement_of(z)
         if new_tangent:
-            self._w_arr = _array(w, pb)
+            self._w_arr = pb.displacement_of(w)
             self._P_w = self._measure_field(self._w_arr)
             if not (np.isfinite(self._P_w) and self._P_w > 0):
                 return counts, None, 0.0
@@ -215,7 +207,7 @@ class ForceNewton:
             p.destroy()
         if its < 0:
             return (its,), None, 0.0
-        return (its,), _array(F, pb), dd
+        return (its,), pb.displacement_of(F), dd
 
     # -- the solve ------------------------------------------------------------------------------------------
     def solve(self, *, P_goal: float, d0: float, x0: np.ndarray, zone: tuple | None,
@@ -232,7 +224,7 @@ class ForceNewton:
         state, d = np.array(x0[:pb.n_u], dtype=float), float(d0)
         try:
             pb.d.value = d
-            self._load_state(state)
+            pb.load_solver_state(state)
             with pb.prescribed_active_set(zone) if zone is not None else nullcontext():
                 first = self._residual(F)
             tol = max(atol, rtol * first)
@@ -246,13 +238,13 @@ class ForceNewton:
                         snes.computeJacobian(self.x, self.A, self.P_mat)
                     if new_tangent:
                         pb.load_derivative_into(Fd, d=d, F=F, fixed_set=prescribed)
-                    k_atol = (BORDERED_ATOL_FRACTION * atol if self.bordered
-                              else KRYLOV_FRACTION * (atol if refine else tol))
                     if self.bordered:
-                        counts, du, dd = self._bordered_step(F, Fd, P_goal, fresh=fresh and not refine, atol=k_atol)
+                        counts, du, dd = self._bordered_step(F, Fd, P_goal, fresh=fresh and not refine,
+                                                             atol=BORDERED_ATOL_FRACTION * atol)
                     else:
                         counts, du, dd = self._two_solve_step(F, Fd, z, w, P_goal, state, fresh=fresh,
-                                                              new_tangent=new_tangent, its=its, atol=k_atol)
+                                                              new_tangent=new_tangent, its=its,
+                                                              atol=KRYLOV_FRACTION * (atol if refine else tol))
                     krylov += counts
                     if du is None:
                         break
@@ -261,7 +253,7 @@ class ForceNewton:
                     state = state + du
                     d += dd
                 pb.d.value = d
-                self._load_state(state)
+                pb.load_solver_state(state)
                 norm = self._residual(F)
                 if norm <= atol or (norm <= tol and refine):
                     return ForceNewtonResult(True, its, d, first, norm, tuple(krylov))
@@ -277,10 +269,4 @@ class ForceNewton:
                 self._system.destroy()
                 self._system = None
 
-
-def _array(vec, problem) -> np.ndarray:
-    """The owned + ghost displacement array of the PETSc vector ``vec`` (the layout of ``problem.u``)."""
-    vec.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-    dolfinx.fem.petsc.assign(vec, problem.u)
-    return problem.u.x.array.copy()
 

@@ -460,6 +460,21 @@ class ContactProblem(NewtonControls):
         if self.forms.update is not None:
             self.forms.update(self.u)
 
+    def load_solver_state(self, arr: np.ndarray) -> None:
+        """u (:meth:`set_state`) and the solver's vector ``problem.x`` (ghosts included) from the state ``arr``:
+        where the SNES callbacks (:meth:`residual_into`) read the state."""
+        x = self.problem.x
+        self.set_state(arr)
+        dolfinx.fem.petsc.assign(self.u, x)
+        _ghost_forward(x)
+
+    def displacement_of(self, vec) -> np.ndarray:
+        """The owned + ghost displacement array (the layout of ``u``) of the PETSc vector ``vec`` in the solver's
+        layout; ``u`` holds it afterwards."""
+        _ghost_forward(vec)
+        dolfinx.fem.petsc.assign(vec, self.u)
+        return self.u.x.array.copy()
+
     def residual_into(self, out) -> None:
         """The SNES residual ``F`` at the solver's vector ``problem.x`` (and the current d, mask) into ``out``; a
         Ctrl-C raised in the Python residual comes back as KeyboardInterrupt, not as a PETSc error."""
@@ -503,16 +518,12 @@ class ContactProblem(NewtonControls):
         Returns None when t is not finite or ``dP/dd <= 0``. The state is restored.
         """
         x = self.problem.x
-        self.set_state(state)
-        dolfinx.fem.petsc.assign(self.u, x)
-        _ghost_forward(x)
+        self.load_solver_state(state)
         g, t = x.duplicate(), x.duplicate()
         try:
             self.load_derivative_into(g, d=d0, fixed_set=fixed_set)
             self.snes.getKSP().solve(g, t)  # the Jacobian already factored: no new LU
-            _ghost_forward(t)
-            dolfinx.fem.petsc.assign(t, self.u)
-            t_arr = self.u.x.array.copy()
+            t_arr = self.displacement_of(t)
         finally:
             for vec in (g, t):
                 vec.destroy()

@@ -281,7 +281,7 @@ class LoadStepper:
         """d for load P_goal (N/mm) through the last two (d, P) states (first: stiffness guess 0.3 E')."""
         (d1, P1, _, _), (d2, P2, _, _) = self.states[-2], self.states[-1]
         if P2 == P1:
-            return d2 * P_goal / P2 if P2 > 0 else P_goal / (0.3 * self.problem.E_star)
+            return d2 * P_goal / P2 if P2 > 0 else self.stiffness_guess(P_goal)
         return d2 + (P_goal - P2) * (d2 - d1) / (P2 - P1)
 
     # -- solves ---------------------------------------------------------------------------------------------
@@ -539,17 +539,17 @@ class LoadStepper:
 
     def run_force(self) -> None:
         """Load levels ``P_k = target k / n_steps``: d from the Hertz predictor or the secant."""
-        opts, E_star = self.opts, self.problem.E_star
+        opts = self.opts
         for k in range(1, opts.n_steps + 1):
             P_goal = opts.target * k / opts.n_steps
             self.problem.set_load_level(P_goal)  # halfplane supports: Flamant's field of this level
             zone = None
             if self.zone_start and len(self.states) == 1:
                 # d an unknown of the Newton iterations from the Hertz zone (fem.force_newton), where it applies
-                zone0 = (self.hertz.zone(P_goal, half=opts.symmetric_half),)
-                if self.force_newton(zone0, P_goal / (0.3 * self.problem.E_star), self.states[-1].x, P_goal, "step"):
+                zone0, d0 = (self.hertz.zone(P_goal, half=opts.symmetric_half),), self.stiffness_guess(P_goal)
+                if self.force_newton(zone0, d0, self.states[-1].x, P_goal, "step"):
                     continue
-                start = self.hertz_zone_start(P_goal)
+                start = self.hertz_zone_start(zone0, d0, P_goal)
                 if start is not None:
                     d_next, x_next = start
                     reason, _ = self.attempt(d_next, x_next, "step", predict_active_set=False, done_its=1,
@@ -562,19 +562,22 @@ class LoadStepper:
                 zone = (hertz_zone,)
             else:
                 if len(self.states) == 1 and opts.first_step_fraction < 1.0:
-                    self.reach(opts.first_step_fraction * P_goal / (0.3 * E_star), 0, "first")
-                d_next = P_goal / (0.3 * E_star) if len(self.states) == 1 else self.secant(P_goal)
+                    self.reach(self.stiffness_guess(opts.first_step_fraction * P_goal), 0, "first")
+                d_next = self.stiffness_guess(P_goal) if len(self.states) == 1 else self.secant(P_goal)
                 u_next = None
             self.reach(d_next, k, "step", u_next, zone)
 
-    def hertz_zone_start(self, P_goal: float) -> tuple[float, np.ndarray] | None:
-        """``predictor="hertz_zone"``, first load level from the unloaded state: (d, state) of the prescribed
-        active set = the Hertz zone of P_goal (:meth:`fem.predictor.HertzPredictor.zone`), without a stiffness
-        solve: :meth:`prescribed_start` from the unloaded state at a guess ``d0 = P_goal / (0.3 E')``."""
-        pb, opts = self.problem, self.opts
-        zone = (self.hertz.zone(P_goal, half=opts.symmetric_half),)
+    def stiffness_guess(self, P_goal: float) -> float:
+        """d (mm) of the load P_goal (N/mm) from the unloaded state with the stiffness guess ``0.3 E'``."""
+        return P_goal / (0.3 * self.problem.E_star)
+
+    def hertz_zone_start(self, zone: tuple, d0: float, P_goal: float) -> tuple[float, np.ndarray] | None:
+        """``predictor="hertz_zone"``, first load level from the unloaded state where the force-controlled Newton
+        does not apply: (d, state) of the prescribed active set ``zone`` = the Hertz zone of P_goal
+        (:meth:`fem.predictor.HertzPredictor.zone`), without a stiffness solve: :meth:`prescribed_start` from the
+        unloaded state at the guess ``d0`` (:meth:`stiffness_guess`)."""
         self.start_zone = zone
-        return self.prescribed_start(zone, P_goal / (0.3 * pb.E_star), self.states[-1].x, P_goal)
+        return self.prescribed_start(zone, d0, self.states[-1].x, P_goal)
 
     def force_newton(self, zone: tuple, d0: float, x0: np.ndarray, P_goal: float, kind: str) -> bool:
         """The load P_goal solved with d an unknown of every Newton iteration (:mod:`fem.force_newton`), the first
