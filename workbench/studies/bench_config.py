@@ -59,7 +59,7 @@ class BenchConfig(StudyFolders):
             (graded Nitsche P2 at W = H = 5, 10, 20, 40 a: rms 3.7 %, 1.1 %, 0.45 %, 0.23 %).
         our_levels: h_c of our ladders.  our_methods, our_degrees: our configurations.
         scale: Cost growth, family -> h / a: ``graded`` (meshes.block, ndofs ~ 1/h_c) and ``uniform`` (the
-            baseline's uniform box, ndofs ~ 1/h^2, up to ~1e6 dofs; h = 0.06 a, 446k dofs, makes the largest three
+            baseline's uniform box, ndofs ~ 1/h^2, up to ~1e6 dofs; h = 0.06 a, 448k dofs, makes the largest three
             sizes one configuration, GAMG, under ``"auto"``).
         scale_box: W = H of the uniform family (in a).
         small_ndofs: Below this a size is timed 3 times in its process (best kept).
