@@ -26,7 +26,8 @@ Linear solver: the first Jacobian is factored (or, GAMG, set up); a later iterat
 the contact rows of the points that changed state, so with ``lu_reuse`` / ``gamg`` (:mod:`fem.linear_solver`)
 the two solves run preconditioned by the first factor (FGMRES / GMRES, ``w`` started from the last ``w``) and
 the factor is rebuilt only when a Krylov solve fails or needs more than the kind's limit. ``lu`` factors every
-Jacobian (one factor, two triangular solves per iteration).
+Jacobian. With a new factor, z and w are one solve with it (two right-hand sides: the factor is read once,
+:meth:`ForceNewton._factored_pair`).
 
 Convergence: the true law's residual ``||F(u, d)||`` (l2, N) at most ``snes_atol``, or ``snes_rtol`` times its
 value at the start (as the SNES tests) after one refinement step: the same J and tangent, one more triangular
@@ -106,7 +107,7 @@ class ForceNewton:
         reuse: later Jacobians are solved with the first one's preconditioner (``lu_reuse``, ``gamg``);
             False: every Jacobian is factored (``lu``).
         bordered: each step is one Krylov solve of the bordered system (:mod:`fem.bordered_krylov`; ``gamg``)
-            instead of two solves with J (a factor: two triangular solves, the cheaper).
+            instead of two solves with J (a factor: one two-column triangular solve, the cheaper).
         max_krylov: with ``reuse``, a Krylov solve above this many iterations rebuilds the preconditioner at the
             next Jacobian.
     """

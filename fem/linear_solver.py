@@ -42,7 +42,8 @@ not change: :class:`fem.split_jacobian.SplitJacobian` copies K's values into J):
 KSP (measured with PETSc's log events: the SNES's KSP and the Hertz predictor's, 2 per contact solve where the
 Hertz predictor runs, 1 with the ``"hertz_zone"`` start, which ``"auto"`` takes where the force-controlled Newton
 of :mod:`fem.force_newton` applies), one ``MatLUFactorNumeric`` per Newton iteration (``"lu"``). The
-force-controlled Newton solves with the SNES's KSP and its factor (two right-hand sides per factorisation).
+force-controlled Newton solves with the SNES's KSP and its factor (two right-hand sides per factorisation, in one
+MatMatSolve).
 
 The converged Newton answer does not depend on the kind (SNES checks the same nonlinear residual tolerances);
 the Krylov tolerances are well below the Newton ones.

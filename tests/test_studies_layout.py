@@ -29,7 +29,8 @@ OWN = {"workbench.studies.bench": {"workbench.studies.bench_config", "workbench.
                                    "workbench.studies.bench_nested", "workbench.studies.bench_techniques",
                                    "workbench.studies.bench_startup", "workbench.studies.bench_measure",
                                    "workbench.studies.bench_accuracy", "workbench.studies.bench_scale",
-                                   "workbench.studies.bench_process", "workbench.studies.bench_options"},
+                                   "workbench.studies.bench_process", "workbench.studies.bench_options",
+                                   "workbench.studies.bench_log_events"},
        "workbench.studies.convergence": {"workbench.studies.convergence_config", "workbench.studies.convergence_report",
                                          "workbench.studies.convergence_plot"},
        "workbench.studies.stability": {"workbench.studies.stability_config", "workbench.studies.stability_specs",
@@ -69,7 +70,8 @@ def test_a_study_imports_no_other_study(graph, study):
 
 
 # a report's own section formatters (formatting only, no study code) and its study's config (read back from the JSON)
-REPORT_OWN = {"bench_report": {"workbench.studies.bench_startup_report", "workbench.studies.bench_config"},
+REPORT_OWN = {"bench_report": {"workbench.studies.bench_startup_report", "workbench.studies.bench_config",
+                               "workbench.studies.bench_log_events"},
               "validity_report": {"workbench.studies.validity_config"},
               "stability_report": {"workbench.studies.stability_config"},
               "concave_map_report": {"workbench.studies.concave_map_models", "workbench.studies.concave_map_band",
@@ -83,7 +85,7 @@ CONFIGS = ["bench_config", "convective_table_config", "convergence_config", "sta
 @pytest.mark.parametrize("module", ["bench_report", "bench_startup_report", "bench_plot", "convergence_report",
                                     "convergence_plot", "stability_report", "stability_plot", "validity_report",
                                     "validity_plot", "concave_map_report", "concave_map_models", "concave_map_band",
-                                    "concave_map_rule", "config",
+                                    "concave_map_rule", "config", "bench_log_events",
                                     *CONFIGS, "rates", "executor", "reference",
                                     "scene_point", "where_report"])
 def test_reports_plots_and_shared_modules_import_no_study(graph, module):

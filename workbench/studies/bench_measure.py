@@ -23,15 +23,16 @@ from typing import Any
 import numpy as np
 
 from workbench.studies.bench_config import BenchConfig
+from workbench.studies.bench_log_events import LOG_EVENTS, factor_solves
 from workbench.studies.config import to_json
 
 __all__ = ["DEFAULT", "LOG_EVENTS", "best_of", "block_mesh_data", "case_P", "case_run", "configure", "count_dofs",
-           "family_mesh", "first_reaching", "hertz_errors", "linear_solve", "log_counts", "log_delta", "maxrss_mb",
+           "factor_solves", "family_mesh", "first_reaching", "hertz_errors", "linear_solve", "log_counts", "log_delta",
+           "maxrss_mb",
            "mpiexec", "ours_once", "peak_rss_mb", "rel_diff", "scale_overrides", "solve_case", "solve_on",
            "subprocess_env", "subprocess_json", "timed", "uniform_box_mesh", "workbench_cmd"]
 
 
-LOG_EVENTS = ("MatLUFactorSym", "MatLUFactorNum", "MatSolve", "SNESJacobianEval", "SNESFunctionEval")
 DEFAULT = BenchConfig()
 CHECKOUT = Path(__file__).resolve().parents[2]  # the subprocesses import this same checkout
 _ids = itertools.count()

@@ -7,6 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 from workbench.studies.bench_config import BenchConfig
+from workbench.studies.bench_log_events import factor_solves
 from workbench.studies.bench_measure import (
     block_mesh_data,
     case_run,
@@ -91,7 +92,7 @@ def lu_reuse(cfg: BenchConfig, *, comm, progress) -> dict:
                 "P": res.P,
                 "newton_iterations": list(res.newton_iterations),
                 "lu_numeric": ev["MatLUFactorNum"]["count"],
-                "triangular_solves": ev["MatSolve"]["count"],
+                "triangular_solves": factor_solves(ev),
                 "rms": hertz_errors(res, run)["rms"],
             }
         if "P" in row.get("reuse", {}) and "P" in row.get("case", {}):

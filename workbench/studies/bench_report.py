@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 
 from workbench.studies.bench_config import BenchConfig
+from workbench.studies.bench_log_events import factor_solves
 from workbench.studies.config import from_json
 from workbench.studies.where_report import reference_text
 
@@ -171,7 +172,7 @@ def _why(sc: dict) -> list[str]:
         parts = []
         for r in rows:
             ev = r.get("events") or {}
-            tri = (ev.get("MatSolve") or {}).get("count")
+            tri = factor_solves(ev)
             parts.append(f"{r['ndofs']}: {sum(r['newton_iterations'])} Newton its"
                          + (f", {tri} triangular solves" if tri and r.get("linear_kind") == "lu" else ""))
         kinds = {r.get("linear_kind", "lu") for r in rows[-3:]}
@@ -380,8 +381,8 @@ def _md_techniques(tq: dict, cfg: BenchConfig) -> list[str]:
                  f"{_f(c['linear_solves'])} | {_f(c['peak_rss_mb'], '.0f')} |")
     L += ["", "Solver variants (items 3 and 4): the contact solve with the row's options and with each variant "
           "(the second of two solves in the process), in linear solves of the row's kind; 'failed its' = Newton "
-          "iterations of solves that did not converge (cut back); 'tri. solves' = PETSc MatSolve events (for GAMG "
-          "its coarse-grid solves).", "",
+          "iterations of solves that did not converge (cut back); 'tri. solves' = passes through the factor "
+          "(PETSc MatSolve and MatMatSolve events; for GAMG its coarse-grid solves).", "",
           "| mesh | h/a | ndofs | kind | variant | solver (s) | linear solves | Newton its | failed its | tri. solves "
           "| rel diff P |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in tq["rows"]:

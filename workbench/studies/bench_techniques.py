@@ -15,8 +15,9 @@ One subprocess per mesh (:func:`worker_techniques`; memory measured per mesh, as
   with each of ``technique_variants`` (extra PETSc options and solver overrides): the Krylov method, the
   Eisenstat-Walker forcing of the Newton steps' linear tolerance, the edge-fit active-set update. Each variant is
   solved once (JIT, factor pattern) and then timed once; time = the solver's ``wall_time_s``, in linear solves of
-  the row's kind on the same mesh, with its Newton iterations, triangular solves (PETSc's MatSolve events: for
-  GAMG these are its coarse-grid solves) and the relative difference of P from the row's own solve.
+  the row's kind on the same mesh, with its Newton iterations, triangular solves (passes through the factor:
+  PETSc's MatSolve and MatMatSolve events, :func:`factor_solves`; for GAMG these are its coarse-grid solves) and
+  the relative difference of P from the row's own solve.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from __future__ import annotations
 import time
 
 from workbench.studies.bench_config import BenchConfig
+from workbench.studies.bench_log_events import factor_solves
 from workbench.studies.bench_measure import (
     block_space,
     count_dofs,
@@ -150,7 +152,7 @@ def worker_techniques(cfg: BenchConfig, family: str, level: float) -> dict:
             "linear_solves_equivalent": res.wall_time_s / lin["linear_s"],
             "newton_iterations": list(res.newton_iterations),
             "failed_iterations": sum(int(f["iterations"]) for f in res.failed_solves),
-            "triangular_solves": int(events.get("MatSolve", {}).get("count", 0)),
+            "triangular_solves": factor_solves(events),
             "rel_diff_P": rel_diff(res.P, reference_P),
         })
     row["variants"] = variants
