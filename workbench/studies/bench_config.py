@@ -62,7 +62,10 @@ class BenchConfig(StudyFolders):
             baseline's uniform box, ndofs ~ 1/h^2, up to ~1e6 dofs; h = 0.06 a, 448k dofs, makes the largest three
             sizes one configuration, GAMG, under ``"auto"``).
         scale_box: W = H of the uniform family (in a).
-        small_ndofs: Below this a size is timed 3 times in its process (best kept).
+        small_ndofs: Below this a size is timed 3 times in its process (best kept; else twice), its linear solve 3
+            times (else once): every LU row of the cost growth (up to ``krylov_threshold``). With 50k (the LU rows
+            above it timed twice, their linear solve once) two runs of the graded family's largest three rows gave
+            contact solve exponents 1.20 and 1.07: one row's time moved by 10-35 % between runs.
         mpi_levels: h_c of the MPI comparisons (None: the case default).
         option_level: h_c of the solver-options comparison (graded, ~9e4 dofs).
         scale_linear_solver: The ``linear_solver`` of the cost-growth rows up to ``krylov_threshold`` dofs
@@ -140,7 +143,7 @@ class BenchConfig(StudyFolders):
     scale: dict = field(default_factory=lambda: {"graded": (0.05, 0.0125, 0.003125, 0.00078125, 0.000390625),
                                                  "uniform": (0.2, 0.1, 1.0 / 15.0, 0.06, 0.05, 0.04)})
     scale_box: float = 20.0
-    small_ndofs: int = 50_000
+    small_ndofs: int = 400_000
     mpi_levels: tuple[float | None, ...] = (None, 0.00078125)
     option_level: float = 0.00078125
     scale_linear_solver: str = "auto"
