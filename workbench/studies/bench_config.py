@@ -65,7 +65,8 @@ class BenchConfig(StudyFolders):
         small_ndofs: Below this a size is timed 3 times in its process (best kept; else twice), its linear solve 3
             times (else once): every LU row of the cost growth (up to ``krylov_threshold``). With 50k (the LU rows
             above it timed twice, their linear solve once) two runs of the graded family's largest three rows gave
-            contact solve exponents 1.20 and 1.07: one row's time moved by 10-35 % between runs.
+            contact solve exponents 1.20 and 1.07 (one row's time moved by 10-35 % between runs); with 400k, three
+            runs gave 1.20, 1.20 and 1.18. The scale section took 4 min 00 s - 4 min 15 s against 3 min 39 s.
         mpi_levels: h_c of the MPI comparisons (None: the case default).
         option_level: h_c of the solver-options comparison (graded, ~9e4 dofs).
         scale_linear_solver: The ``linear_solver`` of the cost-growth rows up to ``krylov_threshold`` dofs

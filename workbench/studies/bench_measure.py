@@ -23,12 +23,11 @@ from typing import Any
 import numpy as np
 
 from workbench.studies.bench_config import BenchConfig
-from workbench.studies.bench_log_events import LOG_EVENTS, factor_solves
+from workbench.studies.bench_log_events import LOG_EVENTS
 from workbench.studies.config import to_json
 
 __all__ = ["DEFAULT", "LOG_EVENTS", "best_of", "block_mesh_data", "case_P", "case_run", "configure", "count_dofs",
-           "factor_solves", "family_mesh", "first_reaching", "hertz_errors", "linear_solve", "log_counts", "log_delta",
-           "maxrss_mb",
+           "family_mesh", "first_reaching", "hertz_errors", "linear_solve", "log_counts", "log_delta", "maxrss_mb",
            "mpiexec", "ours_once", "peak_rss_mb", "rel_diff", "scale_overrides", "solve_case", "solve_on",
            "subprocess_env", "subprocess_json", "timed", "uniform_box_mesh", "workbench_cmd"]
 
