@@ -173,6 +173,7 @@ class ForceNewton:
         rhs[:, 0], rhs[:, 1] = F.getArray(readonly=True), Fd.getArray(readonly=True)
         B.assemble()
         pc.matApply(B, X)
+        ksp.viewFromOptions("-ksp_view")  # what KSPSolve prints at its end (-<prefix>ksp_view), as if it had run
         sol = X.getDenseArray(readonly=True)
         z.getArray()[:], w.getArray()[:] = sol[:, 0], sol[:, 1]
         return 1, 1
