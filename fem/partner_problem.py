@@ -113,8 +113,9 @@ class PartnerProblem(Protocol):
     def prescribed_active_set(self, zones: Sequence[tuple[float, float]]) -> AbstractContextManager:
         """While inside: the contact law holds on the prescribed runs of X1 instead of its own sign."""
 
-    def tangent(self, state: np.ndarray, d0: float) -> tuple[np.ndarray, float] | None:
-        """The tangent ``du/dd`` of a converged state for its active set and ``dP/dd``, or None."""
+    def tangent(self, state: np.ndarray, d0: float, *, fixed_set: bool = False) -> tuple[np.ndarray, float] | None:
+        """The tangent ``du/dd`` of a converged state for its active set and ``dP/dd``, or None (``fixed_set``: the
+        active set is prescribed, not the law's)."""
 
     def hertz_predictor(self) -> Callable | None:
         """The Hertz predictor (:class:`fem.predictor.HertzPredictor`) when the partner is a rigid circle or

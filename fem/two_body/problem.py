@@ -547,9 +547,11 @@ class TwoBodyProblem(NewtonControls):
         finally:
             self.method.zones = None
 
-    def tangent(self, state: np.ndarray, d0: float):
+    def tangent(self, state: np.ndarray, d0: float, *, fixed_set: bool = False):
         """Tangent ``t = du/dd`` of the converged state for its active set and ``dP/dd`` (as the rigid
-        problem's: ``J t = -dF/dd`` with the factors the last Newton solve left in the KSP)."""
+        problem's: ``J t = -dF/dd`` with the factors the last Newton solve left in the KSP). ``dF/dd`` is exact here
+        (the support rows' displacement per unit d), so ``fixed_set`` (the protocol's: the rigid problem's
+        difference step on a prescribed set) changes nothing."""
         self.set_state(state)
         Jc = self.contact_jacobian(self.u.x.array.copy())
         rhs = np.zeros(self.n_u)

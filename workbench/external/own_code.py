@@ -5,8 +5,9 @@ The third code of ``workbench external compare``. Per level (the case's first ``
 default 3: :func:`workbench.external.code_runs.code_levels`, the levels ``workbench export --levels N`` writes), into
 ``<out>/external_workbench_<case>/h<H>/`` (staged: :func:`workbench.atomic.atomic_dir`, the same guard as every
 command that writes), one process (:mod:`workbench.external.own_job`) solves every run of the case on the mesh
-``workbench run`` builds at that level, the mesh ``workbench export`` hands the other codes, and writes its
-``result.csv`` in the result schema. Then every geometry's levels are scored as ``workbench score`` scores any
+``workbench run`` builds at that level, the mesh ``workbench export`` hands the other codes (two meshed bodies in
+force control: nested from the coarser levels, their solves in the level's time), and writes its ``result.csv`` in
+the result schema. Then every geometry's levels are scored as ``workbench score`` scores any
 code's (:func:`workbench.external.code_runs.score_geometry`) into ``<geometry>/score/`` (or ``score/``; a variant's
 into ``score_<variant>/``).
 
@@ -37,14 +38,17 @@ class OwnError(RuntimeError):
         self.code = code
 
 
-def run_job(case: str, level: float, folder: Path, *, mesh_cache: Path, time_limit: float) -> dict:
-    """One level's job (:mod:`workbench.external.own_job`) in its own process; its record with the process wall time
+def run_job(case: str, level: float, folder: Path, *, mesh_cache: Path, time_limit: float,
+            coarser: tuple[float, ...] = ()) -> dict:
+    """One level's job (:mod:`workbench.external.own_job`) in its own process, nested through the ``coarser``
+    levels where the run allows (:func:`workbench.external.own_job.nests`); its record with the process wall time
     (``process_wall_s``). OwnError (one line) if it failed or ran out of time."""
     env = dict(os.environ) | {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
     from workbench.external.code_runs import timed_job
 
     return timed_job([sys.executable, "-m", "workbench.external.own_job", case, repr(level), str(folder),
-                      str(mesh_cache)], record=folder / "own_job.json", env=env, error=OwnError,
+                      str(mesh_cache), ",".join(repr(h) for h in coarser)], record=folder / "own_job.json", env=env,
+                     error=OwnError,
                      what=f"the workbench on {case} h = {level:g}", time_limit=time_limit)
 
 
@@ -69,11 +73,12 @@ def main(argv: list[str] | None = None) -> int:
         with atomic_dir(folder, kind="external") as stage:
             ensure_dir(paths.mesh_cache, kind="mesh_cache", kinds=("mesh_cache",))
             results: dict[tuple[str, str], list[Path]] = {}
-            for lv in levels:
+            for i, lv in enumerate(levels):
                 sub = stage / f"h{lv:g}"
                 sub.mkdir()
                 print(f"workbench {case.name} h = {lv:g}", flush=True)
-                rec = run_job(case.name, lv, sub, mesh_cache=paths.mesh_cache, time_limit=args.time_limit)
+                rec = run_job(case.name, lv, sub, mesh_cache=paths.mesh_cache, time_limit=args.time_limit,
+                              coarser=tuple(levels[:i]))
                 for key, geo in rec["geometries"].items():
                     folder_key = "" if key == case.name else key
                     entry = summary["geometries"].setdefault(key, {"levels": [], "score": None})

@@ -1,7 +1,7 @@
 """One level of ``workbench external workbench``: the workbench's own solver on a case, in a process of its own.
 
-``python -m workbench.external.own_job CASE LEVEL FOLDER [MESH_CACHE]`` solves every run of ``CASE`` at the mesh
-level ``LEVEL`` (the case's ``h_contact`` fraction; the mesh ``workbench run`` builds there, which is the mesh
+``python -m workbench.external.own_job CASE LEVEL FOLDER [MESH_CACHE [COARSER]]`` solves every run of ``CASE`` at the
+mesh level ``LEVEL`` (the case's ``h_contact`` fraction; the mesh ``workbench run`` builds there, which is the mesh
 ``workbench export`` hands to another code: same node coordinates, tested against the CI key numbers) and writes,
 per geometry (:func:`workbench.external.benchmarks.base.groups`: the wedge's two angles are two geometries, one
 sub-folder each, named as ``workbench export`` names them):
@@ -15,6 +15,15 @@ sub-folder each, named as ``workbench export`` names them):
 It is a separate process so that its wall time is measured as CalculiX's and Kratos's are: the interpreter, the
 imports (dolfinx, PETSc), the FFCx compilation of any form not yet in the JIT cache, meshing and the solve. Serial
 (``MPI.COMM_SELF``). Exit 0, or 1 with one line on stderr (``error: ...``).
+
+Nested iteration (``COARSER``: the compare's coarser levels, comma-separated, coarsest first): a run of two meshed
+bodies in force control (:func:`nests`) is solved the way ``make run``'s error budget solves its levels
+(:mod:`fem.nested_start`): the coarsest level cold, each finer one from the last one's converged state, the level
+itself last; only the level's answer is written, and the job's time includes the coarser solves (its record names
+them per run: ``nested_from``). Each level converges to its own tolerances; only the iterations differ. Measured
+before this (``halfplanes_finite_parabola``, three levels, every run cold along its load path): the finest level
+(h = 0.025) exceeded the 900 s limit, where the budget reaches it nested in about 10 s per run. Other runs (a rigid
+obstacle, displacement control with its recorded steps) are solved cold.
 """
 
 from __future__ import annotations
@@ -24,11 +33,20 @@ import sys
 import time
 from pathlib import Path
 
-__all__ = ["solve_level", "main"]
+__all__ = ["nests", "solve_level", "main"]
 
 
-def solve_level(case_name: str, level: float, folder: Path, *, mesh_cache: Path) -> dict:
-    """Solve and write one level (module docstring); the job's record."""
+def nests(run) -> bool:
+    """Whether a level of ``run`` starts from the coarser levels' solution (module docstring): two meshed bodies
+    (their problem interpolates the coarse state, :meth:`fem.two_body.problem.TwoBodyProblem.nested_guess`) in force
+    control (one answer per run: no recorded steps for a nested start to skip)."""
+    return len(run.bodies) == 2 and run.loading.control == "force"
+
+
+def solve_level(case_name: str, level: float, folder: Path, *, mesh_cache: Path,
+                coarser: tuple[float, ...] = ()) -> dict:
+    """Solve and write one level (module docstring), the runs that :func:`nests` through ``coarser`` (h_contact
+    fractions, coarsest first); the job's record."""
     import dolfinx_solver  # noqa: F401  (MPI and PETSc first)
 
     from mpi4py import MPI
@@ -46,6 +64,7 @@ def solve_level(case_name: str, level: float, folder: Path, *, mesh_cache: Path)
     scored = scorer.runs(case)
     slave = scorer.bodies(case)[0].name
     parts = groups(case.runs(h_contact=level))
+    coarse = {h: {r.label: r for r in case.runs(h_contact=h)} for h in coarser}
     record: dict = {"case": case.name, "level": level, "geometries": {}}
     for part in parts:
         key = "" if len(parts) == 1 else label_folder(part[0].label)
@@ -55,8 +74,15 @@ def solve_level(case_name: str, level: float, folder: Path, *, mesh_cache: Path)
         runs = []
         for run in part:
             t0 = time.perf_counter()
+            start, chain = None, []
+            for h in coarser if nests(run) else ():
+                o = run_one(coarse[h][run.label], name=case.name, mesh_cache=mesh_cache, comm=MPI.COMM_SELF,
+                            progress=lambda _m: None, **({} if start is None else {"nested_start": start}))
+                start = o.result.nested_start
+                chain.append({"h_contact": h, "iterations": int(sum(o.result.newton_iterations)),
+                              "solve_s": float(o.result.wall_time_s)})
             outcome = run_one(run, name=case.name, mesh_cache=mesh_cache, comm=MPI.COMM_SELF,
-                              progress=lambda _m: None)
+                              progress=lambda _m: None, **({} if start is None else {"nested_start": start}))
             wall = time.perf_counter() - t0
             srun = next(s for s in scored if run.label in (s.label, *s.aliases))
             name = "result.csv" if not any(srun.label == k for k, _ in files.values()) else \
@@ -65,7 +91,7 @@ def solve_level(case_name: str, level: float, folder: Path, *, mesh_cache: Path)
             res = outcome.result
             runs.append({"run": run.label, "reported_as": srun.label, "file": name, "P": float(res.P),
                          "iterations": int(sum(res.newton_iterations)), "solve_s": float(res.wall_time_s),
-                         "wall_s": wall})
+                         "wall_s": wall, "nested_from": chain})
         for name, (_label, grps) in files.items():
             (sub / name).write_text(groups_csv(grps))
         record["geometries"][key or case.name] = {"runs": runs, "results": sorted(files)}
@@ -77,8 +103,9 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     case, level, folder = argv[0], float(argv[1]), Path(argv[2])
     mesh_cache = Path(argv[3]) if len(argv) > 3 else folder / "mesh_cache"
+    coarser = tuple(float(h) for h in argv[4].split(",") if h) if len(argv) > 4 else ()
     try:
-        record = solve_level(case, level, folder, mesh_cache=mesh_cache)
+        record = solve_level(case, level, folder, mesh_cache=mesh_cache, coarser=coarser)
     except Exception as exc:  # noqa: BLE001  (one line for the parent, which names the level)
         print(f"error: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}", file=sys.stderr)
         return 1

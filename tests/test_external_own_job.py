@@ -1,0 +1,36 @@
+"""The workbench's own job of ``workbench external workbench`` / ``compare`` (:mod:`workbench.external.own_job`): a
+level of two meshed bodies in force control starts from the coarser levels' solution (nested iteration), and lands
+on the answer a cold solve gives."""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+
+from cases import load_case
+from workbench.external.own_job import nests, solve_level
+
+
+def _p(path) -> np.ndarray:
+    with open(path, newline="") as fh:
+        return np.array([float(row["p_MPa"]) for row in csv.DictReader(fh)])
+
+
+def test_which_runs_nest():
+    assert all(nests(r) for r in load_case("elastic_cylinder").runs())  # two bodies, force control
+    assert not any(nests(r) for r in load_case("hertz_cylinder").runs())  # a rigid obstacle
+    assert not any(nests(r) for r in load_case("patch_test").runs())  # displacement control, recorded steps
+
+
+def test_a_two_body_level_nested_from_the_coarser_one_gives_the_cold_answer(tmp_path):
+    cache = tmp_path / "mesh_cache"
+    cold = solve_level("elastic_cylinder", 0.05, tmp_path / "cold", mesh_cache=cache)
+    nested = solve_level("elastic_cylinder", 0.05, tmp_path / "nested", mesh_cache=cache, coarser=(0.1,))
+    (c,), (n,) = (rec["geometries"]["elastic_cylinder"]["runs"] for rec in (cold, nested))
+    assert c["nested_from"] == [] and [x["h_contact"] for x in n["nested_from"]] == [0.1]
+    assert n["wall_s"] > n["solve_s"] + n["nested_from"][0]["solve_s"]  # the coarser solve is in the level's time
+    assert n["iterations"] < c["iterations"], (n, c)
+    assert abs(n["P"] - c["P"]) <= 1e-9 * abs(c["P"])
+    pc, pn = _p(tmp_path / "cold" / "result.csv"), _p(tmp_path / "nested" / "result.csv")
+    assert pc.shape == pn.shape and np.abs(pn - pc).max() <= 1e-6 * pc.max()
