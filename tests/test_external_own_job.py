@@ -34,3 +34,22 @@ def test_a_two_body_level_nested_from_the_coarser_one_gives_the_cold_answer(tmp_
     assert abs(n["P"] - c["P"]) <= 1e-9 * abs(c["P"])
     pc, pn = _p(tmp_path / "cold" / "result.csv"), _p(tmp_path / "nested" / "result.csv")
     assert pc.shape == pn.shape and np.abs(pn - pc).max() <= 1e-6 * pc.max()
+
+
+def _files(case_name: str) -> dict[str, str]:
+    from workbench.external.own_job import file_names
+    from workbench.external.scorers import scorer_for
+
+    case = load_case(case_name)
+    scored = scorer_for(case).runs(case)
+    pairs = [(r.label, next(s.label for s in scored if r.label in (s.label, *s.aliases))) for r in case.runs()]
+    return dict(zip([label for label, _ in pairs], file_names(pairs), strict=True))
+
+
+def test_a_second_run_reported_as_one_benchmark_run_gets_a_file_of_its_own():
+    # the finite parabola's two convective runs are both "profile": the second one not beside the first (the reader
+    # refuses two loads for one run in a file), whichever run the file began with
+    files = _files("halfplanes_finite_parabola")
+    assert files == {"small": "result.csv", "profile": "result.csv", "pairing": "result_pairing.csv",
+                     "neo_hookean": "result.csv", "svk": "result.csv"}, files
+    assert sorted(_files("patch_test").values()) == ["result.csv", "result_node-to-segment.csv"]
