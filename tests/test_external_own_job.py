@@ -53,3 +53,23 @@ def test_a_second_run_reported_as_one_benchmark_run_gets_a_file_of_its_own():
     assert files == {"small": "result.csv", "profile": "result.csv", "pairing": "result_pairing.csv",
                      "neo_hookean": "result.csv", "svk": "result.csv"}, files
     assert sorted(_files("patch_test").values()) == ["result.csv", "result_node-to-segment.csv"]
+
+
+def test_the_finite_parabola_has_model_bands_and_the_verdict_finds_them():
+    """The saved bands of the case with several scenes keep each run's label ("small/p_max"); the verdict's key of
+    a run named as its kinematics drops it ("p_max"), and finds the band under either."""
+    from workbench.external.models import load_model_bands
+    from workbench.external.scorers.verdict import model_matches
+
+    case = load_case("halfplanes_finite_parabola")
+    bands = load_model_bands(case.name, case=case)
+    assert bands is not None, "regenerate: python -m workbench.external.models halfplanes_finite_parabola"
+    names = [m["name"] for m in bands["models"]]
+    assert names[0] == "halfplane/small" and len(names) == 3, names
+    assert all("b_over_b0_moment" in m["study"] for m in bands["models"][1:])  # the convective ratio, per model
+    small = bands["models"][0]["study"]["small/half_width_moment"]
+    score = {"runs": [{"label": "small", "kinematics": "small"}],
+             "studies": {"small/half_width_moment": {"extrapolated": small["extrapolated"], "uncertainty": 1e-6,
+                                                     "group": {"run": "small", "quantity": "half_width_moment"}}}}
+    rows = model_matches(score, bands, tolerance=1e-9)["small/half_width_moment"]["models"]
+    assert [r["model"] for r in rows if r["contains"]] == ["halfplane/small"], rows

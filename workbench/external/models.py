@@ -162,7 +162,11 @@ def _solve_records(case, scorer, spec: ModelSpec, *, physics, level: float, mesh
     finite = spec.kinematics == "finite"
     sol = dataclasses.replace(base.solver, traction=spec.traction, kinematics=spec.kinematics,
                               theta=FINITE_THETA if finite else base.solver.theta)
+    # the model's material law for the body and for every meshed body of a scene with several (the finite
+    # parabola's neo-Hookean runs, solved as a small-strain model, are linear bodies: the two-body checks refuse a
+    # hyperelastic body at small kinematics)
     run = dataclasses.replace(base, solver=sol, material=dataclasses.replace(base.material, model=spec.material_model),
+                              bodies=tuple(dataclasses.replace(b, model=spec.material_model) for b in base.bodies),
                               geometry=dataclasses.replace(base.geometry, **dict(spec.geometry)),
                               loading=dataclasses.replace(base.loading, steps=FINITE_STEPS if finite
                                                           else base.loading.steps))
@@ -201,7 +205,6 @@ def compute(case_name: str, *, mesh_cache: Path, progress=print) -> dict:
     import workbench.scenes  # noqa: F401
     from cases import load_case
     from workbench.external.scorers import scorer_for
-    from workbench.external.scorers.runs import ScoredRun
 
     case = load_case(case_name)
     scorer = scorer_for(case)
@@ -223,14 +226,19 @@ def compute(case_name: str, *, mesh_cache: Path, progress=print) -> dict:
     models = []
     reference = records.get(specs[0].name) if specs and specs[0].name.startswith("halfplane/small") else None
     convective_pair = any(r.kinematics == "convective" for r in scorer.runs(case))
+    small_label = next((p.label for p in scenes if p.kinematics == "small"), scenes[0].label if scenes else None)
     for spec in specs:
         studies = scorer.studies(case, records[spec.name])
         study = {_model_key(k, scenes): _study(v) for k, v in studies.items() if "[" not in k or "]" != k[-1]
                  or k.split("[", 1)[0] not in ("b_over_b0", "b_over_b0_moment")}
         if convective_pair and reference is not None and spec.name != specs[0].name:
-            conv = ScoredRun("convective", "convective", scenes[0].run, None)
-            relabelled = [r | {"run": "convective"} for r in records[spec.name]]
-            ratio = scorer.studies(case, reference + relabelled)
+            # the case's convective run (its label: "convective", or the finite parabola's "profile")
+            conv = next(r for r in scorer.runs(case) if r.kinematics == "convective")
+            # the model's run measured as the small scene, as if it were the convective run: one record per level
+            # (a case with several scenes, e.g. small, profile and the finite runs, measures each model once per
+            # scene; all of them relabelled made three records of one level)
+            relabelled = [r | {"run": conv.label} for r in records[spec.name] if r["run"] == small_label]
+            ratio = scorer.studies(case, [r for r in reference if r["run"] == small_label] + relabelled)
             for key in ("b_over_b0", "b_over_b0_moment"):
                 if f"{key}[{conv.label}]" in ratio:
                     study[key] = _study(ratio[f"{key}[{conv.label}]"])

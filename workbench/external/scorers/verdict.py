@@ -69,7 +69,9 @@ def model_matches(score: dict, bands: dict | None, *, tolerance: float) -> dict:
         mk = model_key(key, row, score)
         rows = []
         for m in bands.get("models", []):
-            st = (m.get("study") or {}).get(mk)
+            # the bands keep a run's label where the case has several scenes (the finite parabola's small, profile
+            # and finite runs: "small/p_max"), which model_key strips for a run named as its kinematics
+            st = (m.get("study") or {}).get(mk) or (m.get("study") or {}).get(key)
             if not st or st.get("extrapolated") is None or not math.isfinite(st["extrapolated"]):
                 continue
             if row.get("kind") == "bound":
