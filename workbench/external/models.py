@@ -4,7 +4,9 @@
 that applies to it (:func:`model_scope`: ``docs/models.md``; traction halfplane/obstacle x kinematics
 small/convective/finite for a rigid indenter, the finite runs neo-Hookean with the validity study's finite settings;
 the pairings mortar/node-to-segment for two elastic bodies; the two convection models of two half-planes) on the
-case's three budget levels (``budget_levels``, else the three finest ``levels``), writes each run as an external
+case's three budget levels (``budget_levels``, else the three finest ``levels``; a run of two meshed bodies in force
+control solves each level from the coarser one's solution, as ``make run``'s budget and the own job do:
+:func:`workbench.external.own_job.nests`), writes each run as an external
 result (:mod:`workbench.external.own_results`) and measures it with the scorer of the case's scene
 (:mod:`workbench.external.scorers`): the same quantities, the same grid study (extrapolated value and band) an
 external result gets. For a case with a convective pair each model's ratio b/b0 over the halfplane/small model's is
@@ -148,8 +150,12 @@ def load_model_bands(name: str, *, case=None, folder: Path | None = None) -> dic
     return data
 
 
-def _solve_records(case, scorer, spec: ModelSpec, *, physics, level: float, mesh_cache: Path) -> list[dict]:
-    """One model on one scene at one level: solved (dolfinx), written as an external result and measured."""
+def _solve_records(case, scorer, spec: ModelSpec, *, physics, level: float, mesh_cache: Path,
+                   start=None) -> tuple[list[dict], object]:
+    """One model on one scene at one level: solved (dolfinx), written as an external result and measured; with the
+    solve's nested start for the next finer level (``start``: the coarser level's, where
+    :func:`workbench.external.own_job.nests` allows it, as the own job and ``make run``'s budget solve their levels;
+    None: cold)."""
     from mpi4py import MPI
 
     from workbench.external.own_results import outcome_groups
@@ -172,6 +178,10 @@ def _solve_records(case, scorer, spec: ModelSpec, *, physics, level: float, mesh
                                                           else base.loading.steps))
     extra = {"max_cutbacks": FINITE_CUTBACKS, "max_it": FINITE_MAX_IT, "material_model": spec.material_model} \
         if finite else {}
+    from workbench.external.own_job import nests
+
+    if start is not None and nests(run):
+        extra["nested_start"] = start
     outcome = run_one(run, name=f"models_{case.name}", mesh_cache=mesh_cache, comm=MPI.COMM_SELF,
                       progress=lambda _m: None, **extra)
     slave = scorer.bodies(case)[0]
@@ -180,7 +190,7 @@ def _solve_records(case, scorer, spec: ModelSpec, *, physics, level: float, mesh
         res = mirror_half(g) if scorer.symmetric(case) else g
         rec = scorer.measure(case, Group(physics, g.step, slave, res), h=level, samples_per_element=1)
         records.append({k: v for k, v in rec.items() if not k.startswith("_")} | {"role": "slave", "level": level})
-    return records
+    return records, (outcome.result.nested_start if nests(run) else None)
 
 
 def _model_key(key: str, scenes) -> str:
@@ -216,8 +226,10 @@ def compute(case_name: str, *, mesh_cache: Path, progress=print) -> dict:
     for spec in specs:
         t0 = time.perf_counter()
         for physics in scenes:
-            for lv in levels:
-                recs = _solve_records(case, scorer, spec, physics=physics, level=lv, mesh_cache=mesh_cache)
+            start = None
+            for lv in levels:  # coarse first: a finer level of two bodies starts from the coarser one
+                recs, start = _solve_records(case, scorer, spec, physics=physics, level=lv, mesh_cache=mesh_cache,
+                                             start=start)
                 records.setdefault(spec.name, []).extend(recs)
                 q = recs[-1]["quantities"]
                 progress(f"{spec.name} [{physics.label}] h_c = {lv:g}: P = {recs[-1]['P']:.6g} N/mm, "
