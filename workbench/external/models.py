@@ -180,7 +180,8 @@ def _solve_records(case, scorer, spec: ModelSpec, *, physics, level: float, mesh
         if finite else {}
     from workbench.external.own_job import nests
 
-    if start is not None and nests(run):
+    nested = nests(run)
+    if start is not None and nested:
         extra["nested_start"] = start
     outcome = run_one(run, name=f"models_{case.name}", mesh_cache=mesh_cache, comm=MPI.COMM_SELF,
                       progress=lambda _m: None, **extra)
@@ -190,7 +191,7 @@ def _solve_records(case, scorer, spec: ModelSpec, *, physics, level: float, mesh
         res = mirror_half(g) if scorer.symmetric(case) else g
         rec = scorer.measure(case, Group(physics, g.step, slave, res), h=level, samples_per_element=1)
         records.append({k: v for k, v in rec.items() if not k.startswith("_")} | {"role": "slave", "level": level})
-    return records, (outcome.result.nested_start if nests(run) else None)
+    return records, (outcome.result.nested_start if nested else None)
 
 
 def _model_key(key: str, scenes) -> str:
