@@ -6,6 +6,7 @@ against the process wall time. Units: s; errors relative (see :mod:`workbench.ex
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 
 __all__ = ["verdict_lines", "report_markdown", "plot_case", "write_compare_report"]
@@ -128,7 +129,8 @@ def plot_case(rows: list[dict], path: Path) -> None:
     ax.xaxis.set_minor_formatter(NullFormatter())  # decades only: minor labels overlap on a short time span
     ax.set_xlabel("process wall time per level (s)")
     ax.set_ylabel("error of the main quantity (relative)")
-    ax.set_title(f"{rows[0]['case']}: {scored[0]['label'] if scored else ''}"[:80], fontsize=9)
+    # wrapped, not cut: a quantity's label with its theory runs past 80 characters ("... at each level's load")
+    ax.set_title(textwrap.fill(f"{rows[0]['case']}: {scored[0]['label'] if scored else ''}", 90), fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     if scored:
         ax.legend(fontsize=8)
