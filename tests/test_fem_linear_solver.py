@@ -84,7 +84,8 @@ def test_bench_config_refuses_bad_scale_solver():
     for kw, field in ((dict(scale_linear_solver="cholesky"), "scale_linear_solver"),
                       (dict(scale_predictor="hertz"), "scale_predictor"),
                       (dict(krylov_threshold=-1), "krylov_threshold"),
-                      (dict(krylov_threshold=1.5), "krylov_threshold")):
+                      (dict(krylov_threshold=1.5), "krylov_threshold"),
+                      (dict(small_ndofs=-1), "small_ndofs"), (dict(small_ndofs=0.5), "small_ndofs")):
         with pytest.raises(ValueError, match=field):
             BenchConfig(**kw)
 

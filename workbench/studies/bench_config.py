@@ -210,6 +210,8 @@ class BenchConfig(StudyFolders):
         if isinstance(self.krylov_threshold, bool) or int(self.krylov_threshold) != self.krylov_threshold \
                 or self.krylov_threshold < 0:
             raise ValueError(f"krylov_threshold must be an integer >= 0 (dofs), got {self.krylov_threshold!r}")
+        if isinstance(self.small_ndofs, bool) or int(self.small_ndofs) != self.small_ndofs or self.small_ndofs < 0:
+            raise ValueError(f"small_ndofs must be an integer >= 0 (dofs), got {self.small_ndofs!r}")
         if isinstance(self.crossover_max_ndofs, bool) or int(self.crossover_max_ndofs) != self.crossover_max_ndofs \
                 or self.crossover_max_ndofs < 0:
             raise ValueError(f"crossover_max_ndofs must be an integer >= 0 (dofs), got {self.crossover_max_ndofs!r}")
